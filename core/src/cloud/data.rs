@@ -69,6 +69,16 @@ impl Cloud {
         check("building", self.building.as_ref().map(Vec::len))
     }
 
+    /// Number of points per label value (index = label), when labels exist.
+    pub fn label_histogram(&self) -> Option<[usize; 256]> {
+        let labels = self.label.as_ref()?;
+        let mut h = [0usize; 256];
+        for &l in labels {
+            h[usize::from(l)] += 1;
+        }
+        Some(h)
+    }
+
     /// Axis-aligned bounds `(min, max)` of the positions, or `None` when empty.
     pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let first = *self.xyz.first()?;

@@ -1,0 +1,224 @@
+//! Reading and writing a cloud file, choosing the format by extension.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+use super::Cloud;
+use super::las::{LasError, read_las, write_las};
+use super::ply::{PlyError, parse_ply, write_ply};
+
+/// Reading or writing a cloud file failed; the message starts with the path.
+#[derive(Debug, thiserror::Error)]
+pub enum CloudIoError {
+    /// The extension is not `.las`, `.laz` or `.ply` (any case).
+    #[error("{}: unknown point cloud extension (expected .las, .laz or .ply)", path.display())]
+    UnknownExtension {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Opening, reading or writing the file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file exists but holds no bytes.
+    #[error("{}: file is empty", path.display())]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The PLY reader or writer failed.
+    #[error("{}: {source}", path.display())]
+    Ply {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: PlyError,
+    },
+    /// The LAS/LAZ reader or writer failed.
+    #[error("{}: {source}", path.display())]
+    Las {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: LasError,
+    },
+}
+
+impl CloudIoError {
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            Self::UnknownExtension { path }
+            | Self::Io { path, .. }
+            | Self::Empty { path }
+            | Self::Ply { path, .. }
+            | Self::Las { path, .. } => path,
+        }
+    }
+}
+
+/// File formats we know, by extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Ply,
+    Las,
+    Laz,
+}
+
+fn kind(path: &Path) -> Result<Kind, CloudIoError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("ply") => Ok(Kind::Ply),
+        Some("las") => Ok(Kind::Las),
+        Some("laz") => Ok(Kind::Laz),
+        _ => Err(CloudIoError::UnknownExtension { path: path.into() }),
+    }
+}
+
+/// Reads a `.ply`, `.las` or `.laz` file (extension case-insensitive).
+pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
+    let kind = kind(path)?;
+    let io = |source| CloudIoError::Io {
+        path: path.into(),
+        source,
+    };
+    let mut file = File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    if len == 0 {
+        return Err(CloudIoError::Empty { path: path.into() });
+    }
+    match kind {
+        Kind::Ply => {
+            let mut data = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+            file.read_to_end(&mut data).map_err(io)?;
+            parse_ply(&data).map_err(|source| CloudIoError::Ply {
+                path: path.into(),
+                source,
+            })
+        }
+        Kind::Las | Kind::Laz => {
+            read_las(BufReader::new(file)).map_err(|source| CloudIoError::Las {
+                path: path.into(),
+                source,
+            })
+        }
+    }
+}
+
+/// Writes `cloud` as binary PLY, LAS 1.4 or LAZ according to the extension.
+pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
+    let kind = kind(path)?;
+    let io = |source| CloudIoError::Io {
+        path: path.into(),
+        source,
+    };
+    let file = File::create(path).map_err(io)?;
+    match kind {
+        Kind::Ply => write_ply(file, cloud).map_err(|source| CloudIoError::Ply {
+            path: path.into(),
+            source,
+        }),
+        Kind::Las | Kind::Laz => {
+            let las = |source| CloudIoError::Las {
+                path: path.into(),
+                source,
+            };
+            let mut sink =
+                write_las(BufWriter::new(file), cloud, kind == Kind::Laz).map_err(las)?;
+            sink.flush().map_err(io)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fresh directory per test (tests run in parallel).
+    fn scratch_dir(test: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("skyground-io-{}-{test}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn cloud() -> Cloud {
+        Cloud {
+            xyz: vec![[1.0, 2.0, 3.0], [4.5, 5.5, 6.5]],
+            intensity: Some(vec![10.0, 20.0]),
+            label: Some(vec![2, 6]),
+            building: Some(vec![0, 42]),
+            origin: [637_000.0, 849_000.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn round_trips_by_extension_in_any_case() {
+        let dir = scratch_dir("round_trip");
+        for name in ["a.ply", "b.LAS", "c.Laz"] {
+            let path = dir.join(name);
+            write_cloud(&path, &cloud()).unwrap();
+            let back = read_cloud(&path).unwrap();
+            assert_eq!(back.label, cloud().label, "{name}");
+            assert_eq!(back.building, cloud().building, "{name}");
+            assert_eq!(back.origin, cloud().origin, "{name}");
+            assert_eq!(back.xyz, cloud().xyz, "{name}");
+        }
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn errors_name_the_file_and_the_cause() {
+        let dir = scratch_dir("errors");
+        let scratch = |name: &str| dir.join(name);
+        let missing = scratch("missing.ply");
+        let e = read_cloud(&missing).unwrap_err();
+        assert!(matches!(e, CloudIoError::Io { .. }), "{e:?}");
+        assert_eq!(e.path(), missing);
+        assert!(
+            e.to_string().starts_with(&missing.display().to_string()),
+            "{e}"
+        );
+
+        let e = read_cloud(Path::new("/x/y.xyz")).unwrap_err();
+        assert!(matches!(e, CloudIoError::UnknownExtension { .. }), "{e}");
+        assert!(write_cloud(Path::new("/x/noext"), &cloud()).is_err());
+
+        let empty = scratch("empty.las");
+        std::fs::write(&empty, b"").unwrap();
+        let e = read_cloud(&empty).unwrap_err();
+        assert_eq!(e.to_string(), format!("{}: file is empty", empty.display()));
+
+        let ply = scratch("short.ply");
+        let mut data = b"ply\nformat binary_little_endian 1.0\nelement vertex 100\n\
+            property float x\nproperty float y\nproperty float z\nend_header\n"
+            .to_vec();
+        data.extend_from_slice(&[0; 12 * 12 + 3]);
+        std::fs::write(&ply, data).unwrap();
+        let e = read_cloud(&ply).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{}: truncated vertex data: element 'vertex' ends at index 12 of 100",
+                ply.display()
+            )
+        );
+
+        let las = scratch("corrupt.las");
+        std::fs::write(&las, b"LASX not a las file at all").unwrap();
+        let e = read_cloud(&las).unwrap_err();
+        assert!(matches!(e, CloudIoError::Las { .. }), "{e:?}");
+        assert!(e.to_string().starts_with(&las.display().to_string()), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,88 @@
+//! Everything that can go wrong reading or writing LAS/LAZ.
+
+use crate::cloud::CloudError;
+
+/// A LAS/LAZ file could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum LasError {
+    /// The `las` crate rejected the file (corrupt header, unsupported format, ...).
+    #[error("{0}")]
+    Las(#[from] ::las::Error),
+    /// Reading, seeking or writing the underlying stream failed.
+    #[error("I/O error: {0}")]
+    Io(#[from] std::io::Error),
+    /// The header's point count times record length overflows a file offset.
+    #[error("header declares {count} points of {record_len} bytes: impossibly large")]
+    ImplausibleCount {
+        /// Declared number of points.
+        count: u64,
+        /// Bytes per point record.
+        record_len: u16,
+    },
+    /// An uncompressed file is shorter than its header's point count needs.
+    #[error("truncated point data: header declares {count} points but the file holds {available}")]
+    Truncated {
+        /// Declared number of points.
+        count: u64,
+        /// Whole points present in the file.
+        available: u64,
+    },
+    /// An extended VLR lies (partly) past the end of the file.
+    #[error("extended VLR at byte {start} runs past the end of the file ({file_len} bytes)")]
+    BadEvlr {
+        /// Byte offset of the EVLR.
+        start: u64,
+        /// File length in bytes.
+        file_len: u64,
+    },
+    /// Decoding the point records failed part way.
+    #[error("point data ends at point {index} of {count}: {source}")]
+    Points {
+        /// Points decoded before the failure.
+        index: u64,
+        /// Declared number of points.
+        count: u64,
+        /// The `las` crate's error.
+        #[source]
+        source: ::las::Error,
+    },
+    /// A point's coordinate is NaN/infinite or too far from the origin for `f32`.
+    #[error("point {index}: {axis} = {value} is not a finite coordinate near the origin")]
+    BadCoordinate {
+        /// Point index.
+        index: u64,
+        /// `x`, `y` or `z`.
+        axis: &'static str,
+        /// The coordinate.
+        value: f64,
+    },
+    /// The cloud to write is inconsistent.
+    #[error("cannot write cloud: {0}")]
+    InvalidCloud(#[from] CloudError),
+    /// The cloud to write has a NaN or infinite origin.
+    #[error("origin {origin:?} is not finite")]
+    NonFiniteOrigin {
+        /// The origin.
+        origin: [f64; 3],
+    },
+    /// A local coordinate does not fit LAS's 32-bit millimetre integers.
+    #[error(
+        "point {index}: {axis} = {value} m from the origin does not fit LAS's 32-bit mm integers (±2147 km)"
+    )]
+    CoordinateRange {
+        /// Point index.
+        index: usize,
+        /// `x`, `y` or `z`.
+        axis: &'static str,
+        /// The local coordinate.
+        value: f32,
+    },
+    /// An intensity cannot be stored as LAS's u16.
+    #[error("point {index}: intensity {value} is outside LAS's 0..=65535")]
+    IntensityRange {
+        /// Point index.
+        index: usize,
+        /// The intensity.
+        value: f32,
+    },
+}

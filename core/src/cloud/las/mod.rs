@@ -1,0 +1,18 @@
+//! LAS and LAZ files through the `las` crate.
+//!
+//! Reading keeps positions (in a local frame, see [`read_las`]), intensity,
+//! classification as `label`, and our `building` extra-bytes dimension.
+//! Writing produces LAS 1.4 point format 6 ([`write_las`]).
+
+mod error;
+mod extra_bytes;
+mod preflight;
+mod read;
+mod write;
+
+pub use error::LasError;
+pub use read::read_las;
+pub use write::{SCALE, write_las};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,128 @@
+//! LAS/LAZ → [`Cloud`].
+
+use std::io::{Read, Seek};
+
+use ::las::{Header, PointData, Reader};
+
+use super::{LasError, extra_bytes, preflight};
+use crate::cloud::Cloud;
+use crate::cloud::origin::{SMALL_COORDINATE, local_origin, to_local};
+
+/// Points decoded per batch (bounds the temporary record buffer).
+const BATCH: u64 = 1 << 16;
+/// Most points pre-allocated before any is read.
+const MAX_PREALLOC: u64 = 1 << 24;
+
+/// Reads a LAS or LAZ stream (detected from the header).
+///
+/// Intensity and classification (as `label`) are always present; `building` is
+/// present when the file has our `building` extra-bytes dimension.
+/// Origin per axis: the header's offset when the header bounds lie within
+/// 10 km of it, else [`local_origin`] of the bounds' minimum (or of the first
+/// point when the bounds are not usable).
+pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result<Cloud, LasError> {
+    let preflight = preflight::check(&mut source)?;
+    let mut reader = Reader::new(source)?;
+    let header = reader.header().clone();
+    let count = header.number_of_points();
+    let capacity = usize::try_from(preflight.capacity.min(count).min(MAX_PREALLOC)).unwrap_or(0);
+    let building_at = extra_bytes::building_offset(&header);
+    let mut cloud = Cloud {
+        xyz: Vec::with_capacity(capacity),
+        intensity: Some(Vec::with_capacity(capacity)),
+        label: Some(Vec::with_capacity(capacity)),
+        building: building_at.map(|_| Vec::with_capacity(capacity)),
+        origin: [0.0; 3],
+    };
+    let mut origin = header_origin(&header);
+    let mut index = 0u64;
+    loop {
+        let batch = reader
+            .read_points(BATCH)
+            .map_err(|source| LasError::Points {
+                index,
+                count,
+                source,
+            })?;
+        if batch.is_empty() {
+            break;
+        }
+        let origin = origin.get_or_insert_with(|| first_point_origin(&batch));
+        push_batch(&mut cloud, &batch, *origin, index, building_at)?;
+        index += batch.len() as u64;
+    }
+    cloud.origin = origin.unwrap_or_default();
+    Ok(cloud)
+}
+
+/// The origin from the header, or `None` when its bounds are unusable.
+fn header_origin(header: &Header) -> Option<[f64; 3]> {
+    let (b, t) = (header.bounds(), header.transforms());
+    let axes = [
+        (b.min.x, b.max.x, t.x.offset),
+        (b.min.y, b.max.y, t.y.offset),
+        (b.min.z, b.max.z, t.z.offset),
+    ];
+    if !axes
+        .iter()
+        .all(|&(lo, hi, _)| lo.is_finite() && hi.is_finite() && lo <= hi)
+    {
+        return None;
+    }
+    let fallback = local_origin([b.min.x, b.min.y, b.min.z]);
+    let mut origin = [0.0; 3];
+    for ((o, (lo, hi, offset)), f) in origin.iter_mut().zip(axes).zip(fallback) {
+        let near = |v: f64| (v - offset).abs() < SMALL_COORDINATE;
+        *o = if offset.is_finite() && near(lo) && near(hi) {
+            offset
+        } else {
+            f
+        };
+    }
+    Some(origin)
+}
+
+fn first_point_origin(batch: &PointData) -> [f64; 3] {
+    local_origin([
+        batch.x().next().unwrap_or_default(),
+        batch.y().next().unwrap_or_default(),
+        batch.z().next().unwrap_or_default(),
+    ])
+}
+
+fn push_batch(
+    cloud: &mut Cloud,
+    batch: &PointData,
+    origin: [f64; 3],
+    first_index: u64,
+    building_at: Option<usize>,
+) -> Result<(), LasError> {
+    let xyz = batch.x().zip(batch.y()).zip(batch.z());
+    for (i, ((x, y), z)) in xyz.enumerate() {
+        let mut p = [0.0f32; 3];
+        let axes = [("x", x), ("y", y), ("z", z)].into_iter().zip(origin);
+        for (slot, ((axis, value), o)) in p.iter_mut().zip(axes) {
+            *slot = to_local(value, o).ok_or(LasError::BadCoordinate {
+                index: first_index + i as u64,
+                axis,
+                value,
+            })?;
+        }
+        cloud.xyz.push(p);
+    }
+    if let Some(col) = &mut cloud.intensity {
+        col.extend(batch.intensity().map(f32::from));
+    }
+    if let Some(col) = &mut cloud.label {
+        col.extend(batch.classification());
+    }
+    if let (Some(col), Some(at)) = (&mut cloud.building, building_at) {
+        let records = batch.raw_bytes().chunks_exact(batch.record_len().max(1));
+        col.extend(records.map(|r| {
+            r.get(at..at + 4)
+                .and_then(|b| b.try_into().ok())
+                .map_or(0, u32::from_le_bytes)
+        }));
+    }
+    Ok(())
+}

@@ -1,0 +1,183 @@
+//! Tests of LAS/LAZ round trips, the building dimension, and the errors.
+
+use std::io::Cursor;
+
+use super::*;
+use crate::cloud::Cloud;
+
+fn sample_cloud() -> Cloud {
+    Cloud {
+        xyz: vec![[0.5, -1.25, 3.0], [100.001, 200.002, -5.5], [0.0, 0.0, 0.0]],
+        intensity: Some(vec![0.0, 1234.0, 65535.0]),
+        label: Some(vec![2, 6, 12]),
+        building: Some(vec![0, 7, u32::MAX]),
+        origin: [637_000.0, 849_000.5, 100.0],
+    }
+}
+
+fn write(cloud: &Cloud, compressed: bool) -> Vec<u8> {
+    write_las(Cursor::new(Vec::new()), cloud, compressed)
+        .unwrap()
+        .into_inner()
+}
+
+fn read(data: Vec<u8>) -> Result<Cloud, LasError> {
+    read_las(Cursor::new(data))
+}
+
+fn assert_close(a: &Cloud, b: &Cloud) {
+    assert_eq!(a.len(), b.len());
+    assert_eq!(a.origin, b.origin);
+    for (p, q) in a.xyz.iter().zip(&b.xyz) {
+        for k in 0..3 {
+            assert!((p[k] - q[k]).abs() <= 0.0005 + 1e-6, "{p:?} vs {q:?}");
+        }
+    }
+    assert_eq!(a.label, b.label);
+    assert_eq!(a.building, b.building);
+    assert_eq!(a.intensity, b.intensity);
+}
+
+#[test]
+fn las_and_laz_round_trip_with_building_ids() {
+    let cloud = sample_cloud();
+    for compressed in [false, true] {
+        let back = read(write(&cloud, compressed)).unwrap();
+        assert_close(&back, &cloud);
+    }
+}
+
+#[test]
+fn missing_attributes_come_back_as_zero_and_no_building() {
+    let mut cloud = Cloud::from_xyz(vec![[1.0, 2.0, 3.0]]);
+    cloud.origin = [0.0; 3];
+    let back = read(write(&cloud, false)).unwrap();
+    assert_eq!(back.xyz, cloud.xyz);
+    assert_eq!(back.intensity, Some(vec![0.0]));
+    assert_eq!(back.label, Some(vec![0]));
+    assert_eq!(back.building, None);
+    let empty = read(write(&Cloud::default(), true)).unwrap();
+    assert!(empty.is_empty());
+}
+
+#[test]
+fn a_header_offset_far_from_the_data_is_replaced_by_the_floored_minimum() {
+    // Written with origin 0 but coordinates 20 km out: the reader re-centres.
+    let cloud = Cloud::from_xyz(vec![
+        [20_000.25, 30_000.5, 10.0],
+        [20_001.0, 30_001.0, 11.0],
+    ]);
+    let back = read(write(&cloud, false)).unwrap();
+    assert_eq!(back.origin, [20_000.0, 30_000.0, 0.0]);
+    assert_eq!(back.xyz[0], [0.25, 0.5, 10.0]);
+}
+
+/// Overwrites little-endian bytes of a written file.
+fn patch(data: &mut [u8], at: usize, bytes: &[u8]) {
+    data[at..at + bytes.len()].copy_from_slice(bytes);
+}
+
+#[test]
+fn corrupt_headers_give_typed_errors() {
+    let good = write(&sample_cloud(), false);
+
+    let e = read(b"LASX this is not a las file, not at all, no".to_vec()).unwrap_err();
+    assert!(matches!(e, LasError::Las(_)), "{e:?}");
+
+    let mut cut = good.clone();
+    cut.truncate(cut.len() - 40);
+    let e = read(cut).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            LasError::Truncated {
+                count: 3,
+                available: 1
+            }
+        ),
+        "{e:?}"
+    );
+
+    let mut huge = good.clone();
+    patch(&mut huge, 107, &0u32.to_le_bytes());
+    patch(&mut huge, 247, &u64::MAX.to_le_bytes());
+    let e = read(huge).unwrap_err();
+    assert!(matches!(e, LasError::ImplausibleCount { .. }), "{e:?}");
+
+    let mut evlr = good.clone();
+    let len = evlr.len() as u64;
+    patch(&mut evlr, 235, &(len - 10).to_le_bytes());
+    patch(&mut evlr, 243, &1u32.to_le_bytes());
+    let e = read(evlr).unwrap_err();
+    assert!(matches!(e, LasError::BadEvlr { .. }), "{e:?}");
+
+    let mut scaled = good.clone();
+    patch(&mut scaled, 131, &1e300f64.to_le_bytes());
+    let e = read(scaled).unwrap_err();
+    assert!(
+        matches!(e, LasError::BadCoordinate { axis: "x", .. }),
+        "{e:?}"
+    );
+
+    let mut laz = write(&sample_cloud(), true);
+    laz.truncate(laz.len() - 8);
+    assert!(read(laz).is_err());
+}
+
+#[test]
+fn truncated_laz_reports_the_point_index() {
+    let cloud = Cloud::from_xyz(
+        (0..5000)
+            .map(|i| [i as f32, (i * 7 % 13) as f32, 0.5])
+            .collect(),
+    );
+    let mut laz = write(&cloud, true);
+    laz.truncate(laz.len() / 2);
+    match read(laz) {
+        Err(LasError::Points { count: 5000, .. } | LasError::Las(_) | LasError::Io(_)) => {}
+        other => panic!("unexpected {other:?}"),
+    }
+}
+
+#[test]
+fn io_failures_are_io_errors() {
+    struct Broken;
+    impl std::io::Read for Broken {
+        fn read(&mut self, _: &mut [u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::other("unplugged"))
+        }
+    }
+    impl std::io::Seek for Broken {
+        fn seek(&mut self, _: std::io::SeekFrom) -> std::io::Result<u64> {
+            Err(std::io::Error::other("unplugged"))
+        }
+    }
+    assert!(matches!(read_las(Broken), Err(LasError::Io(_))));
+}
+
+#[test]
+fn unwritable_clouds_are_rejected() {
+    let sink = || Cursor::new(Vec::new());
+    let mut far = Cloud::from_xyz(vec![[3.0e6, 0.0, 0.0]]);
+    assert!(matches!(
+        write_las(sink(), &far, false),
+        Err(LasError::CoordinateRange { axis: "x", .. })
+    ));
+    far.xyz[0] = [0.0; 3];
+    far.intensity = Some(vec![70_000.0]);
+    assert!(matches!(
+        write_las(sink(), &far, false),
+        Err(LasError::IntensityRange { index: 0, .. })
+    ));
+    far.intensity = Some(vec![]);
+    assert!(matches!(
+        write_las(sink(), &far, false),
+        Err(LasError::InvalidCloud(_))
+    ));
+    far.intensity = None;
+    far.origin = [f64::NAN, 0.0, 0.0];
+    assert!(matches!(
+        write_las(sink(), &far, false),
+        Err(LasError::NonFiniteOrigin { .. })
+    ));
+}
