@@ -26,4 +26,4 @@ pub mod visualization_msgs;
 
 pub use cdr::{CdrError, from_cdr, to_cdr};
 pub use message::RosMessage;
-pub use registry::{full_definition, known_types};
+pub use registry::{TypeVisitor, full_definition, known_types, with_type};

@@ -4,7 +4,7 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 
 /// A Rust struct whose serde field order is the CDR layout of a ROS 2 message type.
-pub trait RosMessage: Serialize + DeserializeOwned + Clone + Send + 'static {
+pub trait RosMessage: Serialize + DeserializeOwned + Clone + Send + Sync + 'static {
     /// ROS 2 type name, e.g. "sensor_msgs/msg/PointCloud2".
     const TYPE_NAME: &'static str;
     /// Own .msg field lines (no comments) of this type only, one per line.

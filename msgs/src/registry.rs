@@ -27,6 +27,16 @@ macro_rules! registry {
         }),*];
         /// The names of [`ENTRIES`], same order.
         static NAMES: &[&str] = &[$(<$ty as RosMessage>::TYPE_NAME),*];
+
+        /// Calls `visitor.visit::<M>()` with `M` the type named `type_name`
+        /// (`pkg/msg/Type` or `pkg/Type`); `None` for an unknown name.
+        pub fn with_type<V: TypeVisitor>(type_name: &str, visitor: V) -> Option<V::Output> {
+            let full = normalize(type_name)?;
+            $(if full == <$ty as RosMessage>::TYPE_NAME {
+                return Some(visitor.visit::<$ty>());
+            })*
+            None
+        }
     };
 }
 
@@ -62,6 +72,25 @@ registry!(
     rosgraph_msgs::Clock,
     rcl_interfaces::Log,
 );
+
+/// Code generic over a message type, run for a type chosen by name at run time
+/// (recorders, echo tools).
+pub trait TypeVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Runs with `M` the chosen type.
+    fn visit<M: RosMessage + std::fmt::Debug>(self) -> Self::Output;
+}
+
+fn normalize(type_name: &str) -> Option<String> {
+    let mut parts = type_name.split('/');
+    match (parts.next(), parts.next(), parts.next(), parts.next()) {
+        (Some(p), Some("msg"), Some(t), None) | (Some(p), Some(t), None, None) => {
+            Some(format!("{p}/msg/{t}"))
+        }
+        _ => None,
+    }
+}
 
 /// Full type names (`pkg/msg/Type`) of every message type this crate defines.
 pub fn known_types() -> &'static [&'static str] {
@@ -164,5 +193,23 @@ mod tests {
             Some("int32 sec\nuint32 nanosec\n")
         );
         assert_eq!(full_definition("nope/msg/Nope"), None);
+    }
+
+    #[test]
+    fn with_type_dispatches_by_name() {
+        struct Name;
+        impl TypeVisitor for Name {
+            type Output = &'static str;
+            fn visit<M: RosMessage + std::fmt::Debug>(self) -> &'static str {
+                M::TYPE_NAME
+            }
+        }
+        assert_eq!(with_type("nav_msgs/Path", Name), Some("nav_msgs/msg/Path"));
+        assert_eq!(
+            with_type("sensor_msgs/msg/PointCloud2", Name),
+            Some("sensor_msgs/msg/PointCloud2")
+        );
+        assert_eq!(with_type("nav_msgs/msg/Nope", Name), None);
+        assert_eq!(with_type("garbage", Name), None);
     }
 }

@@ -1,1 +1,9 @@
-pub fn x(){}
+//! skyground-nodes: the ROS 2 side of skyground. A shared node runtime, the
+//! cloud transport, the MCAP recorder, and one thin binary per node.
+
+pub mod bag;
+pub mod cli;
+pub mod netns;
+pub mod runtime;
+pub mod tap;
+pub mod transport;

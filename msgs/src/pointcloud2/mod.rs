@@ -12,3 +12,4 @@ mod error;
 pub use decode::{Decoded, decode};
 pub use encode::{EncodeOptions, encode};
 pub use error::PointCloud2Error;
+pub mod tiles;

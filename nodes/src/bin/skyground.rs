@@ -1,0 +1,132 @@
+//! `skyground`: the command-line entry to every tool of the project.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use skyground_nodes::cli::{self, bench, echo, record, sink};
+use skyground_nodes::netns;
+use skyground_nodes::runtime::{RosArgs, run_with};
+
+/// Sky–ground building point-cloud completion over ROS 2.
+#[derive(Debug, Parser)]
+#[command(name = "skyground", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Debug, Subcommand)]
+enum Cmd {
+    /// Record topics into a rosbag2-compatible MCAP file.
+    Record(record::RecordArgs),
+    /// Print a topic's messages as JSON lines.
+    Echo(echo::EchoArgs),
+    /// Receive whole clouds and print one JSON line each.
+    CloudSink(sink::SinkArgs),
+    /// Benchmarks (run inside a loopback-only network namespace; re-runs itself in one).
+    Bench {
+        /// Run here even if other network interfaces exist.
+        #[arg(long)]
+        no_netns: bool,
+        #[command(subcommand)]
+        which: bench::BenchCmd,
+    },
+    /// Message types: list, definitions, CDR samples.
+    Msgs {
+        #[command(subcommand)]
+        which: MsgsCmd,
+    },
+    /// Run a command in a fresh loopback-only network namespace.
+    Netns {
+        /// The command and its arguments.
+        #[arg(required = true, trailing_var_arg = true, allow_hyphen_values = true)]
+        command: Vec<std::ffi::OsString>,
+    },
+}
+
+#[derive(Debug, Subcommand)]
+enum MsgsCmd {
+    /// Every known message type.
+    List,
+    /// The ros2msg schema text (with dependencies) of a type.
+    Show {
+        /// pkg/msg/Type
+        type_name: String,
+    },
+    /// One JSON line per type: a sample's fields and its CDR bytes (for interop tests).
+    Samples,
+}
+
+fn main() -> ExitCode {
+    let argv: Vec<String> = std::env::args().collect();
+    let (own, ros) = match RosArgs::split(argv.get(1..).unwrap_or_default()) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("skyground: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let cli = Cli::parse_from(std::iter::once("skyground".to_string()).chain(own));
+    match cli.cmd {
+        Cmd::Msgs { which } => msgs(which),
+        Cmd::Netns { command } => match command.split_first() {
+            Some((prog, args)) => exit_of(netns::run_isolated(prog, args)),
+            None => ExitCode::from(2),
+        },
+        Cmd::Record(a) => run_with(cli::tool_spec("skyground_record"), ros, vec![], async |rt, _| {
+            record::run(rt, a).await
+        }),
+        Cmd::Echo(a) => run_with(cli::tool_spec("skyground_echo"), ros, vec![], async |rt, _| {
+            echo::run(rt, a).await
+        }),
+        Cmd::CloudSink(a) => run_with(cli::tool_spec("skyground_cloud_sink"), ros, vec![], async |rt, _| {
+            sink::run(rt, a).await
+        }),
+        Cmd::Bench { no_netns, which } => {
+            if !no_netns && !netns::is_isolated() {
+                eprintln!("skyground bench: re-running inside a loopback-only network namespace");
+                return exit_of(netns::rerun_self_isolated());
+            }
+            run_with(cli::tool_spec("skyground_bench"), ros, vec![], async |rt, _| match which {
+                bench::BenchCmd::Transport(a) => bench::transport(rt, a).await,
+            })
+        }
+    }
+}
+
+fn exit_of(status: std::io::Result<std::process::ExitStatus>) -> ExitCode {
+    match status {
+        Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
+        Err(e) => {
+            eprintln!("skyground: cannot start the isolated command: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn msgs(which: MsgsCmd) -> ExitCode {
+    match which {
+        MsgsCmd::List => {
+            for t in skyground_msgs::known_types() {
+                println!("{t}");
+            }
+            ExitCode::SUCCESS
+        }
+        MsgsCmd::Show { type_name } => match skyground_msgs::full_definition(&type_name) {
+            Some(text) => {
+                print!("{text}");
+                ExitCode::SUCCESS
+            }
+            None => {
+                eprintln!("skyground: unknown message type `{type_name}`");
+                ExitCode::FAILURE
+            }
+        },
+        MsgsCmd::Samples => {
+            for s in skyground_msgs::samples::all() {
+                println!("{}", s.to_json_line());
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}

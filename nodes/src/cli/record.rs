@@ -1,0 +1,148 @@
+//! `skyground record`: topics → a rosbag2-compatible MCAP file, valid even when
+//! stopped by SIGINT/SIGTERM.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use tokio::sync::mpsc;
+
+use super::{qos_for, topic_and_type, wait_for_topic};
+use crate::bag::{BagWriter, TopicQos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::tap::{TopicInfo, tap};
+
+/// What to record.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RecordArgs {
+    /// Output file (.mcap).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Stop after this many seconds (0: until SIGINT/SIGTERM).
+    #[arg(long, default_value_t = 0.0)]
+    pub duration: f64,
+    /// Topics, each optionally with its type (/x:pkg/msg/Type); without a type
+    /// the topic's publishers must be discovered first.
+    #[arg(required = true)]
+    pub topics: Vec<String>,
+}
+
+struct Pending {
+    topic: String,
+    type_name: Option<String>,
+}
+
+fn now_ns() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
+}
+
+/// Runs the recorder.
+pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError> {
+    let bag_err = |e: crate::bag::BagError| RuntimeError::Node(e.to_string());
+    let mut writer = BagWriter::create(&a.output).map_err(bag_err)?;
+    let mut pending: Vec<Pending> = a
+        .topics
+        .iter()
+        .map(|t| {
+            let (topic, type_name) = topic_and_type(t);
+            Pending { topic, type_name }
+        })
+        .collect();
+    let (tx, mut rx) = mpsc::channel::<(u16, u64, u64, Vec<u8>)>(256);
+    let mut tasks = Vec::new();
+    let mut counts: BTreeMap<String, u64> = BTreeMap::new();
+    let mut names: BTreeMap<u16, String> = BTreeMap::new();
+    let deadline = (a.duration > 0.0).then(|| Instant::now() + Duration::from_secs_f64(a.duration));
+    let mut tick = tokio::time::interval(Duration::from_millis(100));
+    rt.log.info(&format!("recording {} topic(s) to {}", pending.len(), a.output.display()));
+    loop {
+        tokio::select! {
+            _ = rt.shutdown.wait() => break,
+            Some((ch, log_ns, pub_ns, cdr)) = rx.recv() => {
+                writer.write(ch, log_ns, pub_ns, &cdr).map_err(bag_err)?;
+                if let Some(n) = names.get(&ch) {
+                    *counts.entry(n.clone()).or_default() += 1;
+                }
+            }
+            _ = tick.tick() => {
+                if deadline.is_some_and(|d| Instant::now() > d) {
+                    break;
+                }
+                let mut still = Vec::new();
+                for p in pending.drain(..) {
+                    let found = wait_for_topic(rt, &p.topic, Duration::ZERO).await;
+                    let (info, q) = match (found, p.type_name.clone()) {
+                        (Some(info), ty) => {
+                            let q = qos_for(&info, 1000);
+                            (TopicInfo { type_name: ty.unwrap_or(info.type_name.clone()), ..info }, q)
+                        }
+                        // A typed topic without publishers yet: record it reliably.
+                        (None, Some(t)) => (
+                            TopicInfo { type_name: t, reliable: true, transient_local: false },
+                            qos::reliable(1000),
+                        ),
+                        (None, None) => {
+                            still.push(p);
+                            continue;
+                        }
+                    };
+                    let mut sub = tap(rt, &p.topic, &info.type_name, q, false)?;
+                    let ch = writer
+                        .add_topic(&p.topic, &info.type_name, &TopicQos {
+                            reliable: info.reliable,
+                            transient_local: info.transient_local,
+                            depth: 10,
+                        })
+                        .map_err(bag_err)?;
+                    names.insert(ch, p.topic.clone());
+                    counts.insert(p.topic.clone(), 0);
+                    rt.log.info(&format!("recording {} ({})", p.topic, info.type_name));
+                    let tx = tx.clone();
+                    let log = rt.log.clone();
+                    let topic = p.topic.clone();
+                    tasks.push(tokio::spawn(async move {
+                        while let Some(m) = sub.next().await {
+                            match m {
+                                Ok(m) => {
+                                    let pub_ns = if m.publish_time_ns > 0 { m.publish_time_ns } else { now_ns() };
+                                    if tx.send((ch, now_ns(), pub_ns, m.cdr)).await.is_err() {
+                                        break;
+                                    }
+                                }
+                                Err(e) => log.error(&format!("{topic}: {e}")),
+                            }
+                        }
+                    }));
+                }
+                pending = still;
+            }
+        }
+    }
+    for t in &tasks {
+        t.abort();
+    }
+    // Keep what the taps already handed over.
+    while let Ok((ch, log_ns, pub_ns, cdr)) = rx.try_recv() {
+        writer.write(ch, log_ns, pub_ns, &cdr).map_err(bag_err)?;
+        if let Some(n) = names.get(&ch) {
+            *counts.entry(n.clone()).or_default() += 1;
+        }
+    }
+    writer.finish().map_err(bag_err)?;
+    for p in &pending {
+        rt.log.warn(&format!("{}: never discovered, not recorded", p.topic));
+    }
+    let total: u64 = counts.values().sum();
+    rt.log.info(&format!(
+        "wrote {total} message(s) to {}: {}",
+        a.output.display(),
+        counts
+            .iter()
+            .map(|(t, n)| format!("{t} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    Ok(())
+}

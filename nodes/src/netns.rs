@@ -1,0 +1,61 @@
+//! Keeping DDS on this machine: run a command inside a fresh network namespace
+//! that has only loopback (with multicast routed to it), as DESIGN.md asks.
+
+use std::ffi::OsString;
+use std::process::{Command, ExitStatus};
+
+/// Shell that brings loopback up with multicast, then runs the command.
+const SETUP: &str = "ip link set lo up && ip link set lo multicast on && \
+                     ip route add 224.0.0.0/4 dev lo && exec \"$@\"";
+
+/// Set in the environment of commands this module isolated, so that they
+/// never try to isolate themselves again.
+pub const ISOLATED_ENV: &str = "SKYGROUND_NETNS";
+
+/// True when this process's network namespace has no interface but `lo`.
+/// (/proc/net/dev follows the caller's namespace; /sys/class/net would not.)
+pub fn is_isolated() -> bool {
+    if std::env::var_os(ISOLATED_ENV).is_some_and(|v| v == "1") {
+        return true;
+    }
+    match std::fs::read_to_string("/proc/net/dev") {
+        Ok(text) => text
+            .lines()
+            .skip(2)
+            .filter_map(|l| l.split(':').next())
+            .all(|name| name.trim() == "lo"),
+        Err(_) => false,
+    }
+}
+
+/// Runs `program args` in a new loopback-only namespace and waits for it.
+/// As root this is `unshare --net`; otherwise an unprivileged user namespace.
+pub fn run_isolated(program: &OsString, args: &[OsString]) -> std::io::Result<ExitStatus> {
+    let root = nix_is_root();
+    let mut cmd = Command::new("unshare");
+    if !root {
+        cmd.args(["--user", "--map-root-user"]);
+    }
+    cmd.args(["--net", "--", "sh", "-c", SETUP, "netns"]);
+    cmd.arg(program).args(args).env(ISOLATED_ENV, "1");
+    cmd.status()
+}
+
+/// Re-runs the current executable with the same arguments, isolated.
+pub fn rerun_self_isolated() -> std::io::Result<ExitStatus> {
+    let exe = std::env::current_exe()?;
+    let args: Vec<OsString> = std::env::args_os().skip(1).collect();
+    run_isolated(&exe.into_os_string(), &args)
+}
+
+fn nix_is_root() -> bool {
+    // /proc/self/status holds "Uid: real effective ..."; no libc call needed.
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("Uid:"))
+                .and_then(|l| l.split_whitespace().nth(2).map(|u| u == "0"))
+        })
+        .unwrap_or(false)
+}

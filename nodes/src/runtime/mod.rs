@@ -1,0 +1,14 @@
+//! The shared node runtime: command line, params, DDS domain, QoS, logging,
+//! clock and shutdown. Every skyground node is this plus a library call.
+
+pub mod args;
+pub mod domain;
+pub mod log;
+pub mod node;
+pub mod params;
+pub mod qos;
+pub mod shutdown;
+
+pub use args::RosArgs;
+pub use log::Logger;
+pub use node::{NodeRuntime, NodeSpec, RuntimeError, run_node, run_with};

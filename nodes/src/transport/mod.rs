@@ -1,0 +1,8 @@
+//! Point clouds over DDS: tiled, acknowledgement-paced publishing and
+//! reassembling subscriptions (the rule is in `skyground_msgs::pointcloud2::tiles`).
+
+mod publisher;
+mod subscriber;
+
+pub use publisher::{CloudPublisher, PublishStats, TransportConfig};
+pub use subscriber::{CloudSubscription, Received};

@@ -1,0 +1,68 @@
+//! Receiving clouds: reassembles tiles and decodes, reporting bad messages
+//! without stopping.
+
+use futures::StreamExt;
+use ros2_client::{QosProfile, Subscription};
+use skyground_msgs::pointcloud2::{self, Decoded, tiles::Assembler};
+use skyground_msgs::sensor_msgs::PointCloud2;
+
+use crate::runtime::{NodeRuntime, RuntimeError};
+
+/// One whole cloud as it arrived, or why it could not be used.
+pub enum Received {
+    /// A decoded cloud and the message it came from.
+    Cloud {
+        /// The reassembled message.
+        msg: PointCloud2,
+        /// Its decoded points.
+        decoded: Decoded,
+    },
+    /// A message that could not be read (CDR error) or decoded (layout error).
+    Bad(String),
+}
+
+/// A PointCloud2 subscription that yields whole, decoded clouds.
+pub struct CloudSubscription {
+    sub: Subscription<PointCloud2>,
+    assembler: Assembler,
+}
+
+impl CloudSubscription {
+    /// Subscribes to `topic` with tiles of `tile_points` points.
+    pub fn new(
+        rt: &mut NodeRuntime,
+        topic: &str,
+        qos: QosProfile,
+        tile_points: u32,
+    ) -> Result<Self, RuntimeError> {
+        Ok(Self {
+            sub: rt.subscription::<PointCloud2>(topic, qos)?,
+            assembler: Assembler::new(tile_points),
+        })
+    }
+
+    /// Waits for the next whole cloud (or bad message). `None` when the
+    /// subscription ended.
+    pub async fn next(&mut self) -> Option<Received> {
+        let stream = self.sub.async_stream();
+        futures::pin_mut!(stream);
+        loop {
+            match stream.next().await? {
+                Err(e) => return Some(Received::Bad(format!("unreadable message: {e}"))),
+                Ok((tile, _info)) => {
+                    if let Some(msg) = self.assembler.push(tile) {
+                        return Some(match pointcloud2::decode(&msg) {
+                            Ok(decoded) => Received::Cloud { msg, decoded },
+                            Err(e) => Received::Bad(e.to_string()),
+                        });
+                    }
+                }
+            }
+        }
+    }
+
+    /// Partial clouds given up because a newer one started.
+    pub fn abandoned(&self) -> usize {
+        self.assembler.abandoned()
+    }
+}

@@ -1,0 +1,162 @@
+"""Shared fixtures: skyground binaries as processes, rclpy in a domain of each
+test's own, and a guard that DDS tests only run in a loopback-only namespace."""
+import itertools
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+BIN = Path(os.environ.get("SKYGROUND_BIN_DIR", ROOT / "target" / "debug"))
+REAL = Path(os.environ.get("SKYGROUND_REAL_DATA", ROOT.parent / "shared" / "data" / "real"))
+PEER = ROOT / "tests" / "python" / "peer_cloud.py"
+
+# Let this process's Fast DDS take bursts of large clouds (see docs/transport.md).
+os.environ.setdefault("FASTDDS_BUILTIN_TRANSPORTS", "DEFAULT?sockets_size=4194304")
+os.environ.setdefault("ROS_DISTRO", "kilted")
+
+_domains = itertools.count(int(os.environ.get("SKYGROUND_TEST_DOMAIN_BASE", "40")))
+
+
+def isolated():
+    with open("/proc/net/dev") as f:
+        names = [line.split(":")[0].strip() for line in f.readlines()[2:]]
+    return names == ["lo"]
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _guard_network():
+    if not isolated():
+        pytest.exit("DDS tests must run in a loopback-only network namespace: use tests/run_all.sh "
+                    "(or tests/netns.sh python -m pytest ...)", returncode=3)
+
+
+def real_file(name):
+    path = REAL / name
+    if not path.exists():
+        pytest.skip(f"real data not found: {path} (../shared/data/real is absent)")
+    return path
+
+
+class Proc:
+    """A skyground binary run as a child process in the test's domain."""
+
+    def __init__(self, args, env, log_path):
+        self.args = args
+        self.log_path = log_path
+        self._log = open(log_path, "wb")
+        self.p = subprocess.Popen(args, env=env, stdout=subprocess.PIPE, stderr=self._log)
+
+    def stop(self, sig=signal.SIGINT, timeout=10.0):
+        if self.p.poll() is None:
+            self.p.send_signal(sig)
+            try:
+                self.p.wait(timeout)
+            except subprocess.TimeoutExpired:
+                self.p.kill()
+                self.p.wait()
+        self._log.close()
+        return self.p.returncode
+
+    def stderr(self):
+        self._log.flush()
+        return Path(self.log_path).read_text(errors="replace")
+
+    def json_lines(self, n, timeout=60.0):
+        """Reads n JSON lines from stdout (raises on timeout)."""
+        out = []
+        end = time.time() + timeout
+        os.set_blocking(self.p.stdout.fileno(), False)
+        buf = b""
+        while len(out) < n:
+            if time.time() > end:
+                raise TimeoutError(f"{self.args[0]}: got {len(out)} of {n} lines; stderr:\n{self.stderr()[-3000:]}")
+            chunk = self.p.stdout.read()
+            if chunk:
+                buf += chunk
+                *lines, buf = buf.split(b"\n")
+                out.extend(json.loads(line) for line in lines if line.strip())
+            elif self.p.poll() is not None:
+                raise RuntimeError(f"{self.args[0]} exited {self.p.returncode}; stderr:\n{self.stderr()[-3000:]}")
+            else:
+                time.sleep(0.02)
+        return out
+
+
+@pytest.fixture
+def domain():
+    return next(_domains)
+
+
+@pytest.fixture
+def env(domain):
+    e = dict(os.environ)
+    e["ROS_DOMAIN_ID"] = str(domain)
+    e.pop("RUST_LOG", None)
+    return e
+
+
+@pytest.fixture
+def spawn(env, tmp_path):
+    procs = []
+
+    def start(name, *args, extra_env=None):
+        exe = str(BIN / name) if not name.endswith(".py") else sys.executable
+        argv = [exe, *map(str, args)] if not name.endswith(".py") else [exe, name, *map(str, args)]
+        e = dict(env, **(extra_env or {}))
+        p = Proc(argv, e, tmp_path / f"{Path(name).name}-{len(procs)}.log")
+        procs.append(p)
+        return p
+
+    yield start
+    for p in procs:
+        p.stop()
+
+
+@pytest.fixture
+def ros(domain):
+    """An rclpy context and node in the test's domain."""
+    import rclpy
+    from rclpy.node import Node
+
+    ctx = rclpy.Context()
+    rclpy.init(context=ctx, domain_id=domain)
+    node = Node(f"pytest_{domain}", context=ctx)
+    executor = rclpy.executors.SingleThreadedExecutor(context=ctx)
+    executor.add_node(node)
+
+    class Ros:
+        pass
+
+    r = Ros()
+    r.node, r.ctx, r.executor = node, ctx, executor
+
+    def spin_until(pred, timeout=30.0):
+        end = time.time() + timeout
+        while time.time() < end:
+            if pred():
+                return True
+            executor.spin_once(timeout_sec=0.05)
+        return pred()
+
+    r.spin_until = spin_until
+    yield r
+    executor.shutdown()
+    node.destroy_node()
+    rclpy.shutdown(context=ctx)
+
+
+def qos(kind="reliable", depth=10):
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+    return QoSProfile(
+        depth=depth,
+        history=HistoryPolicy.KEEP_LAST,
+        reliability=ReliabilityPolicy.BEST_EFFORT if kind == "sensor" else ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if kind == "latched" else DurabilityPolicy.VOLATILE,
+    )
