@@ -1,7 +1,7 @@
 //! Each type's DEFINITION equals the upstream .msg file, comments and spacing aside.
 //!
 //! Reads the ROS 2 share directory named by `SKYGROUND_ROS_SHARE` (default
-//! `/tmp/probe/venv/share`, where pip's `ros-kilted-*` packages put their
+//! `.venv/share` of the repository, where pip's `ros-kilted-*` packages put their
 //! .msg files); when it is absent the comparison is skipped with a note.
 
 use std::path::PathBuf;
@@ -41,7 +41,7 @@ fn canonical_text(text: &str, package: &str) -> Vec<String> {
 fn definitions_match_upstream_msg_files() {
     let share = std::env::var_os("SKYGROUND_ROS_SHARE")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/tmp/probe/venv/share"));
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.venv/share")));
     if !share.is_dir() {
         eprintln!("skipped: no ROS share directory at {}", share.display());
         return;

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use skyground_nodes::cli::{self, bench, echo, record, sink};
+use skyground_nodes::cli::{self, bench, demo, echo, record, sink};
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
 
@@ -17,6 +17,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Cmd {
+    /// Run the default mission (re-runs itself inside a loopback-only network namespace).
+    Demo(demo::DemoArgs),
     /// Record topics into a rosbag2-compatible MCAP file.
     Record(record::RecordArgs),
     /// Print a topic's messages as JSON lines.
@@ -73,6 +75,30 @@ fn main() -> ExitCode {
             Some((prog, args)) => exit_of(netns::run_isolated(prog, args)),
             None => ExitCode::from(2),
         },
+        Cmd::Demo(a) => {
+            if !a.no_netns && !netns::is_isolated() {
+                eprintln!("skyground demo: re-running inside a loopback-only network namespace");
+                return exit_of(netns::rerun_self_isolated());
+            }
+            if std::env::var_os("ROS_AUTOMATIC_DISCOVERY_RANGE").is_none() {
+                // The demo is a local mission: keep discovery on this host.
+                // SAFETY: no other thread exists yet.
+                unsafe { std::env::set_var("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST") };
+            }
+            match tokio::runtime::Runtime::new() {
+                Ok(rt) => match rt.block_on(demo::run(a)) {
+                    Ok(()) => ExitCode::SUCCESS,
+                    Err(e) => {
+                        eprintln!("skyground demo: {e}");
+                        ExitCode::FAILURE
+                    }
+                },
+                Err(e) => {
+                    eprintln!("skyground demo: cannot start tokio: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
         Cmd::Record(a) => run_with(cli::tool_spec("skyground_record"), ros, vec![], async |rt, _| {
             record::run(rt, a).await
         }),

@@ -2,6 +2,7 @@
 //! or the node runtime).
 
 pub mod bench;
+pub mod demo;
 pub mod echo;
 pub mod record;
 pub mod sink;

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Every test of skyground, from a fresh clone: builds, sets up the rclpy venv,
+# runs the Rust tests and the rclpy harness. DDS only ever runs inside a
+# loopback-only network namespace (tests/netns.sh) with test-owned domain ids.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+step() { printf '\n==> %s\n' "$*"; }
+
+step "Rust toolchain checks (fmt, clippy)"
+cargo fmt --all -- --check
+cargo clippy --workspace --all-targets --locked -- -D warnings
+
+step "build (debug: tests; the codec and algorithms build optimized even here)"
+cargo build --workspace --all-targets --locked
+
+step "rclpy peer venv (.venv, pinned ros-kilted wheels)"
+tests/setup_venv.sh
+
+export SKYGROUND_BIN_DIR="$root/target/debug"
+export SKYGROUND_SAMPLES_CMD="$root/target/debug/skyground msgs samples"
+export SKYGROUND_ROS_SHARE="$root/.venv/share"
+export SKYGROUND_REAL_DATA="${SKYGROUND_REAL_DATA:-$root/../shared/data/real}"
+[ -d "$SKYGROUND_REAL_DATA" ] || echo "NOTE: $SKYGROUND_REAL_DATA not found: tests that need real data will say SKIPPED"
+
+step "Rust tests (inside a loopback-only network namespace)"
+tests/netns.sh cargo test --workspace --offline --locked
+
+step "rclpy harness (pytest, inside a loopback-only network namespace)"
+tests/netns.sh "$root/.venv/bin/python" -m pytest -q -p no:cacheprovider tests/python "$@"
