@@ -274,3 +274,22 @@ def test_sigterm_stops_a_node_cleanly(spawn):
     t = time.time()
     assert p.stop(signal.SIGTERM) == 0
     assert time.time() - t < 5.0
+
+
+def test_localhost_discovery_range_reaches_rclpy(spawn, domain, tmp_path):
+    """A LOCALHOST-range Rust publisher (the demo's default) and a stock rclpy
+    subscriber find each other. (rclpy itself in LOCALHOST mode receives large
+    clouds very slowly: docs/transport.md.)"""
+    sink = spawn(str(PEER), "sink", "--topic", "/local", "--qos", "latched", "--count", "1", "--check-synthetic",
+                 "--timeout", "60")
+    assert sink.json_lines(1, 30)[0] == {"ready": True}
+    spawn("cloud_publisher", "--ros-args", "-p", "topic:=/local", "-p", "synthetic_points:=300000",
+          "-p", "wait_for_subscribers:=1", extra_env={"ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"})
+    lines = sink.json_lines(1, 60)
+    assert lines[0]["points"] == 300000 and lines[0]["valid"], sink.stderr()
+
+
+def test_bad_discovery_range_is_a_clear_error(spawn):
+    p = spawn("cloud_publisher", extra_env={"ROS_AUTOMATIC_DISCOVERY_RANGE": "MOON"})
+    assert p.p.wait(30) != 0
+    assert "ROS_AUTOMATIC_DISCOVERY_RANGE" in p.stderr()

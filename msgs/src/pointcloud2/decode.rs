@@ -87,6 +87,11 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
     }
 
     let mut out = Decoded::default();
+    if points == 0 {
+        // Without this, width 0 and height 4e9 (data length 0 fits) would walk
+        // four billion empty rows: found by fuzzing.
+        return Ok(out);
+    }
     let cloud = &mut out.cloud;
     cloud.xyz.reserve_exact(points);
     cloud.intensity = intensity.map(|_| Vec::with_capacity(points));
@@ -241,6 +246,19 @@ mod tests {
             data,
             ..PointCloud2::default()
         }
+    }
+
+    #[test]
+    fn empty_rows_return_at_once() {
+        let mut msg = crate::pointcloud2::encode(
+            &skyground_core::cloud::Cloud::from_xyz(vec![]),
+            crate::std_msgs::Header::default(),
+            &crate::pointcloud2::EncodeOptions::default(),
+        );
+        msg.height = u32::MAX;
+        msg.width = 0;
+        msg.row_step = 0;
+        assert_eq!(decode(&msg).map(|d| d.cloud.len()), Ok(0));
     }
 
     #[test]
