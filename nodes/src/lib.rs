@@ -4,6 +4,7 @@
 pub mod bag;
 pub mod cli;
 pub mod netns;
+pub mod node;
 pub mod runtime;
 pub mod tap;
 pub mod transport;

@@ -46,22 +46,25 @@ impl<M: RosMessage> Tap for TypedTap<M> {
             let stream = self.sub.async_stream();
             futures::pin_mut!(stream);
             let item = stream.next().await?;
-            Some(item.map_err(|e| format!("unreadable message: {e}")).and_then(|(msg, info)| {
-                let publish_time_ns = info
-                    .source_timestamp()
-                    .map_or(0, |t| u64::try_from(t.to_nanos()).unwrap_or(0));
-                let cdr = to_cdr(&msg).map_err(|e| e.to_string())?;
-                let json = if self.json {
-                    Some(serde_json::to_value(&msg).map_err(|e| e.to_string())?)
-                } else {
-                    None
-                };
-                Ok(Tapped {
-                    cdr,
-                    json,
-                    publish_time_ns,
-                })
-            }))
+            Some(
+                item.map_err(|e| format!("unreadable message: {e}"))
+                    .and_then(|(msg, info)| {
+                        let publish_time_ns = info
+                            .source_timestamp()
+                            .map_or(0, |t| u64::try_from(t.to_nanos()).unwrap_or(0));
+                        let cdr = to_cdr(&msg).map_err(|e| e.to_string())?;
+                        let json = if self.json {
+                            Some(serde_json::to_value(&msg).map_err(|e| e.to_string())?)
+                        } else {
+                            None
+                        };
+                        Ok(Tapped {
+                            cdr,
+                            json,
+                            publish_time_ns,
+                        })
+                    }),
+            )
         })
     }
 }
@@ -78,7 +81,10 @@ impl TypeVisitor for MakeTap<'_> {
 
     fn visit<M: RosMessage + std::fmt::Debug>(self) -> Self::Output {
         let sub = self.rt.subscription::<M>(self.topic, self.qos)?;
-        Ok(Box::new(TypedTap { sub, json: self.json }))
+        Ok(Box::new(TypedTap {
+            sub,
+            json: self.json,
+        }))
     }
 }
 
@@ -90,7 +96,16 @@ pub fn tap(
     qos: QosProfile,
     json: bool,
 ) -> Result<Box<dyn Tap>, RuntimeError> {
-    with_type(type_name, MakeTap { rt, topic, qos, json }).unwrap_or_else(|| {
+    with_type(
+        type_name,
+        MakeTap {
+            rt,
+            topic,
+            qos,
+            json,
+        },
+    )
+    .unwrap_or_else(|| {
         Err(RuntimeError::Node(format!(
             "unknown message type `{type_name}` (known: {})",
             skyground_msgs::known_types().join(", ")

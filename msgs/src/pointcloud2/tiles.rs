@@ -31,7 +31,9 @@ pub fn split(msg: PointCloud2, tile_points: u32) -> Vec<PointCloud2> {
     }
     let step = msg.point_step as usize;
     let tile_bytes = tile_points as usize * step;
-    let used = (msg.width as usize).saturating_mul(step).min(msg.data.len());
+    let used = (msg.width as usize)
+        .saturating_mul(step)
+        .min(msg.data.len());
     let full = msg.width / tile_points;
     let mut out = Vec::with_capacity(full as usize + 1);
     for k in 0..=full {
@@ -50,7 +52,11 @@ pub fn split(msg: PointCloud2, tile_points: u32) -> Vec<PointCloud2> {
             is_bigendian: msg.is_bigendian,
             point_step: msg.point_step,
             row_step: width * msg.point_step,
-            data: msg.data.get(start..end).map(<[u8]>::to_vec).unwrap_or_default(),
+            data: msg
+                .data
+                .get(start..end)
+                .map(<[u8]>::to_vec)
+                .unwrap_or_default(),
             is_dense: msg.is_dense,
         });
     }
@@ -96,7 +102,10 @@ impl Assembler {
     /// Feeds one message; returns the whole cloud when this message completes one.
     pub fn push(&mut self, tile: PointCloud2) -> Option<PointCloud2> {
         let stamp = tile.header.stamp.clone();
-        let pos = self.open.iter().position(|g| same_stamp(&g.header.stamp, &stamp));
+        let pos = self
+            .open
+            .iter()
+            .position(|g| same_stamp(&g.header.stamp, &stamp));
         let complete = tile.height != 1 || tile.width != self.tile_points;
         let group = match pos {
             Some(i) => {
@@ -165,9 +174,15 @@ mod tests {
     #[test]
     fn split_follows_the_rule() {
         let tiles = split(cloud(10, 1), 4);
-        assert_eq!(tiles.iter().map(|t| t.width).collect::<Vec<_>>(), vec![4, 4, 2]);
+        assert_eq!(
+            tiles.iter().map(|t| t.width).collect::<Vec<_>>(),
+            vec![4, 4, 2]
+        );
         let tiles = split(cloud(8, 1), 4);
-        assert_eq!(tiles.iter().map(|t| t.width).collect::<Vec<_>>(), vec![4, 4, 0]);
+        assert_eq!(
+            tiles.iter().map(|t| t.width).collect::<Vec<_>>(),
+            vec![4, 4, 0]
+        );
         assert_eq!(tile_count(8, 4), 3);
         assert_eq!(split(cloud(3, 1), 4).len(), 1);
         for t in split(cloud(10, 1), 4) {

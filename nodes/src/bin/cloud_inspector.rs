@@ -1,115 +1,12 @@
-//! cloud_inspector: PointCloud2 topic → per-cloud report on /rosout and a
-//! DiagnosticArray; bad clouds are reported and the node keeps running.
+//! The `cloud_inspector` node as its own binary (see `skyground_nodes::node::cloud_inspector`).
 
 use std::process::ExitCode;
 
-use serde::Deserialize;
-use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
-use skyground_msgs::std_msgs::Header;
-use skyground_nodes::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos, run_node};
-use skyground_nodes::transport::{CloudSubscription, Received};
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Params {
-    topic: String,
-    qos: String,
-    depth: usize,
-    tile_points: u32,
-    stats_topic: String,
-    max_clouds: u64,
-}
-
-const SPEC: NodeSpec = NodeSpec {
-    name: "cloud_inspector",
-    default_params: include_str!("../../../config/cloud_inspector.yaml"),
-};
-
-fn kv(key: &str, value: impl ToString) -> KeyValue {
-    KeyValue {
-        key: key.into(),
-        value: value.to_string(),
-    }
-}
+use skyground_nodes::node::cloud_inspector;
+use skyground_nodes::runtime::run_node;
 
 fn main() -> ExitCode {
-    run_node(SPEC, async |rt: &mut NodeRuntime, _args| {
-        let p: Params = rt.params()?;
-        let sub_qos = qos::by_name(&p.qos, p.depth)
-            .ok_or_else(|| RuntimeError::Node(format!("unknown qos `{}` (latched, reliable, sensor)", p.qos)))?;
-        let mut sub = CloudSubscription::new(rt, &p.topic, sub_qos, p.tile_points)?;
-        let stats = rt.publisher::<DiagnosticArray>(&p.stats_topic, qos::reliable(10))?;
-        rt.log.info(&format!("inspecting clouds on {}", p.topic));
-        let mut good = 0u64;
-        loop {
-            let got = tokio::select! {
-                r = sub.next() => r,
-                _ = rt.shutdown.wait() => None,
-            };
-            let Some(got) = got else { break };
-            let status = match got {
-                Received::Bad(reason) => {
-                    rt.log.error(&format!("rejected cloud on {}: {reason}", p.topic));
-                    DiagnosticStatus {
-                        level: DiagnosticStatus::ERROR,
-                        name: p.topic.clone(),
-                        message: reason,
-                        hardware_id: String::new(),
-                        values: vec![],
-                    }
-                }
-                Received::Cloud { msg, decoded } => {
-                    good += 1;
-                    let c = &decoded.cloud;
-                    let labels = c
-                        .label_histogram()
-                        .map(|h| {
-                            h.iter()
-                                .enumerate()
-                                .filter(|(_, n)| **n > 0)
-                                .map(|(l, n)| format!("{l}:{n}"))
-                                .collect::<Vec<_>>()
-                                .join(",")
-                        })
-                        .unwrap_or_default();
-                    let fields: Vec<_> = msg.fields.iter().map(|f| f.name.as_str()).collect();
-                    rt.log.info(&format!(
-                        "cloud on {}: {} points, fields [{}], dropped {} non-finite, labels [{labels}]",
-                        p.topic,
-                        c.len(),
-                        fields.join(","),
-                        decoded.dropped_non_finite
-                    ));
-                    DiagnosticStatus {
-                        level: DiagnosticStatus::OK,
-                        name: p.topic.clone(),
-                        message: "ok".into(),
-                        hardware_id: String::new(),
-                        values: vec![
-                            kv("points", c.len()),
-                            kv("dropped_non_finite", decoded.dropped_non_finite),
-                            kv("fields", fields.join(",")),
-                            kv("labels", labels),
-                            kv("stamp_sec", msg.header.stamp.sec),
-                            kv("stamp_nanosec", msg.header.stamp.nanosec),
-                        ],
-                    }
-                }
-            };
-            let report = DiagnosticArray {
-                header: Header {
-                    stamp: rt.now(),
-                    frame_id: String::new(),
-                },
-                status: vec![status],
-            };
-            if let Err(e) = stats.async_publish(report).await {
-                rt.log.warn(&format!("cannot publish stats: {e:?}"));
-            }
-            if p.max_clouds > 0 && good >= p.max_clouds {
-                break;
-            }
-        }
-        Ok(())
+    run_node(cloud_inspector::SPEC, async |rt, _args| {
+        cloud_inspector::run(rt).await
     })
 }

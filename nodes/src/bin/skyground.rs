@@ -19,6 +19,11 @@ struct Cli {
 enum Cmd {
     /// Run the default mission (re-runs itself inside a loopback-only network namespace).
     Demo(demo::DemoArgs),
+    /// Run a node: skyground node NAME [--ros-args ...] (NAME: cloud_publisher, cloud_inspector).
+    Node {
+        /// The node's name.
+        name: String,
+    },
     /// Record topics into a rosbag2-compatible MCAP file.
     Record(record::RecordArgs),
     /// Print a topic's messages as JSON lines.
@@ -99,23 +104,44 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::Record(a) => run_with(cli::tool_spec("skyground_record"), ros, vec![], async |rt, _| {
-            record::run(rt, a).await
+        Cmd::Node { name } => skyground_nodes::node::run_by_name(&name, ros).unwrap_or_else(|| {
+            eprintln!(
+                "skyground: unknown node `{name}` (nodes: {})",
+                skyground_nodes::node::NAMES.join(", ")
+            );
+            ExitCode::from(2)
         }),
-        Cmd::Echo(a) => run_with(cli::tool_spec("skyground_echo"), ros, vec![], async |rt, _| {
-            echo::run(rt, a).await
-        }),
-        Cmd::CloudSink(a) => run_with(cli::tool_spec("skyground_cloud_sink"), ros, vec![], async |rt, _| {
-            sink::run(rt, a).await
-        }),
+        Cmd::Record(a) => run_with(
+            cli::tool_spec("skyground_record"),
+            ros,
+            vec![],
+            async |rt, _| record::run(rt, a).await,
+        ),
+        Cmd::Echo(a) => run_with(
+            cli::tool_spec("skyground_echo"),
+            ros,
+            vec![],
+            async |rt, _| echo::run(rt, a).await,
+        ),
+        Cmd::CloudSink(a) => run_with(
+            cli::tool_spec("skyground_cloud_sink"),
+            ros,
+            vec![],
+            async |rt, _| sink::run(rt, a).await,
+        ),
         Cmd::Bench { no_netns, which } => {
             if !no_netns && !netns::is_isolated() {
                 eprintln!("skyground bench: re-running inside a loopback-only network namespace");
                 return exit_of(netns::rerun_self_isolated());
             }
-            run_with(cli::tool_spec("skyground_bench"), ros, vec![], async |rt, _| match which {
-                bench::BenchCmd::Transport(a) => bench::transport(rt, a).await,
-            })
+            run_with(
+                cli::tool_spec("skyground_bench"),
+                ros,
+                vec![],
+                async |rt, _| match which {
+                    bench::BenchCmd::Transport(a) => bench::transport(rt, a).await,
+                },
+            )
         }
     }
 }

@@ -37,7 +37,11 @@ pub struct TransportArgs {
     #[arg(long, default_value_t = 3)]
     pub repeats: usize,
     /// Directions to run.
-    #[arg(long, value_delimiter = ',', default_value = "rust-rclpy,rclpy-rust,rust-rust")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "rust-rclpy,rclpy-rust,rust-rust"
+    )]
     pub directions: Vec<String>,
     /// Python with rclpy (the test venv's).
     #[arg(long, default_value = ".venv/bin/python")]
@@ -60,7 +64,9 @@ fn now_ns() -> u128 {
 }
 
 fn spawn(mut cmd: Command) -> Result<(Child, Lines<BufReader<ChildStdout>>), RuntimeError> {
-    cmd.stdout(Stdio::piped()).stderr(Stdio::null()).kill_on_drop(true);
+    cmd.stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .kill_on_drop(true);
     let mut child = cmd
         .spawn()
         .map_err(|e| RuntimeError::Node(format!("cannot start benchmark peer: {e}")))?;
@@ -73,7 +79,10 @@ fn spawn(mut cmd: Command) -> Result<(Child, Lines<BufReader<ChildStdout>>), Run
 
 async fn next_json(lines: &mut Lines<BufReader<ChildStdout>>, timeout: Duration) -> Option<Value> {
     loop {
-        let line = tokio::time::timeout(timeout, lines.next_line()).await.ok()?.ok()??;
+        let line = tokio::time::timeout(timeout, lines.next_line())
+            .await
+            .ok()?
+            .ok()??;
         if let Ok(v) = serde_json::from_str::<Value>(&line) {
             return Some(v);
         }
@@ -98,7 +107,10 @@ async fn from_rust(
         return Err(RuntimeError::Node("cloud sink did not start".into()));
     }
     let publisher = CloudPublisher::new(rt, topic, qos::reliable(1), TransportConfig::default())?;
-    if !publisher.wait_for_subscriptions(1, Duration::from_secs(30)).await {
+    if !publisher
+        .wait_for_subscriptions(1, Duration::from_secs(30))
+        .await
+    {
         return Err(RuntimeError::Node("cloud sink was not discovered".into()));
     }
     tokio::time::sleep(Duration::from_millis(1500)).await;
@@ -131,17 +143,38 @@ async fn from_rust(
 }
 
 /// rclpy publisher process → Rust sink process.
-async fn from_rclpy(a: &TransportArgs, topic: &str, n: usize, exe: &PathBuf) -> Result<Vec<Sample>, RuntimeError> {
+async fn from_rclpy(
+    a: &TransportArgs,
+    topic: &str,
+    n: usize,
+    exe: &PathBuf,
+) -> Result<Vec<Sample>, RuntimeError> {
     let mut sink = Command::new(exe);
-    sink.args(["cloud-sink", "--topic", topic, "--check-synthetic", "--count"])
-        .arg(a.repeats.to_string());
+    sink.args([
+        "cloud-sink",
+        "--topic",
+        topic,
+        "--check-synthetic",
+        "--count",
+    ])
+    .arg(a.repeats.to_string());
     let (mut sink_child, mut sink_lines) = spawn(sink)?;
-    if next_json(&mut sink_lines, Duration::from_secs(60)).await.is_none() {
+    if next_json(&mut sink_lines, Duration::from_secs(60))
+        .await
+        .is_none()
+    {
         return Err(RuntimeError::Node("cloud sink did not start".into()));
     }
     let mut send = Command::new(&a.python);
     send.arg(&a.peer)
-        .args(["send", "--topic", topic, "--points", &n.to_string(), "--count"])
+        .args([
+            "send",
+            "--topic",
+            topic,
+            "--points",
+            &n.to_string(),
+            "--count",
+        ])
         .arg(a.repeats.to_string())
         .args(["--linger", "30"]);
     let (mut send_child, mut send_lines) = spawn(send)?;
@@ -150,7 +183,9 @@ async fn from_rclpy(a: &TransportArgs, topic: &str, n: usize, exe: &PathBuf) -> 
         let Some(v) = next_json(&mut send_lines, Duration::from_secs(120)).await else {
             break;
         };
-        if let (Some(k), Some(t), Some(b)) = (stamp_key(&v), v["start_ns"].as_u64(), v["bytes"].as_u64()) {
+        if let (Some(k), Some(t), Some(b)) =
+            (stamp_key(&v), v["start_ns"].as_u64(), v["bytes"].as_u64())
+        {
             starts.insert(k, (u128::from(t), b as usize));
         }
     }
@@ -200,8 +235,14 @@ pub async fn transport(rt: &mut NodeRuntime, a: TransportArgs) -> Result<(), Run
             let samples = match dir.as_str() {
                 "rust-rust" => {
                     let mut c = Command::new(&exe);
-                    c.args(["cloud-sink", "--topic", &topic, "--check-synthetic", "--count"])
-                        .arg(a.repeats.to_string());
+                    c.args([
+                        "cloud-sink",
+                        "--topic",
+                        &topic,
+                        "--check-synthetic",
+                        "--count",
+                    ])
+                    .arg(a.repeats.to_string());
                     from_rust(rt, c, &topic, n, a.repeats).await?
                 }
                 "rust-rclpy" => {
@@ -215,8 +256,16 @@ pub async fn transport(rt: &mut NodeRuntime, a: TransportArgs) -> Result<(), Run
                 other => return Err(RuntimeError::Node(format!("unknown direction {other}"))),
             };
             let delivered = samples.iter().filter(|s| s.delivered).count();
-            let rates: Vec<f64> = samples.iter().filter(|s| s.delivered).map(|s| s.mb_per_s).collect();
-            let mean = if rates.is_empty() { 0.0 } else { rates.iter().sum::<f64>() / rates.len() as f64 };
+            let rates: Vec<f64> = samples
+                .iter()
+                .filter(|s| s.delivered)
+                .map(|s| s.mb_per_s)
+                .collect();
+            let mean = if rates.is_empty() {
+                0.0
+            } else {
+                rates.iter().sum::<f64>() / rates.len() as f64
+            };
             let min = rates.iter().copied().fold(f64::INFINITY, f64::min);
             let row = json!({
                 "direction": dir,
@@ -236,7 +285,10 @@ pub async fn transport(rt: &mut NodeRuntime, a: TransportArgs) -> Result<(), Run
     if a.json {
         println!("{}", json!({"bench": "transport", "results": rows}));
     } else {
-        println!("{:<11} {:>9} {:>7} {:>10} {:>9} {:>9}", "direction", "points", "MB", "delivered", "MB/s", "min MB/s");
+        println!(
+            "{:<11} {:>9} {:>7} {:>10} {:>9} {:>9}",
+            "direction", "points", "MB", "delivered", "MB/s", "min MB/s"
+        );
         for r in &rows {
             println!(
                 "{:<11} {:>9} {:>7.1} {:>7}/{:<2} {:>9.1} {:>9.1}",

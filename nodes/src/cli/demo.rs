@@ -36,13 +36,12 @@ struct Proc {
     child: Child,
 }
 
-fn sibling(name: &str) -> Result<PathBuf, RuntimeError> {
-    let exe = std::env::current_exe().map_err(|e| RuntimeError::Node(e.to_string()))?;
-    let dir = exe.parent().unwrap_or(Path::new("."));
-    Ok(dir.join(name))
-}
-
-fn start(name: &'static str, program: &Path, args: &[String], out: &Path) -> Result<Proc, RuntimeError> {
+fn start(
+    name: &'static str,
+    program: &Path,
+    args: &[String],
+    out: &Path,
+) -> Result<Proc, RuntimeError> {
     let log = std::fs::File::create(out.join(format!("{name}.log")))
         .map_err(|e| RuntimeError::Node(format!("cannot write {}: {e}", out.display())))?;
     let child = Command::new(program)
@@ -51,7 +50,9 @@ fn start(name: &'static str, program: &Path, args: &[String], out: &Path) -> Res
         .stderr(log)
         .kill_on_drop(true)
         .spawn()
-        .map_err(|e| RuntimeError::Node(format!("cannot start {name} ({}): {e}", program.display())))?;
+        .map_err(|e| {
+            RuntimeError::Node(format!("cannot start {name} ({}): {e}", program.display()))
+        })?;
     eprintln!("  started {name}");
     Ok(Proc { name, child })
 }
@@ -59,9 +60,14 @@ fn start(name: &'static str, program: &Path, args: &[String], out: &Path) -> Res
 async fn stop(p: &mut Proc) {
     if let Some(pid) = p.child.id() {
         // SIGINT, as ros2 launch does, so nodes shut down in order.
-        let _ = std::process::Command::new("kill").args(["-INT", &pid.to_string()]).status();
+        let _ = std::process::Command::new("kill")
+            .args(["-INT", &pid.to_string()])
+            .status();
     }
-    if tokio::time::timeout(Duration::from_secs(10), p.child.wait()).await.is_err() {
+    if tokio::time::timeout(Duration::from_secs(10), p.child.wait())
+        .await
+        .is_err()
+    {
         let _ = p.child.kill().await;
     }
     eprintln!("  stopped {}", p.name);
@@ -78,14 +84,20 @@ fn default_cloud() -> Option<PathBuf> {
 /// Runs the demo mission.
 pub async fn run(a: DemoArgs) -> Result<(), RuntimeError> {
     let t0 = Instant::now();
-    std::fs::create_dir_all(&a.out).map_err(|e| RuntimeError::Node(format!("{}: {e}", a.out.display())))?;
+    let exe = std::env::current_exe().map_err(|e| RuntimeError::Node(e.to_string()))?;
+    std::fs::create_dir_all(&a.out)
+        .map_err(|e| RuntimeError::Node(format!("{}: {e}", a.out.display())))?;
     let bag = a.out.join("mission.mcap");
     let _ = std::fs::remove_file(&bag);
     let cloud = a.cloud.clone().or_else(default_cloud);
-    eprintln!("skyground demo: domain {}, output {}", std::env::var("ROS_DOMAIN_ID").unwrap_or_else(|_| "0".into()), a.out.display());
+    eprintln!(
+        "skyground demo: domain {}, output {}",
+        std::env::var("ROS_DOMAIN_ID").unwrap_or_else(|_| "0".into()),
+        a.out.display()
+    );
     let mut recorder = start(
         "recorder",
-        &sibling("skyground")?,
+        &exe,
         &[
             "record".into(),
             "-o".into(),
@@ -95,10 +107,22 @@ pub async fn run(a: DemoArgs) -> Result<(), RuntimeError> {
         ],
         &a.out,
     )?;
+    let node = |name: &str, params: &[String]| {
+        let mut v = vec![
+            "node".to_string(),
+            name.to_string(),
+            "--ros-args".to_string(),
+        ];
+        for p in params {
+            v.push("-p".into());
+            v.push(p.clone());
+        }
+        v
+    };
     let mut inspector = start(
         "cloud_inspector",
-        &sibling("cloud_inspector")?,
-        &["--ros-args".into(), "-p".into(), "max_clouds:=1".into()],
+        &exe,
+        &node("cloud_inspector", &["max_clouds:=1".into()]),
         &a.out,
     )?;
     let source = match &cloud {
@@ -107,15 +131,21 @@ pub async fn run(a: DemoArgs) -> Result<(), RuntimeError> {
     };
     let mut publisher = start(
         "cloud_publisher",
-        &sibling("cloud_publisher")?,
-        &["--ros-args".into(), "-p".into(), source, "-p".into(), "wait_for_subscribers:=2".into()],
+        &exe,
+        &node(
+            "cloud_publisher",
+            &[source, "wait_for_subscribers:=2".into()],
+        ),
         &a.out,
     )?;
     eprintln!(
         "  source: {}",
-        cloud.as_ref().map_or("synthetic cloud".to_string(), |p| p.display().to_string())
+        cloud
+            .as_ref()
+            .map_or("synthetic cloud".to_string(), |p| p.display().to_string())
     );
-    let done = tokio::time::timeout(Duration::from_secs_f64(a.timeout), inspector.child.wait()).await;
+    let done =
+        tokio::time::timeout(Duration::from_secs_f64(a.timeout), inspector.child.wait()).await;
     let ok = matches!(done, Ok(Ok(s)) if s.success());
     // Give the recorder a moment for the last diagnostics.
     tokio::time::sleep(Duration::from_millis(500)).await;
@@ -126,7 +156,11 @@ pub async fn run(a: DemoArgs) -> Result<(), RuntimeError> {
     let count = |t: &str| messages.iter().filter(|m| m.topic == t).count();
     eprintln!(
         "skyground demo: {} in {:.1} s; bag {} holds {} message(s): /aerial_cloud {}, /cloud_stats {}; logs in {}",
-        if ok { "mission finished" } else { "mission FAILED" },
+        if ok {
+            "mission finished"
+        } else {
+            "mission FAILED"
+        },
         t0.elapsed().as_secs_f64(),
         bag.display(),
         messages.len(),

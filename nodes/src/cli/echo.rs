@@ -76,7 +76,9 @@ pub async fn run(rt: &mut NodeRuntime, a: EchoArgs) -> Result<(), RuntimeError> 
 /// PointCloud2 data) by `{"len": n, "fnv1a": hash}`.
 fn shorten_arrays(v: &mut Value) {
     match v {
-        Value::Array(items) if items.len() > 64 && items.iter().all(|x| x.as_u64().is_some_and(|n| n < 256)) => {
+        Value::Array(items)
+            if items.len() > 64 && items.iter().all(|x| x.as_u64().is_some_and(|n| n < 256)) =>
+        {
             let mut h: u64 = 0xcbf2_9ce4_8422_2325;
             for x in items.iter() {
                 h ^= x.as_u64().unwrap_or(0);

@@ -56,7 +56,11 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
     let mut names: BTreeMap<u16, String> = BTreeMap::new();
     let deadline = (a.duration > 0.0).then(|| Instant::now() + Duration::from_secs_f64(a.duration));
     let mut tick = tokio::time::interval(Duration::from_millis(100));
-    rt.log.info(&format!("recording {} topic(s) to {}", pending.len(), a.output.display()));
+    rt.log.info(&format!(
+        "recording {} topic(s) to {}",
+        pending.len(),
+        a.output.display()
+    ));
     loop {
         tokio::select! {
             _ = rt.shutdown.wait() => break,
@@ -132,7 +136,8 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
     }
     writer.finish().map_err(bag_err)?;
     for p in &pending {
-        rt.log.warn(&format!("{}: never discovered, not recorded", p.topic));
+        rt.log
+            .warn(&format!("{}: never discovered, not recorded", p.topic));
     }
     let total: u64 = counts.values().sum();
     rt.log.info(&format!(

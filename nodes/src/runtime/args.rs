@@ -18,7 +18,9 @@ pub enum ArgsError {
         arg: String,
     },
     /// Something inside `--ros-args` this runtime does not understand.
-    #[error("unsupported ROS argument `{arg}` (supported: --params-file F, -p name:=value, -r __node:=N, -r __ns:=NS, --log-level L)")]
+    #[error(
+        "unsupported ROS argument `{arg}` (supported: --params-file F, -p name:=value, -r __node:=N, -r __ns:=NS, --log-level L)"
+    )]
     Unsupported {
         /// The offending argument.
         arg: String,
@@ -129,7 +131,9 @@ mod tests {
     fn bad_ros_args_are_errors() {
         assert_eq!(
             RosArgs::split(&s(&["--ros-args", "-p", "rate=2"])),
-            Err(ArgsError::NotAssignment { arg: "rate=2".into() })
+            Err(ArgsError::NotAssignment {
+                arg: "rate=2".into()
+            })
         );
         assert_eq!(
             RosArgs::split(&s(&["--ros-args", "--params-file"])),

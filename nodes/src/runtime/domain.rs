@@ -12,7 +12,9 @@ pub enum DomainError {
     #[error("ROS_DOMAIN_ID={0:?} is not a domain id (0..=232)")]
     DomainId(String),
     /// ROS_AUTOMATIC_DISCOVERY_RANGE has an unknown value.
-    #[error("ROS_AUTOMATIC_DISCOVERY_RANGE={0:?} is not one of SUBNET, LOCALHOST, OFF, SYSTEM_DEFAULT")]
+    #[error(
+        "ROS_AUTOMATIC_DISCOVERY_RANGE={0:?} is not one of SUBNET, LOCALHOST, OFF, SYSTEM_DEFAULT"
+    )]
     Range(String),
     /// RustDDS could not create the participant.
     #[error("cannot create DDS participant in domain {domain}: {reason}")]
@@ -123,7 +125,11 @@ mod tests {
 
     #[test]
     fn reads_domain_and_range() {
-        let c = cfg(&[("ROS_DOMAIN_ID", "42"), ("ROS_AUTOMATIC_DISCOVERY_RANGE", "localhost")]).unwrap();
+        let c = cfg(&[
+            ("ROS_DOMAIN_ID", "42"),
+            ("ROS_AUTOMATIC_DISCOVERY_RANGE", "localhost"),
+        ])
+        .unwrap();
         assert_eq!((c.domain_id, c.range), (42, DiscoveryRange::Localhost));
         let c = cfg(&[]).unwrap();
         assert_eq!((c.domain_id, c.range), (0, DiscoveryRange::Subnet));
@@ -133,8 +139,14 @@ mod tests {
 
     #[test]
     fn rejects_bad_values() {
-        assert!(matches!(cfg(&[("ROS_DOMAIN_ID", "300")]), Err(DomainError::DomainId(_))));
-        assert!(matches!(cfg(&[("ROS_DOMAIN_ID", "x")]), Err(DomainError::DomainId(_))));
+        assert!(matches!(
+            cfg(&[("ROS_DOMAIN_ID", "300")]),
+            Err(DomainError::DomainId(_))
+        ));
+        assert!(matches!(
+            cfg(&[("ROS_DOMAIN_ID", "x")]),
+            Err(DomainError::DomainId(_))
+        ));
         assert!(matches!(
             cfg(&[("ROS_AUTOMATIC_DISCOVERY_RANGE", "MOON")]),
             Err(DomainError::Range(_))

@@ -11,10 +11,10 @@ use ros2_client::{
     Context, MessageTypeName, Name, Node, NodeName, NodeOptions, Publisher, QosProfile,
     Subscription,
 };
-use skyground_msgs::rosgraph_msgs::Clock;
 use serde::de::DeserializeOwned;
 use skyground_msgs::RosMessage;
 use skyground_msgs::builtin_interfaces::Time;
+use skyground_msgs::rosgraph_msgs::Clock;
 
 use super::args::{ArgsError, RosArgs};
 use super::domain::{DomainConfig, DomainError};
@@ -87,10 +87,17 @@ impl NodeRuntime {
     /// Reads the environment and the `--ros-args`, joins the domain and starts
     /// the node's spinner. Must run inside a tokio runtime.
     pub fn start(spec: &NodeSpec, ros: &RosArgs) -> Result<Self, RuntimeError> {
-        let name = ros.node_name.clone().unwrap_or_else(|| spec.name.to_string());
+        let name = ros
+            .node_name
+            .clone()
+            .unwrap_or_else(|| spec.name.to_string());
         let namespace = ros.namespace.clone().unwrap_or_else(|| "/".to_string());
         let mut params = ParamSet::default();
-        params.merge_yaml(spec.default_params, spec.name, &format!("config/{}.yaml", spec.name))?;
+        params.merge_yaml(
+            spec.default_params,
+            spec.name,
+            &format!("config/{}.yaml", spec.name),
+        )?;
         for f in &ros.params_files {
             params.merge_file(f, &name)?;
         }
@@ -101,7 +108,8 @@ impl NodeRuntime {
             .log_level
             .as_deref()
             .map(|s| {
-                Level::parse(s).ok_or_else(|| RuntimeError::Node(format!("unknown --log-level {s}")))
+                Level::parse(s)
+                    .ok_or_else(|| RuntimeError::Node(format!("unknown --log-level {s}")))
             })
             .transpose()?
             .unwrap_or(Level::Info);
@@ -281,7 +289,10 @@ pub fn run_with<F>(spec: NodeSpec, ros: RosArgs, own: Vec<String>, body: F) -> E
 where
     F: AsyncFnOnce(&mut NodeRuntime, Vec<String>) -> Result<(), RuntimeError>,
 {
-    let rt = match tokio::runtime::Builder::new_multi_thread().enable_all().build() {
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+    {
         Ok(rt) => rt,
         Err(e) => {
             eprintln!("{}: cannot start tokio: {e}", spec.name);
@@ -314,7 +325,10 @@ mod tests {
 
     #[test]
     fn type_names_split() {
-        assert_eq!(split_type_name("sensor_msgs/msg/PointCloud2"), ("sensor_msgs", "PointCloud2"));
+        assert_eq!(
+            split_type_name("sensor_msgs/msg/PointCloud2"),
+            ("sensor_msgs", "PointCloud2")
+        );
         assert_eq!(split_type_name("nav_msgs/Path"), ("nav_msgs", "Path"));
     }
 }

@@ -115,7 +115,10 @@ impl ParamSet {
             origin: origin.clone(),
             reason: e.to_string(),
         })?;
-        let v = docs.first().map(yaml_to_json).unwrap_or(Value::String(String::new()));
+        let v = docs
+            .first()
+            .map(yaml_to_json)
+            .unwrap_or(Value::String(String::new()));
         self.values.insert(name.to_string(), v);
         Ok(())
     }
@@ -153,7 +156,11 @@ impl ParamSet {
 
     /// All values as (dotted name, value), sorted by name.
     pub fn entries(&self) -> Vec<(String, Value)> {
-        let mut v: Vec<_> = self.values.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+        let mut v: Vec<_> = self
+            .values
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
         v.sort_by(|a, b| a.0.cmp(&b.0));
         v
     }

@@ -11,7 +11,9 @@ pub fn latched(depth: usize) -> QosProfile {
             when_full: WhenFull::Block,
         })
         .durability(Durability::TransientLocal)
-        .history(History::KeepLast { depth: depth.max(1) })
+        .history(History::KeepLast {
+            depth: depth.max(1),
+        })
 }
 
 /// Commands and streams that must not be lost: reliable, volatile.
@@ -21,7 +23,9 @@ pub fn reliable(depth: usize) -> QosProfile {
             when_full: WhenFull::Block,
         })
         .durability(Durability::Volatile)
-        .history(History::KeepLast { depth: depth.max(1) })
+        .history(History::KeepLast {
+            depth: depth.max(1),
+        })
 }
 
 /// Sensor streams where the newest sample matters: best effort, volatile.
@@ -29,7 +33,9 @@ pub fn sensor(depth: usize) -> QosProfile {
     QosProfile::subscription_default()
         .reliability(Reliability::BestEffort)
         .durability(Durability::Volatile)
-        .history(History::KeepLast { depth: depth.max(1) })
+        .history(History::KeepLast {
+            depth: depth.max(1),
+        })
 }
 
 /// Parses a QoS name used on command lines: latched | reliable | sensor.

@@ -3,8 +3,8 @@
 use std::time::{Duration, Instant};
 
 use ros2_client::QosProfile;
-use rustdds::{QosPolicies, TopicDescription};
 use rustdds::no_key::DataWriterCdr;
+use rustdds::{QosPolicies, TopicDescription};
 use serde::Deserialize;
 use skyground_msgs::pointcloud2::tiles;
 use skyground_msgs::sensor_msgs::PointCloud2;
@@ -71,11 +71,11 @@ impl CloudPublisher {
         config: TransportConfig,
     ) -> Result<Self, RuntimeError> {
         let qos = match qos.history {
-            ros2_client::qos::History::KeepLast { depth } => qos.history(
-                ros2_client::qos::History::KeepLast {
+            ros2_client::qos::History::KeepLast { depth } => {
+                qos.history(ros2_client::qos::History::KeepLast {
                     depth: depth.max(config.history_tiles),
-                },
-            ),
+                })
+            }
             ros2_client::qos::History::KeepAll => qos,
         };
         let t = rt.topic::<PointCloud2>(topic, &qos)?;

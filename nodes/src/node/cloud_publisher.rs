@@ -1,0 +1,105 @@
+//! cloud_publisher: a LAS/LAZ/PLY file (or a synthetic cloud) → latched
+//! sensor_msgs/PointCloud2 on /aerial_cloud.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::transport::{CloudPublisher, TransportConfig};
+use serde::Deserialize;
+use skyground_core::cloud::{self, synthetic};
+use skyground_msgs::pointcloud2::{EncodeOptions, encode};
+use skyground_msgs::std_msgs::Header;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    file: String,
+    synthetic_points: usize,
+    topic: String,
+    frame_id: String,
+    double: bool,
+    count: u32,
+    period_s: f64,
+    wait_for_subscribers: usize,
+    wait_timeout_s: f64,
+    linger: bool,
+    transport: TransportConfig,
+}
+
+/// Name and default params.
+pub const SPEC: NodeSpec = NodeSpec {
+    name: "cloud_publisher",
+    default_params: include_str!("../../../config/cloud_publisher.yaml"),
+};
+
+/// Runs the node until it is done or asked to stop.
+pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
+    let p: Params = rt.params()?;
+    let cloud = if p.file.is_empty() {
+        synthetic::tilted_plane(p.synthetic_points)
+    } else {
+        cloud::read_cloud(&PathBuf::from(&p.file)).map_err(|e| RuntimeError::Node(e.to_string()))?
+    };
+    let source = if p.file.is_empty() {
+        "synthetic cloud".to_string()
+    } else {
+        p.file.clone()
+    };
+    rt.log.info(&format!(
+        "loaded {} points from {source} (origin {:?})",
+        cloud.len(),
+        cloud.origin
+    ));
+    let publisher = CloudPublisher::new(rt, &p.topic, qos::latched(1), p.transport)?;
+    if p.wait_for_subscribers > 0
+        && !publisher
+            .wait_for_subscriptions(
+                p.wait_for_subscribers,
+                Duration::from_secs_f64(p.wait_timeout_s.max(0.0)),
+            )
+            .await
+    {
+        rt.log.warn(&format!(
+            "only {} of {} subscribers after {} s; publishing anyway",
+            publisher.subscription_count(),
+            p.wait_for_subscribers,
+            p.wait_timeout_s
+        ));
+    }
+    let opts = EncodeOptions { double: p.double };
+    for k in 0..p.count {
+        if rt.shutdown.requested() {
+            break;
+        }
+        let header = Header {
+            stamp: rt.now(),
+            frame_id: p.frame_id.clone(),
+        };
+        let stats = publisher.publish(encode(&cloud, header, &opts)).await?;
+        rt.log.info(&format!(
+            "published {} points on {} as {} message(s), {:.1} MB in {:.3} s ({:.1} MB/s){}",
+            cloud.len(),
+            p.topic,
+            stats.tiles,
+            stats.bytes as f64 / 1e6,
+            stats.seconds,
+            stats.bytes as f64 / 1e6 / stats.seconds.max(1e-9),
+            if stats.acknowledged {
+                ""
+            } else {
+                "; some readers did not acknowledge"
+            }
+        ));
+        if k + 1 < p.count {
+            tokio::select! {
+                _ = tokio::time::sleep(Duration::from_secs_f64(p.period_s.max(0.0))) => {}
+                _ = rt.shutdown.wait() => break,
+            }
+        }
+    }
+    if p.linger {
+        rt.shutdown.wait().await;
+    }
+    Ok(())
+}
