@@ -21,6 +21,7 @@ tests/setup_venv.sh
 export SKYGROUND_BIN_DIR="$root/target/debug"
 export SKYGROUND_SAMPLES_CMD="$root/target/debug/skyground msgs samples"
 export SKYGROUND_ROS_SHARE="$root/.venv/share"
+export SKYGROUND_SAMPLE_BAG_CMD="$root/target/debug/examples/sample_bag"
 export SKYGROUND_REAL_DATA="${SKYGROUND_REAL_DATA:-$root/../shared/data/real}"
 [ -d "$SKYGROUND_REAL_DATA" ] || echo "NOTE: $SKYGROUND_REAL_DATA not found: tests that need real data will say SKIPPED"
 

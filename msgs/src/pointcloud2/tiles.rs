@@ -101,7 +101,7 @@ impl Assembler {
 
     /// Feeds one message; returns the whole cloud when this message completes one.
     pub fn push(&mut self, tile: PointCloud2) -> Option<PointCloud2> {
-        let stamp = tile.header.stamp.clone();
+        let stamp = tile.header.stamp;
         let pos = self
             .open
             .iter()

@@ -181,7 +181,7 @@ impl NodeRuntime {
     /// Current time: /clock's when `use_sim_time` is set, else the system clock.
     pub fn now(&self) -> Time {
         if let Some(t) = &self.sim_time {
-            return t.lock().map(|t| t.clone()).unwrap_or_default();
+            return t.lock().map(|t| *t).unwrap_or_default();
         }
         let ns = self.node.time_now_not_simulated().to_nanos();
         Time {

@@ -14,8 +14,8 @@ pub enum Received {
     Cloud {
         /// The reassembled message.
         msg: PointCloud2,
-        /// Its decoded points.
-        decoded: Decoded,
+        /// Its decoded points (boxed: a cloud is large, an error small).
+        decoded: Box<Decoded>,
     },
     /// A message that could not be read (CDR error) or decoded (layout error).
     Bad(String),
@@ -52,7 +52,10 @@ impl CloudSubscription {
                 Ok((tile, _info)) => {
                     if let Some(msg) = self.assembler.push(tile) {
                         return Some(match pointcloud2::decode(&msg) {
-                            Ok(decoded) => Received::Cloud { msg, decoded },
+                            Ok(decoded) => Received::Cloud {
+                                msg,
+                                decoded: Box::new(decoded),
+                            },
                             Err(e) => Received::Bad(e.to_string()),
                         });
                     }
