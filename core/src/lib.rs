@@ -5,3 +5,7 @@
 //! forest, footprint, slice, skeleton, missing, targets, graph, route, explore, metrics.
 
 pub mod cloud;
+pub mod lidar;
+pub mod metrics;
+pub mod scene;
+pub mod vehicle;

@@ -37,11 +37,28 @@ fn cloud_and_path_cross_dds_intact() {
         let mut a = NodeRuntime::start(&PUB, &RosArgs::default()).expect("publisher node");
         let mut b = NodeRuntime::start(&SUB, &RosArgs::default()).expect("subscriber node");
 
-        let mut clouds = CloudSubscription::new(&mut b, "/t_cloud", qos::reliable(300), 65_536).expect("sub");
-        let mut paths = tap(&mut b, "/t_path", "nav_msgs/msg/Path", qos::latched(1), true).expect("tap");
-        let publisher =
-            CloudPublisher::new(&mut a, "/t_cloud", qos::reliable(1), TransportConfig::default()).expect("pub");
-        assert!(publisher.wait_for_subscriptions(1, Duration::from_secs(30)).await);
+        let mut clouds =
+            CloudSubscription::new(&mut b, "/t_cloud", qos::reliable(300), 65_536).expect("sub");
+        let mut paths = tap(
+            &mut b,
+            "/t_path",
+            "nav_msgs/msg/Path",
+            qos::latched(1),
+            true,
+        )
+        .expect("tap");
+        let publisher = CloudPublisher::new(
+            &mut a,
+            "/t_cloud",
+            qos::reliable(1),
+            TransportConfig::default(),
+        )
+        .expect("pub");
+        assert!(
+            publisher
+                .wait_for_subscriptions(1, Duration::from_secs(30))
+                .await
+        );
         tokio::time::sleep(Duration::from_millis(500)).await;
 
         let cloud = synthetic::tilted_plane(1_000_000);
@@ -79,15 +96,23 @@ fn cloud_and_path_cross_dds_intact() {
                 })
                 .collect(),
         };
-        let path_pub = a.publisher::<Path>("/t_path", qos::latched(1)).expect("path pub");
-        path_pub.async_publish(path.clone()).await.expect("publish path");
+        let path_pub = a
+            .publisher::<Path>("/t_path", qos::latched(1))
+            .expect("path pub");
+        path_pub
+            .async_publish(path.clone())
+            .await
+            .expect("publish path");
         let got = tokio::time::timeout(Duration::from_secs(30), paths.next())
             .await
             .expect("path within 30 s")
             .expect("stream open")
             .expect("readable");
         assert_eq!(from_cdr::<Path>(&got.cdr).expect("cdr"), path);
-        assert_eq!(got.json.expect("json")["poses"][4]["pose"]["position"]["x"], 2.0);
+        assert_eq!(
+            got.json.expect("json")["poses"][4]["pose"]["position"]["x"],
+            2.0
+        );
         b.stop().await;
         a.stop().await;
     });

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use skyground_nodes::cli::{self, bench, demo, echo, record, sink};
+use skyground_nodes::cli::{self, aerial, bench, demo, echo, record, sink};
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
 
@@ -24,6 +24,8 @@ enum Cmd {
         /// The node's name.
         name: String,
     },
+    /// Simulate the airborne LiDAR survey of a scene; print its completeness.
+    Aerial(aerial::AerialArgs),
     /// Record topics into a rosbag2-compatible MCAP file.
     Record(record::RecordArgs),
     /// Print a topic's messages as JSON lines.
@@ -104,6 +106,20 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::Aerial(a) => match aerial::run(&a) {
+            Ok(summary) => {
+                if a.json {
+                    println!("{summary}");
+                } else {
+                    eprintln!("{summary:#}");
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("skyground aerial: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Cmd::Node { name } => skyground_nodes::node::run_by_name(&name, ros).unwrap_or_else(|| {
             eprintln!(
                 "skyground: unknown node `{name}` (nodes: {})",
@@ -129,6 +145,10 @@ fn main() -> ExitCode {
             vec![],
             async |rt, _| sink::run(rt, a).await,
         ),
+        Cmd::Bench {
+            which: bench::BenchCmd::Lidar(a),
+            ..
+        } => bench::lidar(&a),
         Cmd::Bench { no_netns, which } => {
             if !no_netns && !netns::is_isolated() {
                 eprintln!("skyground bench: re-running inside a loopback-only network namespace");
@@ -140,6 +160,7 @@ fn main() -> ExitCode {
                 vec![],
                 async |rt, _| match which {
                     bench::BenchCmd::Transport(a) => bench::transport(rt, a).await,
+                    bench::BenchCmd::Lidar(_) => Ok(()),
                 },
             )
         }

@@ -22,6 +22,62 @@ use crate::transport::{CloudPublisher, TransportConfig};
 pub enum BenchCmd {
     /// Cloud transport: Rust→rclpy, rclpy→Rust, Rust→Rust.
     Transport(TransportArgs),
+    /// Ray casting of the LiDAR simulation (no DDS).
+    Lidar(LidarArgs),
+}
+
+/// LiDAR benchmark options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LidarArgs {
+    /// Print one JSON document instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Scenes: reference, reference:SEED, a file, or dense:TRIANGLES (synthetic).
+    #[arg(long, value_delimiter = ',', default_value = "reference,dense:1000000")]
+    pub scenes: Vec<String>,
+    /// Seconds of casting per scene.
+    #[arg(long, default_value_t = 3.0)]
+    pub seconds: f64,
+}
+
+/// Runs the LiDAR ray-casting benchmark (spinning VLP-16 scans from street poses).
+pub fn lidar(a: &LidarArgs) -> std::process::ExitCode {
+    use skyground_core::lidar::{bench_rays, synthetic};
+    let mut rows = Vec::new();
+    for spec in &a.scenes {
+        let scene = match spec.strip_prefix("dense:") {
+            Some(n) => match n.parse::<usize>() {
+                Ok(n) => synthetic::dense_scene(n, 1),
+                Err(_) => {
+                    eprintln!("skyground bench lidar: bad triangle count in {spec}");
+                    return std::process::ExitCode::from(2);
+                }
+            },
+            None => match skyground_core::scene::load_scene(spec) {
+                Ok(s) => s,
+                Err(e) => {
+                    eprintln!("skyground bench lidar: scene {spec}: {e}");
+                    return std::process::ExitCode::FAILURE;
+                }
+            },
+        };
+        match bench_rays(&scene, a.seconds) {
+            Ok(f) => rows.push(
+                json!({"scene": spec, "figures": f, "threads": rayon::current_num_threads()}),
+            ),
+            Err(e) => {
+                eprintln!("skyground bench lidar: {spec}: {e}");
+                return std::process::ExitCode::FAILURE;
+            }
+        }
+    }
+    let doc = json!({"bench": "lidar", "results": rows});
+    if a.json {
+        println!("{doc}");
+    } else {
+        println!("{doc:#}");
+    }
+    std::process::ExitCode::SUCCESS
 }
 
 /// Transport benchmark options.

@@ -1,6 +1,7 @@
 //! The `skyground` command's subcommands (each a thin shell around the library
 //! or the node runtime).
 
+pub mod aerial;
 pub mod bench;
 pub mod demo;
 pub mod echo;

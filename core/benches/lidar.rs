@@ -1,0 +1,109 @@
+//! Ray-casting and LiDAR benchmarks: `cargo bench -p skyground-core --bench lidar`.
+//!
+//! First prints [`bench_rays`] figures (single thread and the whole pool) for
+//! a 1 M-triangle synthetic scene, then runs the criterion groups. Set
+//! `SKYGROUND_BENCH_FIGURES_ONLY=1` to stop after the figures.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput};
+use skyground_core::lidar::bench::street_poses;
+use skyground_core::lidar::spinning::revolution_rays;
+use skyground_core::lidar::synthetic::dense_scene;
+use skyground_core::lidar::{
+    AirborneConfig, Caster, LidarConfig, Ray, airborne_scan, bench_rays, scan,
+};
+use skyground_core::scene::{REFERENCE_SEED, Scene, reference_scene};
+
+fn print_figures(name: &str, scene: &Scene) {
+    match bench_rays(scene, 4.0) {
+        Ok(f) => println!(
+            "{name}: {} triangles, build {:.3} s, {:.2} M rays/s on 1 thread, {:.2} M rays/s on {} threads, {} of {} rays hit",
+            f.triangles,
+            f.build_s,
+            f.rays_per_s_single / 1e6,
+            f.rays_per_s / 1e6,
+            f.threads,
+            f.hits,
+            f.rays
+        ),
+        Err(e) => eprintln!("{name}: {e}"),
+    }
+}
+
+fn benches(c: &mut Criterion) {
+    let scene = dense_scene(1_000_000, 1);
+    let mut g = c.benchmark_group("bvh_build");
+    g.sample_size(10);
+    g.bench_function("dense_1M", |b| {
+        b.iter(|| Caster::new(black_box(&scene)).map(|c| c.triangle_count()))
+    });
+    g.finish();
+
+    let Ok(caster) = Caster::new(&scene) else {
+        eprintln!("dense scene did not build");
+        return;
+    };
+    let config = LidarConfig::default();
+    let poses = street_poses(&caster, 4);
+    let rays: Vec<Ray> = poses
+        .iter()
+        .flat_map(|p| revolution_rays(&config, p))
+        .collect();
+    let mut g = c.benchmark_group("cast_dense_1M");
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    g.bench_function("one_thread", |b| {
+        b.iter(|| rays.iter().filter_map(|r| caster.cast_ray(r)).count())
+    });
+    g.bench_function("cast_many", |b| {
+        b.iter(|| caster.cast_many(black_box(&rays)).len())
+    });
+    g.finish();
+
+    let reference = reference_scene(REFERENCE_SEED);
+    if let Ok(rc) = Caster::new(&reference) {
+        let rays: Vec<Ray> = street_poses(&rc, 4)
+            .iter()
+            .flat_map(|p| revolution_rays(&config, p))
+            .collect();
+        let mut g = c.benchmark_group("cast_reference");
+        g.throughput(Throughput::Elements(rays.len() as u64));
+        g.bench_function("one_thread", |b| {
+            b.iter(|| rays.iter().filter_map(|r| rc.cast_ray(r)).count())
+        });
+        g.bench_function("cast_many", |b| {
+            b.iter(|| rc.cast_many(black_box(&rays)).len())
+        });
+        g.finish();
+        let mut g = c.benchmark_group("airborne_reference");
+        g.sample_size(10);
+        g.bench_function("default_survey", |b| {
+            b.iter(|| airborne_scan(&rc, &AirborneConfig::default()).map(|c| c.len()))
+        });
+        g.finish();
+    }
+
+    let mut g = c.benchmark_group("scan_dense_1M");
+    g.throughput(Throughput::Elements(
+        (config.columns() * config.beams as usize) as u64,
+    ));
+    g.bench_function("vlp16_revolution", |b| {
+        b.iter(|| scan(&caster, &config, &poses[0], 1).map(|s| s.len()))
+    });
+    g.finish();
+}
+
+fn main() {
+    print_figures("reference", &reference_scene(REFERENCE_SEED));
+    print_figures("dense_200k", &dense_scene(200_000, 1));
+    print_figures("dense_1M", &dense_scene(1_000_000, 1));
+    if std::env::var_os("SKYGROUND_BENCH_FIGURES_ONLY").is_some() {
+        return;
+    }
+    let mut c = Criterion::default()
+        .warm_up_time(std::time::Duration::from_secs(1))
+        .measurement_time(std::time::Duration::from_secs(3))
+        .configure_from_args();
+    benches(&mut c);
+    c.final_summary();
+}

@@ -1,0 +1,172 @@
+//! The ray-throughput figure, printable without criterion
+//! (`skyground bench lidar`).
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::caster::{Caster, CasterError};
+use super::pose::Pose;
+use super::ray::Ray;
+use super::spinning::{LidarConfig, revolution_rays};
+use crate::scene::{ObjectKind, Scene};
+
+/// Throughput of spinning-LiDAR ray casting on one scene.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BenchFigures {
+    /// Rays per second on all threads of the current rayon pool.
+    pub rays_per_s: f64,
+    /// Rays per second on one thread.
+    pub rays_per_s_single: f64,
+    /// Threads of the rayon pool.
+    pub threads: usize,
+    /// Rays in one pass (VLP-16 revolutions from street-level poses).
+    pub rays: usize,
+    /// Rays of one pass that hit something.
+    pub hits: usize,
+    /// Triangles indexed.
+    pub triangles: usize,
+    /// BVH build time, seconds.
+    pub build_s: f64,
+}
+
+/// Builds a caster over `scene`, then casts VLP-16 revolutions from up to 8
+/// street-level poses ([`street_poses`]) for about `seconds` in total: half
+/// on one thread, half on the rayon pool.
+pub fn bench_rays(scene: &Scene, seconds: f64) -> Result<BenchFigures, CasterError> {
+    let start = Instant::now();
+    let caster = Caster::new(scene)?;
+    let build_s = start.elapsed().as_secs_f64();
+    let config = LidarConfig::default();
+    let rays: Vec<Ray> = street_poses(&caster, 8)
+        .iter()
+        .flat_map(|p| revolution_rays(&config, p))
+        .collect();
+    let hits = caster.cast_many(&rays).iter().flatten().count();
+    let budget = (seconds / 2.0).max(0.01);
+    let single = throughput(rays.len(), budget, || {
+        rays.iter().filter_map(|r| caster.cast_ray(r)).count()
+    });
+    let multi = throughput(rays.len(), budget, || {
+        caster.cast_many(&rays).iter().flatten().count()
+    });
+    Ok(BenchFigures {
+        rays_per_s: multi,
+        rays_per_s_single: single,
+        threads: rayon::current_num_threads(),
+        rays: rays.len(),
+        hits,
+        triangles: caster.triangle_count(),
+        build_s,
+    })
+}
+
+/// Rays per second of `pass` (casting `rays` rays) repeated for `budget` seconds.
+fn throughput(rays: usize, budget: f64, mut pass: impl FnMut() -> usize) -> f64 {
+    let start = Instant::now();
+    let mut passes = 0usize;
+    let mut sink = 0usize;
+    while passes == 0 || start.elapsed().as_secs_f64() < budget {
+        sink = sink.wrapping_add(pass());
+        passes += 1;
+    }
+    std::hint::black_box(sink);
+    (rays * passes) as f64 / start.elapsed().as_secs_f64()
+}
+
+/// Up to `n` sensor poses 1.8 m above open ground, spread over the scene:
+/// candidates on a 7 × 7 grid over the bounds, kept where a vertical ray
+/// meets ground first. Falls back to the centre above the scene.
+pub fn street_poses(caster: &Caster, n: usize) -> Vec<Pose> {
+    let Some((lo, hi)) = caster.bounds() else {
+        return vec![Pose::default()];
+    };
+    let top = hi[2] + 1.0;
+    let mut poses = Vec::new();
+    for j in 0..7 {
+        for i in 0..7 {
+            let x = lo[0] + (hi[0] - lo[0]) * (i as f32 + 0.5) / 7.0;
+            let y = lo[1] + (hi[1] - lo[1]) * (j as f32 + 0.5) / 7.0;
+            let Some(hit) = caster.cast([x, y, top], [0.0, 0.0, -1.0], top - lo[2] + 1.0) else {
+                continue;
+            };
+            let ground = caster
+                .object(hit.object)
+                .is_some_and(|o| o.kind == ObjectKind::Ground);
+            if ground {
+                let yaw = 0.7 * poses.len() as f32;
+                poses.push(Pose::new([x, y, top - hit.t + 1.8], yaw));
+            }
+        }
+    }
+    if poses.is_empty() {
+        let c = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
+        return vec![Pose::new(c, 0.0)];
+    }
+    // Keep n spread over the candidates.
+    let m = poses.len();
+    (0..n.min(m)).map(|k| poses[k * m / n.min(m)]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// CPU seconds of this thread (10 ms ticks), from /proc.
+    fn thread_cpu_s() -> f64 {
+        let s = std::fs::read_to_string("/proc/thread-self/stat").unwrap_or_default();
+        let after = s.rsplit(')').next().unwrap_or("");
+        let f: Vec<f64> = after
+            .split_whitespace()
+            .map(|x| x.parse().unwrap_or(0.0))
+            .collect();
+        (f.get(11).unwrap_or(&0.0) + f.get(12).unwrap_or(&0.0)) / 100.0
+    }
+
+    /// Nodes and triangles visited per ray and CPU-time throughput on one
+    /// thread (robust to a busy machine), for tuning the BVH:
+    /// `STATS_SIZES=0,200000 cargo test --release -p skyground-core --lib
+    /// traversal_stats -- --ignored --nocapture` (0 = the reference scene).
+    #[test]
+    #[ignore = "prints traversal statistics"]
+    fn traversal_stats() {
+        let sizes: Vec<usize> = std::env::var("STATS_SIZES")
+            .ok()
+            .map(|s| s.split(',').filter_map(|v| v.parse().ok()).collect())
+            .unwrap_or(vec![0, 200_000, 1_000_000]);
+        let budget: f64 = std::env::var("STATS_CPU_S")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(2.0);
+        for n in sizes {
+            let scene = if n == 0 {
+                crate::scene::reference_scene(crate::scene::REFERENCE_SEED)
+            } else {
+                crate::lidar::synthetic::dense_scene(n, 1)
+            };
+            let caster = Caster::new(&scene).unwrap();
+            let rays: Vec<Ray> = street_poses(&caster, 8)
+                .iter()
+                .flat_map(|p| revolution_rays(&LidarConfig::default(), p))
+                .collect();
+            use crate::lidar::bvh::stats::{NODES, TRIS};
+            NODES.with(|c| c.set(0));
+            TRIS.with(|c| c.set(0));
+            let hits = rays.iter().filter_map(|r| caster.cast_ray(r)).count();
+            let nodes = NODES.with(|c| c.get()) as f64 / rays.len() as f64;
+            let tris = TRIS.with(|c| c.get()) as f64 / rays.len() as f64;
+            let cpu0 = thread_cpu_s();
+            let mut passes = 0;
+            while thread_cpu_s() - cpu0 < budget {
+                std::hint::black_box(rays.iter().filter_map(|r| caster.cast_ray(r)).count());
+                passes += 1;
+            }
+            let dt = thread_cpu_s() - cpu0;
+            println!(
+                "{n}: shape {:?}, {hits} hits, {nodes:.1} nodes/ray, {tris:.1} tris/ray, {:.2} M rays/s",
+                caster.bvh_shape(),
+                (passes * rays.len()) as f64 / dt / 1e6
+            );
+        }
+    }
+}

@@ -1,0 +1,220 @@
+//! The ray caster: a BVH over a scene's triangles, built once, queried by
+//! single rays or by batches in parallel.
+
+use rayon::prelude::*;
+
+use super::bvh::Bvh;
+use super::ray::{Hit, Ray, cross, normalize, sub};
+use super::triangle::PreparedRay;
+use crate::scene::{ObjectKind, Scene, SceneObject};
+
+/// Why a scene cannot be indexed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CasterError {
+    /// `triangle_object` does not have one entry per triangle.
+    #[error("scene has {triangles} triangles but {tags} triangle_object entries")]
+    TriangleObjectLength {
+        /// Number of triangles.
+        triangles: usize,
+        /// Number of `triangle_object` entries.
+        tags: usize,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("triangle {triangle} refers to vertex {index} but the scene has {vertices} vertices")]
+    VertexIndex {
+        /// Triangle index.
+        triangle: usize,
+        /// The bad vertex index.
+        index: u32,
+        /// Number of vertices.
+        vertices: usize,
+    },
+    /// A triangle is tagged with an object that does not exist.
+    #[error("triangle {triangle} belongs to object {object} but the scene has {objects} objects")]
+    ObjectIndex {
+        /// Triangle index.
+        triangle: usize,
+        /// The bad object index.
+        object: u32,
+        /// Number of objects.
+        objects: usize,
+    },
+    /// More triangles than 32-bit ids can name.
+    #[error("scene has {0} triangles; at most 2^32 - 1 are supported")]
+    TooManyTriangles(usize),
+}
+
+/// Casts rays against one scene.
+///
+/// Built once per scene ([`Caster::new`]); every query is read-only, so one
+/// caster serves any number of threads. Triangles with zero area or
+/// non-finite vertices are left out (no ray can hit them).
+#[derive(Debug, Clone)]
+pub struct Caster {
+    bvh: Bvh,
+    /// Object index of every input triangle.
+    triangle_object: Vec<u32>,
+    /// The scene's objects.
+    objects: Vec<SceneObject>,
+    /// Scene bounds of the indexed triangles.
+    bounds: Option<([f32; 3], [f32; 3])>,
+    /// Highest vertex of a ground triangle.
+    ground_top: Option<f32>,
+    /// The scene's origin.
+    origin: [f64; 3],
+}
+
+impl Caster {
+    /// Validates `scene` and builds the acceleration structure over it.
+    pub fn new(scene: &Scene) -> Result<Self, CasterError> {
+        let n = scene.triangles.len();
+        if n >= u32::MAX as usize {
+            return Err(CasterError::TooManyTriangles(n));
+        }
+        if scene.triangle_object.len() != n {
+            return Err(CasterError::TriangleObjectLength {
+                triangles: n,
+                tags: scene.triangle_object.len(),
+            });
+        }
+        let nv = scene.vertices.len();
+        let mut tris = Vec::with_capacity(n);
+        let mut ids = Vec::with_capacity(n);
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        let mut ground_top: Option<f32> = None;
+        for (t, (tri, &obj)) in scene
+            .triangles
+            .iter()
+            .zip(&scene.triangle_object)
+            .enumerate()
+        {
+            if obj as usize >= scene.objects.len() {
+                return Err(CasterError::ObjectIndex {
+                    triangle: t,
+                    object: obj,
+                    objects: scene.objects.len(),
+                });
+            }
+            let mut v = [[0.0f32; 3]; 3];
+            for (slot, &index) in v.iter_mut().zip(tri) {
+                *slot = *scene
+                    .vertices
+                    .get(index as usize)
+                    .ok_or(CasterError::VertexIndex {
+                        triangle: t,
+                        index,
+                        vertices: nv,
+                    })?;
+            }
+            let finite = v.iter().flatten().all(|x| x.is_finite());
+            let area2 = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+            if !finite || area2 == [0.0; 3] {
+                continue;
+            }
+            for p in &v {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            if scene.objects[obj as usize].kind == ObjectKind::Ground {
+                let top = v[0][2].max(v[1][2]).max(v[2][2]);
+                ground_top = Some(ground_top.map_or(top, |g| g.max(top)));
+            }
+            tris.push(v);
+            ids.push(t as u32);
+        }
+        let bounds = (!tris.is_empty()).then_some((lo, hi));
+        Ok(Self {
+            bvh: Bvh::new(tris, ids),
+            triangle_object: scene.triangle_object.clone(),
+            objects: scene.objects.clone(),
+            bounds,
+            ground_top,
+            origin: scene.origin,
+        })
+    }
+
+    /// Number of triangles indexed (the scene's minus degenerate ones).
+    pub fn triangle_count(&self) -> usize {
+        self.bvh.tris.len()
+    }
+
+    /// Bounds `(min, max)` of the indexed triangles; `None` for an empty scene.
+    pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        self.bounds
+    }
+
+    /// Highest point of the scene's ground objects; `None` without ground.
+    pub fn ground_top(&self) -> Option<f32> {
+        self.ground_top
+    }
+
+    /// The scene's origin (its local frame in the source coordinates).
+    pub fn origin(&self) -> [f64; 3] {
+        self.origin
+    }
+
+    /// The scene object with index `object` (as in [`Hit::object`]).
+    pub fn object(&self, object: u32) -> Option<&SceneObject> {
+        self.objects.get(object as usize)
+    }
+
+    /// Number of BVH nodes, leaves and the deepest leaf's depth.
+    pub fn bvh_shape(&self) -> (usize, usize, usize) {
+        let s = self.bvh.stats();
+        (s.nodes, s.leaves, s.depth)
+    }
+
+    /// The closest hit within `max_range` metres of `origin` along `dir`
+    /// (normalized here; zero or non-finite input gives `None`).
+    pub fn cast(&self, origin: [f32; 3], dir: [f32; 3], max_range: f32) -> Option<Hit> {
+        self.cast_ray(&Ray::new(origin, dir, max_range))
+    }
+
+    /// [`Caster::cast`] for a [`Ray`].
+    pub fn cast_ray(&self, ray: &Ray) -> Option<Hit> {
+        let r = prepare(ray)?;
+        let (t, i) = self.bvh.closest(&r, ray.max_t)?;
+        Some(self.hit(t, i))
+    }
+
+    /// Casts every ray, in parallel on the current rayon pool; result `i`
+    /// belongs to `rays[i]`. Pass rays in a coherent order (neighbours in
+    /// the slice point in similar directions) for the best speed.
+    pub fn cast_many(&self, rays: &[Ray]) -> Vec<Option<Hit>> {
+        rays.par_iter()
+            .with_min_len(1024)
+            .map(|r| self.cast_ray(r))
+            .collect()
+    }
+
+    /// The closest hit found by testing every triangle: slow, for checking
+    /// [`Caster::cast_ray`].
+    pub fn cast_brute_force(&self, ray: &Ray) -> Option<Hit> {
+        let r = prepare(ray)?;
+        let (t, i) = self.bvh.closest_brute_force(&r, ray.max_t)?;
+        Some(self.hit(t, i))
+    }
+
+    /// Builds the hit record for leaf-order triangle `i` at distance `t`.
+    fn hit(&self, t: f32, i: usize) -> Hit {
+        let v = self.bvh.tris[i];
+        let triangle = self.bvh.ids[i];
+        let normal = normalize(cross(sub(v[1], v[0]), sub(v[2], v[0]))).unwrap_or([0.0, 0.0, 1.0]);
+        Hit {
+            t,
+            triangle,
+            object: self.triangle_object[triangle as usize],
+            normal,
+        }
+    }
+}
+
+/// Normalizes and prepares a ray; `None` when it cannot hit anything.
+fn prepare(ray: &Ray) -> Option<PreparedRay> {
+    let dir = normalize(ray.dir)?;
+    let ok = ray.origin.iter().all(|x| x.is_finite()) && ray.max_t > 0.0;
+    ok.then(|| PreparedRay::new(ray.origin, dir))
+}

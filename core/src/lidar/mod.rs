@@ -1,0 +1,36 @@
+//! Ray casting against scene meshes and simulated LiDAR sensors (DESIGN.md
+//! step 8 "Vehicle + LiDAR" and the airborne prior of "Scenes").
+//!
+//! - [`Caster`]: a BVH over a [`Scene`](crate::scene::Scene), built once;
+//!   closest-hit queries one at a time or in parallel batches (`caster`,
+//!   `bvh`, `triangle`).
+//! - [`spinning`]: a multi-beam spinning LiDAR on a ground vehicle
+//!   (VLP-16 defaults) → [`ScanPoints`].
+//! - [`airborne`]: an airborne laser scanner flying parallel strips →
+//!   [`Cloud`](crate::cloud::Cloud).
+//! - [`synthetic`]: boxes on a plane and a dense city-like scene for tests
+//!   and benchmarks; [`bench`](mod@bench): the ray-throughput figure.
+
+#![warn(missing_docs)]
+
+pub mod airborne;
+pub mod bench;
+mod bvh;
+mod caster;
+mod config_error;
+mod intensity;
+mod noise;
+mod pose;
+mod ray;
+pub mod spinning;
+pub mod synthetic;
+mod triangle;
+
+pub use airborne::{AirborneConfig, FlightPattern, ReturnMode, airborne_scan};
+pub use bench::{BenchFigures, bench_rays};
+pub use caster::{Caster, CasterError};
+pub use config_error::ConfigError;
+pub use intensity::{INTENSITY_FULL_SCALE, reflectance, return_intensity};
+pub use pose::Pose;
+pub use ray::{Hit, Ray};
+pub use spinning::{LidarConfig, ScanPoints, scan};

@@ -1,0 +1,28 @@
+//! Metrics (DESIGN.md "Metrics"): ground-truth samples of building surfaces,
+//! completeness against an observed cloud, and the two mean-distance terms.
+//!
+//! - [`gt`]: [`sample_building_surfaces`] → [`GtSamples`] (walls + roofs at
+//!   spacing s, bottoms and buried faces left out).
+//! - [`completeness`]: share of GT samples with an observed point within τ,
+//!   overall / per building / walls vs roofs, and the gap term
+//!   [`mean_gt_distance`].
+//! - [`accuracy`]: the accuracy term [`mean_cloud_to_mesh`].
+
+pub mod accuracy;
+pub mod completeness;
+mod ground_height;
+pub mod gt;
+mod nearest;
+mod triangle_grid;
+mod winding;
+
+pub use accuracy::{cloud_to_mesh_distances, mean_cloud_to_mesh};
+pub use completeness::{
+    BuildingCompleteness, CompletenessReport, Coverage, DEFAULT_TAU, completeness,
+    completeness_of_cloud, mean_gt_distance, report_from_distances,
+};
+pub use gt::{
+    DEFAULT_SPACING, GtOptions, GtSamples, SurfaceKind, sample_building_surfaces,
+    sample_building_surfaces_with,
+};
+pub use nearest::nearest_distances;

@@ -1,0 +1,62 @@
+//! The error of loading a scene.
+
+use std::path::PathBuf;
+
+use super::cityjson::CityJsonError;
+use super::obj::ObjError;
+use super::ply_mesh::PlyMeshError;
+
+/// Loading a scene failed; file errors start with the path.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// `reference:SEED` with a seed that is not a whole number.
+    #[error(
+        "scene `{spec}`: the reference seed must be a whole number (reference or reference:SEED)"
+    )]
+    BadSeed {
+        /// The spec as given.
+        spec: String,
+    },
+    /// The file's extension names no scene format.
+    #[error("{}: unknown scene format (expected .obj, .ply, .json / .city.json, or `reference`)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Reading the file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The OBJ file is malformed.
+    #[error("{}: {source}", path.display())]
+    Obj {
+        /// The file.
+        path: PathBuf,
+        /// The cause, with its line.
+        #[source]
+        source: ObjError,
+    },
+    /// The PLY mesh file is malformed.
+    #[error("{}: {source}", path.display())]
+    PlyMesh {
+        /// The file.
+        path: PathBuf,
+        /// The cause, with its line or row.
+        #[source]
+        source: PlyMeshError,
+    },
+    /// The CityJSON file is malformed.
+    #[error("{}: {source}", path.display())]
+    CityJson {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: CityJsonError,
+    },
+}

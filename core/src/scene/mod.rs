@@ -1,0 +1,35 @@
+//! The world the simulation runs in: labelled triangle meshes, built-in or loaded.
+//!
+//! - [`Scene`] (`mesh`): the shared triangle soup with per-triangle objects;
+//!   [`SceneBuilder`] / [`MeshPart`] assemble one; `summary` and `check` add
+//!   read-only queries and topology checks.
+//! - [`reference`]: the procedural, seeded reference scene.
+//! - [`obj`], [`ply_mesh`], [`cityjson`]: scene files; [`load_scene`] picks
+//!   one by name or extension.
+//! - [`polygon`]: triangulating polygons with holes (2D and 3D rings).
+
+mod builder;
+mod check;
+pub mod cityjson;
+mod error;
+mod indexed;
+mod load;
+mod mesh;
+mod naming;
+pub mod obj;
+pub mod ply_mesh;
+pub mod polygon;
+pub mod reference;
+mod summary;
+pub(crate) mod vec3;
+
+pub use builder::{MeshPart, SceneBuilder};
+pub use check::{EdgeDefects, SceneCheckError};
+pub use cityjson::{CityJsonError, CityJsonOptions, parse_cityjson, read_cityjson};
+pub use error::SceneError;
+pub use load::load_scene;
+pub use mesh::{ObjectKind, Scene, SceneObject};
+pub use naming::{UnknownObjects, kind_from_name};
+pub use obj::{ObjError, ObjErrorKind, ObjOptions, parse_obj, read_obj};
+pub use ply_mesh::{PlyMeshError, parse_ply_mesh, read_ply_mesh};
+pub use reference::{REFERENCE_SEED, ReferenceTerrain, reference_scene};

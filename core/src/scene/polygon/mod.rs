@@ -1,0 +1,14 @@
+//! Triangulating polygons with holes: 2D ear clipping ([`triangulate_2d`]) and
+//! 3D rings projected to their best-fit plane first ([`triangulate_3d`]).
+//!
+//! Robust by construction rather than exact: every input gives a result and
+//! never panics. A simple polygon with `n` vertices (holes bridged in) gives
+//! `n - 2` triangles; self-intersecting or degenerate input still gives
+//! triangles covering roughly the polygon (a vertex with no valid ear is
+//! clipped anyway), and rings with no area give none.
+
+mod earcut;
+mod plane;
+
+pub use earcut::triangulate_2d;
+pub use plane::triangulate_3d;

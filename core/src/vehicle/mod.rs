@@ -1,0 +1,10 @@
+//! The simulated ground vehicle: kinematics, terrain following and collision
+//! checks against the scene (DESIGN.md step 8). ROS-free: `vehicle_sim` drives it.
+
+mod config;
+mod probe;
+mod state;
+
+pub use config::VehicleConfig;
+pub use probe::{Terrain, free_spot, goal_inside_building};
+pub use state::{Step, Vehicle, VehicleState};

@@ -1,0 +1,278 @@
+//! The vehicle's state and one integration step.
+
+use std::collections::VecDeque;
+use std::f32::consts::PI;
+
+use super::config::VehicleConfig;
+use super::probe::{Terrain, goal_inside_building};
+use crate::lidar::Caster;
+
+/// Where the vehicle is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VehicleState {
+    /// Position on the ground, m (z = ground height).
+    pub position: [f32; 3],
+    /// Heading, rad (0 = +x, counter-clockwise).
+    pub yaw: f32,
+    /// Forward speed, m/s.
+    pub speed: f32,
+    /// Yaw rate, rad/s.
+    pub yaw_rate: f32,
+    /// Metres driven so far.
+    pub odometer: f32,
+}
+
+/// What one step did.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Step {
+    /// No goal.
+    Idle,
+    /// On the way.
+    Moving,
+    /// Reached a way-point (the next one, if any, is now the goal).
+    Arrived([f32; 2]),
+    /// Cannot go on towards the goal; the goal is dropped.
+    Blocked {
+        /// The goal given up.
+        goal: [f32; 2],
+        /// Why, for a log line.
+        reason: String,
+    },
+}
+
+/// A kinematic ground vehicle (unicycle with speed and yaw-rate limits) that
+/// follows the terrain and never drives through an obstacle.
+#[derive(Debug, Clone)]
+pub struct Vehicle {
+    /// Limits and shape.
+    pub config: VehicleConfig,
+    /// Current state.
+    pub state: VehicleState,
+    goals: VecDeque<[f32; 2]>,
+}
+
+impl Vehicle {
+    /// A vehicle standing at `(x, y)` on the ground, facing `yaw`; `None` off the terrain.
+    pub fn new(config: VehicleConfig, caster: &Caster, x: f32, y: f32, yaw: f32) -> Option<Self> {
+        let z = Terrain::new(caster).ground_height(x, y)?;
+        Some(Self {
+            config,
+            state: VehicleState {
+                position: [x, y, z],
+                yaw,
+                speed: 0.0,
+                yaw_rate: 0.0,
+                odometer: 0.0,
+            },
+            goals: VecDeque::new(),
+        })
+    }
+
+    /// Replaces the goals by one way-point.
+    pub fn set_goal(&mut self, goal: [f32; 2]) {
+        self.goals.clear();
+        self.goals.push_back(goal);
+    }
+
+    /// Replaces the goals by a path, followed in order.
+    pub fn set_path(&mut self, path: impl IntoIterator<Item = [f32; 2]>) {
+        self.goals = path.into_iter().collect();
+    }
+
+    /// The current goal.
+    pub fn goal(&self) -> Option<[f32; 2]> {
+        self.goals.front().copied()
+    }
+
+    /// The sensor's position (on the vehicle, `sensor_height` above ground).
+    pub fn sensor_position(&self) -> [f32; 3] {
+        let p = self.state.position;
+        [p[0], p[1], p[2] + self.config.sensor_height]
+    }
+
+    /// Advances the vehicle by `dt` seconds towards its goal.
+    pub fn step(&mut self, caster: &Caster, dt: f32) -> Step {
+        let Some(goal) = self.goal() else {
+            self.state.speed = 0.0;
+            self.state.yaw_rate = 0.0;
+            return Step::Idle;
+        };
+        let terrain = Terrain::new(caster);
+        let p = self.state.position;
+        let (dx, dy) = (goal[0] - p[0], goal[1] - p[1]);
+        let dist = (dx * dx + dy * dy).sqrt();
+        if dist <= self.config.goal_tolerance {
+            self.goals.pop_front();
+            self.state.speed = 0.0;
+            return Step::Arrived(goal);
+        }
+        let block = |s: &mut Self, reason: String| {
+            s.goals.pop_front();
+            s.state.speed = 0.0;
+            s.state.yaw_rate = 0.0;
+            Step::Blocked { goal, reason }
+        };
+        match terrain.ground_height(goal[0], goal[1]) {
+            None => return block(self, "the way-point is off the terrain".into()),
+            Some(gz) if goal_inside_building(caster, [goal[0], goal[1], gz + 0.5]) => {
+                return block(self, "the way-point is inside a building".into());
+            }
+            Some(_) => {}
+        }
+        let heading = dy.atan2(dx);
+        let err = wrap(heading - self.state.yaw);
+        let max_turn = self.config.max_yaw_rate * dt;
+        let turn = err.clamp(-max_turn, max_turn);
+        self.state.yaw = wrap(self.state.yaw + turn);
+        self.state.yaw_rate = turn / dt.max(1e-6);
+        // Turn in place when facing away; slow down on the final approach.
+        let speed = if err.abs() > PI / 3.0 {
+            0.0
+        } else {
+            self.config
+                .max_speed
+                .min(dist / dt.max(1e-6))
+                .min(dist.max(0.2))
+        };
+        let step = speed * dt;
+        if step <= 0.0 {
+            self.state.speed = 0.0;
+            return Step::Moving;
+        }
+        let (c, s) = (self.state.yaw.cos(), self.state.yaw.sin());
+        let (nx, ny) = (p[0] + c * step, p[1] + s * step);
+        let Some(nz) = terrain.ground_height(nx, ny) else {
+            return block(self, "the terrain ends ahead".into());
+        };
+        let incline = ((nz - p[2]) / step).atan().abs().to_degrees();
+        if incline > self.config.max_incline_deg {
+            return block(self, format!("slope of {incline:.0}° ahead"));
+        }
+        if let Some(at) =
+            terrain.obstacle(p, [nx, ny, nz], self.config.radius, self.config.body_height)
+            && at < step + 1e-3
+        {
+            return block(
+                self,
+                format!("obstacle {at:.2} m ahead at ({:.1}, {:.1})", p[0], p[1]),
+            );
+        }
+        self.state.position = [nx, ny, nz];
+        self.state.speed = speed;
+        self.state.odometer += step;
+        Step::Moving
+    }
+}
+
+fn wrap(a: f32) -> f32 {
+    let mut a = a % (2.0 * PI);
+    if a > PI {
+        a -= 2.0 * PI;
+    } else if a < -PI {
+        a += 2.0 * PI;
+    }
+    a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{ObjectKind, Scene, SceneObject};
+
+    /// A 40 m × 40 m ground plane with a closed 10 m box building at x 20..30.
+    fn scene() -> Scene {
+        let mut s = Scene::default();
+        s.objects.push(SceneObject {
+            name: "ground".into(),
+            kind: ObjectKind::Ground,
+            building: 0,
+        });
+        s.objects.push(SceneObject {
+            name: "building1".into(),
+            kind: ObjectKind::Building,
+            building: 1,
+        });
+        s.vertices.extend([
+            [-20.0, -20.0, 0.0],
+            [40.0, -20.0, 0.0],
+            [40.0, 40.0, 0.0],
+            [-20.0, 40.0, 0.0],
+        ]);
+        s.triangles.extend([[0, 1, 2], [0, 2, 3]]);
+        s.triangle_object.extend([0, 0]);
+        let (lo, hi) = ([20.0f32, 0.0, 0.0], [30.0f32, 10.0, 10.0]);
+        let b = s.vertices.len() as u32;
+        for k in 0..8u32 {
+            s.vertices.push([
+                if k & 1 == 0 { lo[0] } else { hi[0] },
+                if k & 2 == 0 { lo[1] } else { hi[1] },
+                if k & 4 == 0 { lo[2] } else { hi[2] },
+            ]);
+        }
+        // Outward-facing (counter-clockwise seen from outside) box faces.
+        let faces = [
+            [0, 2, 3, 1], // bottom (-z)
+            [4, 5, 7, 6], // top (+z)
+            [0, 1, 5, 4], // -y
+            [2, 6, 7, 3], // +y
+            [0, 4, 6, 2], // -x
+            [1, 3, 7, 5], // +x
+        ];
+        for f in faces {
+            s.triangles.push([b + f[0], b + f[1], b + f[2]]);
+            s.triangles.push([b + f[0], b + f[2], b + f[3]]);
+            s.triangle_object.extend([1, 1]);
+        }
+        s
+    }
+
+    fn run(v: &mut Vehicle, c: &Caster, secs: f32) -> Vec<Step> {
+        let mut out = Vec::new();
+        for _ in 0..(secs / 0.05) as usize {
+            let s = v.step(c, 0.05);
+            if s != Step::Moving && s != Step::Idle {
+                out.push(s);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn drives_to_a_way_point_and_stops() {
+        let c = Caster::new(&scene()).unwrap();
+        let mut v = Vehicle::new(VehicleConfig::default(), &c, 0.0, 0.0, 0.0).unwrap();
+        v.set_goal([5.0, 12.0]);
+        let steps = run(&mut v, &c, 30.0);
+        assert_eq!(steps, vec![Step::Arrived([5.0, 12.0])]);
+        let p = v.state.position;
+        assert!(((p[0] - 5.0).powi(2) + (p[1] - 12.0).powi(2)).sqrt() <= 0.5);
+        assert!(v.state.odometer >= 12.0);
+    }
+
+    #[test]
+    fn refuses_a_way_point_inside_a_building() {
+        let c = Caster::new(&scene()).unwrap();
+        let mut v = Vehicle::new(VehicleConfig::default(), &c, 0.0, 5.0, 0.0).unwrap();
+        v.set_goal([25.0, 5.0]);
+        let steps = run(&mut v, &c, 30.0);
+        assert!(
+            matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("inside")),
+            "{steps:?}"
+        );
+        assert!(v.state.position[0] < 20.0);
+    }
+
+    #[test]
+    fn never_drives_through_a_wall() {
+        let c = Caster::new(&scene()).unwrap();
+        let mut v = Vehicle::new(VehicleConfig::default(), &c, 10.0, 5.0, 0.0).unwrap();
+        v.set_goal([38.0, 5.0]);
+        let steps = run(&mut v, &c, 40.0);
+        assert!(
+            matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("obstacle")),
+            "{steps:?}"
+        );
+        let x = v.state.position[0];
+        assert!(x < 20.0 - 0.4 && x > 15.0, "stopped at x = {x}");
+    }
+}

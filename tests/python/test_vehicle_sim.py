@@ -1,0 +1,132 @@
+"""vehicle_sim over DDS with rclpy: it drives to way-points, refuses one inside
+a building, scans, and runs simulated time faster than the wall."""
+import math
+import time
+
+import numpy as np
+import pytest
+
+from conftest import qos
+
+# A 120 m × 120 m ground plane and one closed 10 m box building at x 50..60, y 0..10.
+SCENE_OBJ = """o ground
+v -60 -60 0
+v 60 -60 0
+v 60 60 0
+v -60 60 0
+f 1 2 3
+f 1 3 4
+o building1
+v 50 0 0
+v 60 0 0
+v 50 10 0
+v 60 10 0
+v 50 0 10
+v 60 0 10
+v 50 10 10
+v 60 10 10
+f 5 7 8 6
+f 9 10 12 11
+f 5 6 10 9
+f 7 11 12 8
+f 5 9 11 7
+f 6 8 12 10
+"""
+
+
+@pytest.fixture
+def sim(spawn, ros, tmp_path):
+    scene = tmp_path / "box.obj"
+    scene.write_text(SCENE_OBJ)
+    from nav_msgs.msg import Odometry
+
+    odom = []
+    ros.node.create_subscription(Odometry, "/state_estimation", odom.append, qos("reliable", 100))
+    proc = spawn("vehicle_sim", "--ros-args", "-p", f"scene:={scene}", "-p", "start:=[0.0, 5.0]",
+                 "-p", "time_factor:=20.0")
+    assert ros.spin_until(lambda: len(odom) > 0, 30), proc.stderr()
+    return proc, odom
+
+
+def way_point(ros, x, y):
+    from geometry_msgs.msg import PointStamped
+
+    pub = ros.node.create_publisher(PointStamped, "/way_point", qos("reliable", 10))
+    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 20)
+    m = PointStamped()
+    m.header.frame_id = "map"
+    m.point.x, m.point.y = float(x), float(y)
+    pub.publish(m)
+
+
+def xy(o):
+    return o.pose.pose.position.x, o.pose.pose.position.y
+
+
+def test_way_point_moves_the_vehicle_and_it_stops_there(sim, ros):
+    proc, odom = sim
+    start = xy(odom[-1])
+    assert math.dist(start, (0.0, 5.0)) < 0.1
+    way_point(ros, 20.0, -8.0)
+
+    def arrived():
+        return len(odom) > 10 and math.dist(xy(odom[-1]), (20.0, -8.0)) < 1.0 and \
+            odom[-1].twist.twist.linear.x == 0.0
+
+    assert ros.spin_until(arrived, 40), f"at {xy(odom[-1])}: {proc.stderr()[-2000:]}"
+    # Distances to the goal only shrink once the vehicle faces it.
+    d = [math.dist(xy(o), (20.0, -8.0)) for o in odom]
+    assert d[-1] < 1.0 and max(d) <= math.dist(start, (20.0, -8.0)) + 0.5
+    held = xy(odom[-1])
+    ros.spin_until(lambda: False, 1.0)
+    assert math.dist(xy(odom[-1]), held) < 0.05, "the vehicle must stay at the way-point"
+
+
+def test_way_point_inside_a_building_is_refused(sim, ros):
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    proc, odom = sim
+    status = []
+    ros.node.create_subscription(DiagnosticArray, "/vehicle_status", status.append, qos("reliable", 10))
+    way_point(ros, 55.0, 5.0)
+    assert ros.spin_until(lambda: any("blocked" in s.message for a in status for s in a.status), 30), proc.stderr()
+    msg = [s.message for a in status for s in a.status][-1]
+    assert "inside a building" in msg
+    ros.spin_until(lambda: False, 1.0)
+    assert all(not (50.0 <= o.pose.pose.position.x <= 60.0 and 0 <= o.pose.pose.position.y <= 10) for o in odom)
+
+
+def test_scans_arrive_and_decode_with_labels(sim, ros):
+    from sensor_msgs.msg import PointCloud2
+    from peer_cloud import to_arrays
+
+    scans = []
+    ros.node.create_subscription(PointCloud2, "/registered_scan", scans.append, qos("sensor", 5))
+    assert ros.spin_until(lambda: len(scans) >= 3, 30)
+    m = scans[-1]
+    assert m.header.frame_id == "map"
+    names = [f.name for f in m.fields]
+    assert {"x", "y", "z", "intensity", "label", "building"} <= set(names)
+    xyz, label = to_arrays(m)
+    assert len(xyz) > 1000
+    assert set(np.unique(label)) <= {2, 6} and 2 in set(np.unique(label)) and 6 in set(np.unique(label))
+    # Building points lie on the box, ground points on the plane (σ = 2 cm noise).
+    b = xyz[label == 6]
+    assert b[:, 0].min() > 50 - 0.1 and b[:, 1].min() > -0.1 and b[:, 2].max() < 10.1
+    assert np.abs(xyz[label == 2][:, 2]).max() < 0.1
+    # Within range of the sensor, which stands at the start (0, 5).
+    assert np.linalg.norm(xyz[:, :2] - np.array([0.0, 5.0]), axis=1).max() <= 100.5
+
+
+def test_clock_runs_at_least_ten_times_faster_than_wall(sim, ros):
+    from rosgraph_msgs.msg import Clock
+
+    ticks = []
+    ros.node.create_subscription(Clock, "/clock", lambda c: ticks.append((time.monotonic(), c.clock)), qos("sensor", 1))
+    assert ros.spin_until(lambda: len(ticks) > 5, 20)
+    t0 = ticks[-1]
+    ros.spin_until(lambda: False, 2.0)
+    t1 = ticks[-1]
+    sim_dt = (t1[1].sec + t1[1].nanosec * 1e-9) - (t0[1].sec + t0[1].nanosec * 1e-9)
+    wall_dt = t1[0] - t0[0]
+    assert sim_dt / wall_dt >= 10.0, f"{sim_dt:.2f} sim s in {wall_dt:.2f} wall s"
