@@ -8,7 +8,9 @@ use serde::Deserialize;
 use serde_json::json;
 use skyground_core::cloud::write_cloud;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
-use skyground_core::metrics::{completeness_of_cloud, sample_building_surfaces};
+use skyground_core::metrics::{
+    GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances, sample_building_surfaces,
+};
 use skyground_core::scene::load_scene;
 
 use crate::runtime::{RuntimeError, params::ParamSet};
@@ -60,6 +62,7 @@ pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
     let t2 = Instant::now();
     let gt = sample_building_surfaces(&scene, p.gt_spacing_m);
     let report = completeness_of_cloud(&gt, &cloud, p.tau_m);
+    let gaps = gap_profile(&scene, &gt, &cloud.xyz, p.tau_m);
     let metric_s = t2.elapsed().as_secs_f64();
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     for name in ["aerial.las", "aerial.ply"] {
@@ -88,6 +91,7 @@ pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
         "completeness_walls": report.walls.ratio,
         "completeness_roofs": report.roofs.ratio,
         "mean_gt_distance_m": report.mean_gt_distance,
+        "where_the_gaps_are": gaps,
         "per_building": report.buildings,
         "seconds": {"load": load_s, "survey": scan_s, "metrics": metric_s},
         "outputs": {
@@ -110,4 +114,79 @@ fn upward_area(scene: &skyground_core::scene::Scene) -> f64 {
             z.max(0.0)
         })
         .sum()
+}
+
+/// Completeness of the parts of buildings airborne scans are known to miss:
+/// the lowest 3 m of walls, walls within 6 m of a tree, undersides (e.g. the
+/// floor over a hollow base), against the rest of the walls and the roofs.
+fn gap_profile(
+    scene: &skyground_core::scene::Scene,
+    gt: &GtSamples,
+    observed: &[[f32; 3]],
+    tau: f32,
+) -> serde_json::Value {
+    use skyground_core::scene::ObjectKind;
+    let covered: Vec<bool> = nearest_distances(&gt.xyz, observed)
+        .into_iter()
+        .map(|d| d <= tau)
+        .collect();
+    let mut base = std::collections::HashMap::<u32, f32>::new();
+    for (p, b) in gt.xyz.iter().zip(&gt.building) {
+        let e = base.entry(*b).or_insert(f32::INFINITY);
+        *e = e.min(p[2]);
+    }
+    let trees: Vec<[f32; 3]> = scene
+        .triangles
+        .iter()
+        .zip(&scene.triangle_object)
+        .filter(|(_, o)| {
+            scene
+                .objects
+                .get(**o as usize)
+                .is_some_and(|o| o.kind == ObjectKind::Vegetation)
+        })
+        .filter_map(|(t, _)| scene.vertices.get(t[0] as usize).copied())
+        .collect();
+    let near_tree: Vec<bool> = if trees.is_empty() {
+        vec![false; gt.len()]
+    } else {
+        nearest_distances(&gt.xyz, &trees)
+            .into_iter()
+            .map(|d| d <= 6.0)
+            .collect()
+    };
+    let mut groups = [(0usize, 0usize); 5];
+    for i in 0..gt.len() {
+        let (Some(p), Some(n), Some(k), Some(b)) = (
+            gt.xyz.get(i),
+            gt.normal.get(i),
+            gt.kind.get(i),
+            gt.building.get(i),
+        ) else {
+            continue;
+        };
+        let g = if *k == SurfaceKind::Roof {
+            4
+        } else if n[2] < -0.5 {
+            2
+        } else if near_tree.get(i) == Some(&true) {
+            1
+        } else if p[2] - base.get(b).copied().unwrap_or(p[2]) < 3.0 {
+            0
+        } else {
+            3
+        };
+        if let (Some(slot), Some(c)) = (groups.get_mut(g), covered.get(i)) {
+            slot.0 += 1;
+            slot.1 += usize::from(*c);
+        }
+    }
+    let ratio = |(n, c): (usize, usize)| json!({"samples": n, "completeness": if n > 0 { Some(c as f64 / n as f64) } else { None }});
+    json!({
+        "walls_lowest_3m": ratio(groups[0]),
+        "walls_near_trees": ratio(groups[1]),
+        "undersides": ratio(groups[2]),
+        "other_walls": ratio(groups[3]),
+        "roofs": ratio(groups[4]),
+    })
 }
