@@ -92,19 +92,12 @@ fn main() -> ExitCode {
                 // SAFETY: no other thread exists yet.
                 unsafe { std::env::set_var("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST") };
             }
-            match tokio::runtime::Runtime::new() {
-                Ok(rt) => match rt.block_on(demo::run(a)) {
-                    Ok(()) => ExitCode::SUCCESS,
-                    Err(e) => {
-                        eprintln!("skyground demo: {e}");
-                        ExitCode::FAILURE
-                    }
-                },
-                Err(e) => {
-                    eprintln!("skyground demo: cannot start tokio: {e}");
-                    ExitCode::FAILURE
-                }
-            }
+            run_with(
+                cli::tool_spec("skyground_demo"),
+                ros,
+                vec![],
+                async |rt, _| demo::run(rt, a).await,
+            )
         }
         Cmd::Aerial(a) => match aerial::run(&a) {
             Ok(summary) => {

@@ -43,19 +43,37 @@ struct Params {
 
 const DEFAULTS: &str = include_str!("../../../config/aerial.yaml");
 
-/// Runs the survey simulation and writes its outputs.
-pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
+/// A simulated survey of a scene with its ground truth and completeness.
+pub struct Survey {
+    /// The scene.
+    pub scene: skyground_core::scene::Scene,
+    /// The airborne cloud (labels 2/5/6, building ids).
+    pub cloud: skyground_core::cloud::Cloud,
+    /// Ground-truth samples of building surfaces.
+    pub gt: GtSamples,
+    /// Completeness radius, m.
+    pub tau: f32,
+    /// The JSON summary.
+    pub summary: serde_json::Value,
+}
+
+/// Loads the scene, flies the survey (config/aerial.yaml, then `params_file`)
+/// and measures the cloud against ground truth.
+pub fn survey(
+    scene_spec: &str,
+    params_file: Option<&std::path::Path>,
+) -> Result<Survey, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut params = ParamSet::default();
     params.merge_yaml(DEFAULTS, "aerial", "config/aerial.yaml")?;
-    if let Some(f) = &a.params_file {
+    if let Some(f) = params_file {
         params.merge_file(f, "aerial")?;
     }
     let p: Params = params.parse("aerial")?;
     let t0 = Instant::now();
-    let scene = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
+    let scene = load_scene(scene_spec).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
     let load_s = t0.elapsed().as_secs_f64();
-    let caster = Caster::new(&scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
+    let caster = Caster::new(&scene).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
     let t1 = Instant::now();
     let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
     let scan_s = t1.elapsed().as_secs_f64();
@@ -64,22 +82,12 @@ pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
     let report = completeness_of_cloud(&gt, &cloud, p.tau_m);
     let gaps = gap_profile(&scene, &gt, &cloud.xyz, p.tau_m);
     let metric_s = t2.elapsed().as_secs_f64();
-    std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
-    for name in ["aerial.las", "aerial.ply"] {
-        write_cloud(&a.out.join(name), &cloud).map_err(|e| err(e.to_string()))?;
-    }
-    let gt_path = a.out.join("gt_samples.ply");
-    let file =
-        std::fs::File::create(&gt_path).map_err(|e| err(format!("{}: {e}", gt_path.display())))?;
-    gt.write_ply(std::io::BufWriter::new(file))
-        .map_err(|e| err(format!("{}: {e}", gt_path.display())))?;
     let area = upward_area(&scene);
-    let buildings = scene.building_count();
     let summary = json!({
-        "scene": a.scene,
+        "scene": scene_spec,
         "origin": scene.origin,
         "triangles": scene.triangles.len(),
-        "buildings": buildings,
+        "buildings": scene.building_count(),
         "points": cloud.len(),
         // Over the xy area of the surfaces an airborne scanner faces (ground,
         // roofs), not the bounding box: city models can be sparse patches.
@@ -94,15 +102,37 @@ pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
         "where_the_gaps_are": gaps,
         "per_building": report.buildings,
         "seconds": {"load": load_s, "survey": scan_s, "metrics": metric_s},
-        "outputs": {
-            "las": a.out.join("aerial.las"),
-            "ply": a.out.join("aerial.ply"),
-            "gt": a.out.join("gt_samples.ply"),
-        },
     });
-    std::fs::write(a.out.join("summary.json"), format!("{summary:#}"))
+    Ok(Survey {
+        scene,
+        cloud,
+        gt,
+        tau: p.tau_m,
+        summary,
+    })
+}
+
+/// Runs the survey simulation and writes its outputs.
+pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let mut s = survey(&a.scene, a.params_file.as_deref())?;
+    std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+    for name in ["aerial.las", "aerial.ply"] {
+        write_cloud(&a.out.join(name), &s.cloud).map_err(|e| err(e.to_string()))?;
+    }
+    let gt_path = a.out.join("gt_samples.ply");
+    let file =
+        std::fs::File::create(&gt_path).map_err(|e| err(format!("{}: {e}", gt_path.display())))?;
+    s.gt.write_ply(std::io::BufWriter::new(file))
+        .map_err(|e| err(format!("{}: {e}", gt_path.display())))?;
+    s.summary["outputs"] = json!({
+        "las": a.out.join("aerial.las"),
+        "ply": a.out.join("aerial.ply"),
+        "gt": gt_path,
+    });
+    std::fs::write(a.out.join("summary.json"), format!("{:#}", s.summary))
         .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
-    Ok(summary)
+    Ok(s.summary)
 }
 
 /// The xy-projected area of the upward-facing triangles, m².
