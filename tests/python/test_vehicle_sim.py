@@ -130,3 +130,23 @@ def test_clock_runs_at_least_ten_times_faster_than_wall(sim, ros):
     sim_dt = (t1[1].sec + t1[1].nanosec * 1e-9) - (t0[1].sec + t0[1].nanosec * 1e-9)
     wall_dt = t1[0] - t0[0]
     assert sim_dt / wall_dt >= 10.0, f"{sim_dt:.2f} sim s in {wall_dt:.2f} wall s"
+
+
+def test_a_path_on_local_path_is_followed_in_order(sim, ros):
+    from geometry_msgs.msg import PoseStamped
+    from nav_msgs.msg import Path
+
+    proc, odom = sim
+    pub = ros.node.create_publisher(Path, "/local_path", qos("reliable", 10))
+    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 20)
+    path = Path()
+    path.header.frame_id = "map"
+    for x, y in [(10.0, 5.0), (10.0, 20.0), (-5.0, 20.0)]:
+        p = PoseStamped()
+        p.pose.position.x, p.pose.position.y = x, y
+        path.poses.append(p)
+    pub.publish(path)
+    assert ros.spin_until(lambda: math.dist(xy(odom[-1]), (-5.0, 20.0)) < 1.0 and
+                          odom[-1].twist.twist.linear.x == 0.0, 60), proc.stderr()[-2000:]
+    # It passed near the middle pose on the way.
+    assert min(math.dist(xy(o), (10.0, 20.0)) for o in odom) < 1.0

@@ -87,16 +87,16 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
     }
 
     let mut out = Decoded::default();
-    if points == 0 {
-        // Without this, width 0 and height 4e9 (data length 0 fits) would walk
-        // four billion empty rows: found by fuzzing.
-        return Ok(out);
-    }
     let cloud = &mut out.cloud;
     cloud.xyz.reserve_exact(points);
     cloud.intensity = intensity.map(|_| Vec::with_capacity(points));
     cloud.label = label.map(|_| Vec::with_capacity(points));
     cloud.building = building.map(|_| Vec::with_capacity(points));
+    if points == 0 {
+        // Without this, width 0 and height 4e9 (data length 0 fits) would walk
+        // four billion empty rows: found by fuzzing.
+        return Ok(out);
+    }
     // point_step ≥ 4 here (x fits in it); max(1) only keeps chunks_exact total.
     let rows = (0..height).filter_map(|r| {
         let start = r.checked_mul(row_step)?;
