@@ -32,6 +32,22 @@ impl<'a> BinaryRows<'a> {
         self.pos = end;
         Some(bytes)
     }
+
+    /// Reads a list's length prefix and returns the bytes of its items.
+    fn list_bytes(
+        &mut self,
+        ctx: RowCtx<'_>,
+        count: Scalar,
+        item: Scalar,
+        property: &str,
+    ) -> Result<&'a [u8], PlyError> {
+        let len = list_length(ctx, property, self.scalar(ctx, count, property)?)?;
+        let bytes = len
+            .checked_mul(item.size() as u64)
+            .and_then(|b| usize::try_from(b).ok())
+            .ok_or_else(|| ctx.truncated())?;
+        self.take(bytes).ok_or_else(|| ctx.truncated())
+    }
 }
 
 impl Rows for BinaryRows<'_> {
@@ -57,12 +73,26 @@ impl Rows for BinaryRows<'_> {
         item: Scalar,
         property: &str,
     ) -> Result<(), PlyError> {
-        let len = list_length(ctx, property, self.scalar(ctx, count, property)?)?;
-        let bytes = len
-            .checked_mul(item.size() as u64)
-            .and_then(|b| usize::try_from(b).ok())
-            .ok_or_else(|| ctx.truncated())?;
-        self.take(bytes).map(|_| ()).ok_or_else(|| ctx.truncated())
+        self.list_bytes(ctx, count, item, property).map(|_| ())
+    }
+
+    fn read_list(
+        &mut self,
+        ctx: RowCtx<'_>,
+        count: Scalar,
+        item: Scalar,
+        property: &str,
+        out: &mut Vec<f64>,
+    ) -> Result<(), PlyError> {
+        let big_endian = self.big_endian;
+        let bytes = self.list_bytes(ctx, count, item, property)?;
+        for chunk in bytes.chunks_exact(item.size()) {
+            out.push(
+                item.decode(chunk, big_endian)
+                    .ok_or_else(|| ctx.truncated())?,
+            );
+        }
+        Ok(())
     }
 
     fn end(&mut self, _ctx: RowCtx<'_>) -> Result<(), PlyError> {

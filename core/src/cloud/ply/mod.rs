@@ -30,6 +30,15 @@ pub use header::PlyFormat;
 use scalar::Scalar;
 pub use write::write_ply_as;
 
+/// The format-independent PLY reading blocks (header, scalar types, row
+/// readers), shared with the mesh reader in [`crate::scene::ply_mesh`].
+pub(crate) mod reader {
+    pub(crate) use super::ascii::AsciiRows;
+    pub(crate) use super::binary::BinaryRows;
+    pub(crate) use super::header::{Element, Header, PlyFormat, PropertyKind, parse_header};
+    pub(crate) use super::rows::{RowCtx, Rows};
+}
+
 use crate::cloud::Cloud;
 
 /// Reads a whole PLY stream into a cloud.

@@ -53,6 +53,21 @@ pub trait Rows {
         property: &str,
     ) -> Result<(), PlyError>;
 
+    /// Reads one list value of the current row, appending its items to `out`.
+    fn read_list(
+        &mut self,
+        ctx: RowCtx<'_>,
+        count: Scalar,
+        item: Scalar,
+        property: &str,
+        out: &mut Vec<f64>,
+    ) -> Result<(), PlyError>;
+
+    /// The 1-based file line of the current row, for encodings that have lines.
+    fn line(&self) -> Option<usize> {
+        None
+    }
+
     /// Ends a row.
     fn end(&mut self, ctx: RowCtx<'_>) -> Result<(), PlyError>;
 

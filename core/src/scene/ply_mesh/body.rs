@@ -1,130 +1,157 @@
-//! Reading body values, ASCII or binary, one at a time.
+//! Reading the vertex and face elements of a mesh body through the shared
+//! PLY row readers ([`crate::cloud::ply::reader`]).
+
+use crate::cloud::PlyError;
+use crate::cloud::ply::reader::{Element, PropertyKind, RowCtx, Rows};
 
 use super::error::{PlyMeshError, PlyPlace};
-use super::header::{Format, Scalar};
+use super::{CLASS_NAMES, Face, SPLIT_NAMES};
 
-/// A cursor over the body that yields values as `f64` (exact for every PLY
-/// integer type).
-pub struct Body<'a> {
-    data: &'a [u8],
-    pos: usize,
-    format: Format,
-    line: usize,
-    element: String,
-    row: usize,
+/// Where row `ctx` is: its line (ASCII) or element and row (binary).
+fn place<R: Rows>(rows: &R, ctx: RowCtx<'_>) -> PlyPlace {
+    rows.line().map_or_else(
+        || PlyPlace::Row {
+            element: ctx.element.name.clone(),
+            row: row_index(ctx.index),
+        },
+        PlyPlace::Line,
+    )
 }
 
-impl<'a> Body<'a> {
-    /// A cursor over `data`, whose first line is `first_line` (ASCII).
-    pub fn new(data: &'a [u8], format: Format, first_line: usize) -> Self {
-        Self {
-            data,
-            pos: 0,
-            format,
-            line: first_line,
-            element: String::new(),
+/// A row index as `usize` (saturating; only used in messages and checks).
+pub fn row_index(index: u64) -> usize {
+    usize::try_from(index).unwrap_or(usize::MAX)
+}
+
+/// Reads past every row of an element the mesh does not use.
+pub fn skip_element<R: Rows>(rows: &mut R, element: &Element) -> Result<(), PlyMeshError> {
+    rows.skip_element(element).map_err(|e| {
+        let at = PlyPlace::Row {
+            element: element.name.clone(),
             row: 0,
-        }
-    }
-
-    /// Records which row is being read (for error messages).
-    pub fn at_row(&mut self, element: &str, row: usize) {
-        if self.element != element {
-            self.element = element.to_string();
-        }
-        self.row = row;
-    }
-
-    /// Where the cursor is, for messages.
-    pub fn place(&self) -> PlyPlace {
-        match self.format {
-            Format::Ascii => PlyPlace::Line(self.line),
-            _ => PlyPlace::Row {
-                element: self.element.clone(),
-                row: self.row,
-            },
-        }
-    }
-
-    /// Reads one value of type `ty`.
-    pub fn value(&mut self, ty: Scalar) -> Result<f64, PlyMeshError> {
-        match self.format {
-            Format::Ascii => self.ascii(ty),
-            Format::LittleEndian => self.binary(ty, true),
-            Format::BigEndian => self.binary(ty, false),
-        }
-    }
-
-    fn ascii(&mut self, ty: Scalar) -> Result<f64, PlyMeshError> {
-        while let Some(&b) = self.data.get(self.pos) {
-            if !b.is_ascii_whitespace() {
-                break;
-            }
-            if b == b'\n' {
-                self.line += 1;
-            }
-            self.pos += 1;
-        }
-        let start = self.pos;
-        while self
-            .data
-            .get(self.pos)
-            .is_some_and(|b| !b.is_ascii_whitespace())
-        {
-            self.pos += 1;
-        }
-        if start == self.pos {
-            return Err(PlyMeshError::Truncated { at: self.place() });
-        }
-        let token = String::from_utf8_lossy(&self.data[start..self.pos]);
-        let bad = || PlyMeshError::BadValue {
-            at: self.place(),
-            token: token.to_string(),
-            ty: ty.name(),
         };
-        if ty.is_integer() {
-            let v: i64 = token.parse().map_err(|_| bad())?;
-            let (lo, hi) = int_range(ty);
-            if v < lo || v > hi {
-                return Err(bad());
-            }
-            Ok(v as f64)
-        } else {
-            token.parse::<f64>().map_err(|_| bad())
-        }
-    }
-
-    fn binary(&mut self, ty: Scalar, little: bool) -> Result<f64, PlyMeshError> {
-        let n = ty.size();
-        let Some(bytes) = self.data.get(self.pos..self.pos + n) else {
-            return Err(PlyMeshError::Truncated { at: self.place() });
-        };
-        self.pos += n;
-        let mut b = [0u8; 8];
-        b[..n].copy_from_slice(bytes);
-        if !little {
-            b[..n].reverse();
-        }
-        Ok(match ty {
-            Scalar::I8 => f64::from(i8::from_le_bytes([b[0]])),
-            Scalar::U8 => f64::from(b[0]),
-            Scalar::I16 => f64::from(i16::from_le_bytes([b[0], b[1]])),
-            Scalar::U16 => f64::from(u16::from_le_bytes([b[0], b[1]])),
-            Scalar::I32 => f64::from(i32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-            Scalar::U32 => f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-            Scalar::F32 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-            Scalar::F64 => f64::from_le_bytes(b),
-        })
-    }
+        PlyMeshError::from_body(e, rows.line().map_or(at, PlyPlace::Line))
+    })
 }
 
-fn int_range(ty: Scalar) -> (i64, i64) {
-    match ty {
-        Scalar::I8 => (i8::MIN.into(), i8::MAX.into()),
-        Scalar::U8 => (0, u8::MAX.into()),
-        Scalar::I16 => (i16::MIN.into(), i16::MAX.into()),
-        Scalar::U16 => (0, u16::MAX.into()),
-        Scalar::I32 => (i32::MIN.into(), i32::MAX.into()),
-        _ => (0, u32::MAX.into()),
+/// Reads one row, handing `(property index, values)` to `take`.
+fn read_row<R: Rows>(
+    rows: &mut R,
+    ctx: RowCtx<'_>,
+    mut take: impl FnMut(usize, &[f64]),
+) -> Result<(), PlyMeshError> {
+    let mut values = Vec::new();
+    let mut row = || -> Result<(), PlyError> {
+        rows.begin(ctx)?;
+        for (k, p) in ctx.element.properties.iter().enumerate() {
+            values.clear();
+            match p.kind {
+                PropertyKind::Scalar(ty) => values.push(rows.scalar(ctx, ty, &p.name)?),
+                PropertyKind::List { count, item } => {
+                    rows.read_list(ctx, count, item, &p.name, &mut values)?;
+                }
+            }
+            take(k, &values);
+        }
+        rows.end(ctx)
+    };
+    row().map_err(|e| PlyMeshError::from_body(e, place(rows, ctx)))
+}
+
+fn find(element: &Element, names: &[&str], list: bool) -> Option<usize> {
+    names.iter().find_map(|n| {
+        element
+            .properties
+            .iter()
+            .position(|p| p.name == *n && matches!(p.kind, PropertyKind::List { .. }) == list)
+    })
+}
+
+/// Reads the vertex element's `x`, `y`, `z` (any numeric type) into `out`.
+pub fn read_vertices<R: Rows>(
+    rows: &mut R,
+    element: &Element,
+    out: &mut Vec<[f64; 3]>,
+) -> Result<(), PlyMeshError> {
+    let axes = ["x", "y", "z"].map(|a| find(element, &[a], false));
+    let [Some(x), Some(y), Some(z)] = axes else {
+        return Err(PlyMeshError::MissingProperty {
+            element: "vertex",
+            property: "x, y, z",
+        });
+    };
+    for index in 0..element.count {
+        let ctx = RowCtx { element, index };
+        let mut p = [f64::NAN; 3];
+        read_row(rows, ctx, |k, v| {
+            for (axis, &at) in [x, y, z].iter().enumerate() {
+                if k == at {
+                    p[axis] = v.first().copied().unwrap_or(f64::NAN);
+                }
+            }
+        })?;
+        if !p.iter().all(|v| v.is_finite()) {
+            return Err(PlyMeshError::NonFinite {
+                vertex: row_index(index),
+            });
+        }
+        out.push(p);
     }
+    Ok(())
+}
+
+/// Reads the face element: corner list, split value and class of each face.
+pub fn read_faces<R: Rows>(
+    rows: &mut R,
+    element: &Element,
+    out: &mut Vec<Face>,
+) -> Result<(), PlyMeshError> {
+    let Some(list) = find(element, &["vertex_indices", "vertex_index"], true) else {
+        return Err(PlyMeshError::MissingProperty {
+            element: "face",
+            property: "vertex_indices",
+        });
+    };
+    let split = find(element, &SPLIT_NAMES, false);
+    let class = find(element, &CLASS_NAMES, false);
+    let mut corners = Vec::new();
+    for index in 0..element.count {
+        let ctx = RowCtx { element, index };
+        let (mut key, mut kind) = (None, None);
+        corners.clear();
+        read_row(rows, ctx, |k, v| {
+            if k == list {
+                corners.extend_from_slice(v);
+            } else if Some(k) == split {
+                key = v.first().copied();
+            } else if Some(k) == class {
+                kind = v.first().copied();
+            }
+        })?;
+        let whole = |x: f64| {
+            (x.fract() == 0.0 && x.abs() < 9.0e15)
+                .then_some(x as i64)
+                .ok_or_else(|| PlyMeshError::BadValue {
+                    at: place(rows, ctx),
+                    token: x.to_string(),
+                    ty: "whole number",
+                })
+        };
+        let face = Face {
+            corners: corners
+                .iter()
+                .map(|&i| whole(i))
+                .collect::<Result<_, _>>()?,
+            key: key.map(whole).transpose()?,
+            class: kind.map(whole).transpose()?,
+        };
+        if face.corners.len() < 3 {
+            return Err(PlyMeshError::ShortFace {
+                face: row_index(index),
+                got: face.corners.len(),
+            });
+        }
+        out.push(face);
+    }
+    Ok(())
 }

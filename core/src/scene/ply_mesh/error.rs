@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use crate::cloud::PlyError;
+
 /// Where in a PLY file a problem is.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum PlyPlace {
@@ -42,7 +44,7 @@ pub enum PlyMeshError {
         /// The line.
         text: String,
         /// Why it was rejected.
-        reason: &'static str,
+        reason: String,
     },
     /// The body ends before every element row was read.
     #[error("{at}: file ends in the middle of the data")]
@@ -60,6 +62,19 @@ pub enum PlyMeshError {
         /// The declared type.
         ty: &'static str,
     },
+    /// An ASCII row with too few or too many values.
+    #[error("{at}: row has {found} values but needs {expected}")]
+    RowLength {
+        /// Where.
+        at: PlyPlace,
+        /// Values needed.
+        expected: usize,
+        /// Values on the line.
+        found: usize,
+    },
+    /// Any other problem the shared PLY reader reports.
+    #[error("{0}")]
+    Invalid(String),
     /// A required property is missing.
     #[error("element `{element}` has no property `{property}`")]
     MissingProperty {
@@ -95,4 +110,78 @@ pub enum PlyMeshError {
     /// The file has no faces.
     #[error("no faces")]
     NoFaces,
+}
+
+impl PlyMeshError {
+    /// Converts an error of the header parser; `data` is the whole file, for
+    /// quoting the offending line.
+    pub(super) fn from_header(err: PlyError, data: &[u8]) -> Self {
+        let header = |line: usize, reason: String| Self::Header {
+            at: PlyPlace::Line(line),
+            text: line_text(data, line),
+            reason,
+        };
+        match err {
+            PlyError::BadMagic => Self::NotPly,
+            PlyError::MissingEndHeader => Self::NoEndHeader,
+            PlyError::MissingFormat => {
+                let line = data
+                    .split(|&b| b == b'\n')
+                    .position(|l| l.trim_ascii() == b"end_header")
+                    .map_or(0, |i| i + 1);
+                header(line, "no format line before end_header".into())
+            }
+            PlyError::UnknownFormat { line, .. } => header(line, "unknown format".into()),
+            PlyError::UnsupportedVersion { line, .. } => {
+                header(line, "unsupported version (only 1.0)".into())
+            }
+            PlyError::MalformedHeaderLine { line, reason } => header(line, reason),
+            PlyError::UnknownPropertyType { line, .. } => {
+                header(line, "unknown property type".into())
+            }
+            other => Self::Invalid(other.to_string()),
+        }
+    }
+
+    /// Converts an error of the body readers; `at` is the row being read.
+    pub(super) fn from_body(err: PlyError, at: PlyPlace) -> Self {
+        match err {
+            PlyError::Truncated { .. } => Self::Truncated { at },
+            PlyError::BadAsciiNumber {
+                line,
+                token,
+                type_name,
+                ..
+            } => Self::BadValue {
+                at: PlyPlace::Line(line),
+                token,
+                ty: type_name,
+            },
+            PlyError::AsciiRowLength {
+                line,
+                expected,
+                found,
+                ..
+            } => Self::RowLength {
+                at: PlyPlace::Line(line),
+                expected,
+                found,
+            },
+            PlyError::BadListLength { value, .. } => Self::BadValue {
+                at,
+                token: value.to_string(),
+                ty: "list count",
+            },
+            other => Self::Invalid(other.to_string()),
+        }
+    }
+}
+
+/// Line `line` (1-based) of `data`, without its line ending.
+fn line_text(data: &[u8], line: usize) -> String {
+    let raw = data
+        .split(|&b| b == b'\n')
+        .nth(line.saturating_sub(1))
+        .unwrap_or_default();
+    String::from_utf8_lossy(raw.strip_suffix(b"\r").unwrap_or(raw)).into_owned()
 }

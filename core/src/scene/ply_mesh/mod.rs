@@ -15,17 +15,19 @@
 //! - Without a split property the whole mesh is one building named `building`.
 //! - Other elements are read and skipped. Coordinates are moved to a local
 //!   frame ([`crate::cloud::origin`] rule) kept in [`Scene::origin`].
+//!
+//! The header, scalar types and ASCII/binary row readers are the point-cloud
+//! reader's ([`crate::cloud::ply::reader`]); only the mesh logic lives here.
 
 mod body;
 mod error;
-mod header;
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use body::Body;
 pub use error::{PlyMeshError, PlyPlace};
-use header::{Element, Property, parse_header};
+
+use crate::cloud::ply::reader::{AsciiRows, BinaryRows, Header, PlyFormat, Rows, parse_header};
 
 use super::indexed::{IndexedObject, scene_from_indexed};
 use super::{ObjectKind, Scene, SceneError};
@@ -54,26 +56,24 @@ struct Face {
 
 /// Decodes PLY mesh bytes into a scene.
 pub fn parse_ply_mesh(data: &[u8]) -> Result<Scene, PlyMeshError> {
-    let header = parse_header(data)?;
-    let mut body = Body::new(
-        data.get(header.body_offset..).unwrap_or_default(),
-        header.format,
-        header.lines + 1,
-    );
-    let mut vertices: Vec<[f64; 3]> = Vec::new();
-    let mut faces: Vec<Face> = Vec::new();
-    for element in &header.elements {
-        match element.name.as_str() {
-            "vertex" => read_vertices(&mut body, element, &mut vertices)?,
-            "face" => read_faces(&mut body, element, &mut faces)?,
-            _ => {
-                for row in 0..element.count {
-                    body.at_row(&element.name, row);
-                    read_row(&mut body, element, |_, _| Ok(()))?;
-                }
-            }
-        }
+    let header = parse_header(data).map_err(|e| PlyMeshError::from_header(e, data))?;
+    if let Some(e) = header
+        .elements
+        .iter()
+        .find(|e| e.count > 0 && e.properties.is_empty())
+    {
+        return Err(PlyMeshError::Header {
+            at: PlyPlace::Line(header.lines),
+            text: format!("element {} {}", e.name, e.count),
+            reason: "element with rows but no properties".into(),
+        });
     }
+    let body = data.get(header.body_offset..).unwrap_or_default();
+    let (vertices, faces) = match header.format {
+        PlyFormat::Ascii => read_body(&header, AsciiRows::new(body, header.lines)),
+        PlyFormat::BinaryLittleEndian => read_body(&header, BinaryRows::new(body, false)),
+        PlyFormat::BinaryBigEndian => read_body(&header, BinaryRows::new(body, true)),
+    }?;
     if faces.is_empty() {
         return Err(PlyMeshError::NoFaces);
     }
@@ -83,127 +83,22 @@ pub fn parse_ply_mesh(data: &[u8]) -> Result<Scene, PlyMeshError> {
         .map_err(|vertex| PlyMeshError::NonFinite { vertex })
 }
 
-/// Reads one row, handing `(property index, values)` to `take`.
-fn read_row(
-    body: &mut Body<'_>,
-    element: &Element,
-    mut take: impl FnMut(usize, &[f64]) -> Result<(), PlyMeshError>,
-) -> Result<(), PlyMeshError> {
-    let mut values = Vec::new();
-    for (k, p) in element.properties.iter().enumerate() {
-        values.clear();
-        match p {
-            Property::Scalar { ty, .. } => values.push(body.value(*ty)?),
-            Property::List { count, item, .. } => {
-                let n = body.value(*count)?;
-                if n < 0.0 {
-                    return Err(PlyMeshError::BadValue {
-                        at: body.place(),
-                        token: n.to_string(),
-                        ty: "list count",
-                    });
-                }
-                for _ in 0..n as usize {
-                    values.push(body.value(*item)?);
-                }
-            }
+/// Reads every element: vertices and faces kept, the rest skipped. Bytes
+/// after the last element are ignored.
+fn read_body<R: Rows>(
+    header: &Header,
+    mut rows: R,
+) -> Result<(Vec<[f64; 3]>, Vec<Face>), PlyMeshError> {
+    let mut vertices: Vec<[f64; 3]> = Vec::new();
+    let mut faces: Vec<Face> = Vec::new();
+    for element in &header.elements {
+        match element.name.as_str() {
+            "vertex" => body::read_vertices(&mut rows, element, &mut vertices)?,
+            "face" => body::read_faces(&mut rows, element, &mut faces)?,
+            _ => body::skip_element(&mut rows, element)?,
         }
-        take(k, &values)?;
     }
-    Ok(())
-}
-
-fn find(element: &Element, names: &[&str], list: bool) -> Option<usize> {
-    names.iter().find_map(|n| {
-        element
-            .properties
-            .iter()
-            .position(|p| p.name() == *n && matches!(p, Property::List { .. }) == list)
-    })
-}
-
-fn read_vertices(
-    body: &mut Body<'_>,
-    element: &Element,
-    out: &mut Vec<[f64; 3]>,
-) -> Result<(), PlyMeshError> {
-    let axes = ["x", "y", "z"].map(|a| find(element, &[a], false));
-    let [Some(x), Some(y), Some(z)] = axes else {
-        return Err(PlyMeshError::MissingProperty {
-            element: "vertex",
-            property: "x, y, z",
-        });
-    };
-    for row in 0..element.count {
-        body.at_row(&element.name, row);
-        let mut p = [f64::NAN; 3];
-        read_row(body, element, |k, v| {
-            for (axis, &at) in [x, y, z].iter().enumerate() {
-                if k == at {
-                    p[axis] = v.first().copied().unwrap_or(f64::NAN);
-                }
-            }
-            Ok(())
-        })?;
-        if !p.iter().all(|v| v.is_finite()) {
-            return Err(PlyMeshError::NonFinite { vertex: row });
-        }
-        out.push(p);
-    }
-    Ok(())
-}
-
-fn read_faces(
-    body: &mut Body<'_>,
-    element: &Element,
-    out: &mut Vec<Face>,
-) -> Result<(), PlyMeshError> {
-    let Some(list) = find(element, &["vertex_indices", "vertex_index"], true) else {
-        return Err(PlyMeshError::MissingProperty {
-            element: "face",
-            property: "vertex_indices",
-        });
-    };
-    let split = find(element, &SPLIT_NAMES, false);
-    let class = find(element, &CLASS_NAMES, false);
-    for row in 0..element.count {
-        body.at_row(&element.name, row);
-        let mut face = Face {
-            corners: Vec::new(),
-            key: None,
-            class: None,
-        };
-        let place = body.place();
-        read_row(body, element, |k, v| {
-            let whole = |x: f64| {
-                (x.fract() == 0.0 && x.abs() < 9.0e15)
-                    .then_some(x as i64)
-                    .ok_or_else(|| PlyMeshError::BadValue {
-                        at: place.clone(),
-                        token: x.to_string(),
-                        ty: "whole number",
-                    })
-            };
-            if k == list {
-                for &i in v {
-                    face.corners.push(whole(i)?);
-                }
-            } else if Some(k) == split {
-                face.key = v.first().copied().map(whole).transpose()?;
-            } else if Some(k) == class {
-                face.class = v.first().copied().map(whole).transpose()?;
-            }
-            Ok(())
-        })?;
-        if face.corners.len() < 3 {
-            return Err(PlyMeshError::ShortFace {
-                face: row,
-                got: face.corners.len(),
-            });
-        }
-        out.push(face);
-    }
-    Ok(())
+    Ok((vertices, faces))
 }
 
 /// Faces grouped by split value: (class of the first face, triangles).

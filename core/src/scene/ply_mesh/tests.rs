@@ -136,3 +136,33 @@ proptest::proptest! {
         let _ = parse_ply_mesh(&data);
     }
 }
+
+#[test]
+fn big_endian_face_lists_and_ascii_row_lengths_use_the_shared_readers() {
+    let mut b = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                  element face 1\nproperty list uchar ushort vertex_indices\nproperty short label\nend_header\n"
+        .to_vec();
+    for v in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        b.extend_from_slice(&v.to_be_bytes());
+    }
+    b.push(3);
+    for i in [0u16, 1, 2] {
+        b.extend_from_slice(&i.to_be_bytes());
+    }
+    b.extend_from_slice(&(-4i16).to_be_bytes());
+    let s = parse_ply_mesh(&b).unwrap_or_default();
+    let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, ["object_-4"]);
+    assert_eq!(s.triangles.len(), 1);
+
+    // An ASCII face row with an extra value is rejected on its line.
+    let text = ascii_two_objects().replace("\n3 0 1 4 7 6\n", "\n3 0 1 4 7 6 9\n");
+    assert!(matches!(
+        parse_ply_mesh(text.as_bytes()),
+        Err(PlyMeshError::RowLength {
+            at: PlyPlace::Line(20),
+            expected: 6,
+            found: 7
+        })
+    ));
+}
