@@ -105,6 +105,9 @@ pub struct TransportArgs {
     /// The rclpy peer script.
     #[arg(long, default_value = "tests/python/peer_cloud.py")]
     pub peer: PathBuf,
+    /// Tiles in flight before waiting for acknowledgements (default: the transport's).
+    #[arg(long)]
+    pub window_tiles: Option<usize>,
 }
 
 /// One measured cloud.
@@ -156,13 +159,14 @@ async fn from_rust(
     topic: &str,
     n: usize,
     repeats: usize,
+    config: TransportConfig,
 ) -> Result<Vec<Sample>, RuntimeError> {
     let (mut child, mut lines) = spawn(sink)?;
     let ready = next_json(&mut lines, Duration::from_secs(60)).await;
     if ready.is_none() {
         return Err(RuntimeError::Node("cloud sink did not start".into()));
     }
-    let publisher = CloudPublisher::new(rt, topic, qos::reliable(1), TransportConfig::default())?;
+    let publisher = CloudPublisher::new(rt, topic, qos::reliable(1), config)?;
     if !publisher
         .wait_for_subscriptions(1, Duration::from_secs(30))
         .await
@@ -284,6 +288,10 @@ async fn collect(
 /// Runs the transport benchmark and prints its figures.
 pub async fn transport(rt: &mut NodeRuntime, a: TransportArgs) -> Result<(), RuntimeError> {
     let exe = std::env::current_exe().map_err(|e| RuntimeError::Node(e.to_string()))?;
+    let mut config = TransportConfig::default();
+    if let Some(w) = a.window_tiles {
+        config.window_tiles = w;
+    }
     let mut rows = Vec::new();
     for dir in &a.directions {
         for (i, &n) in a.points.iter().enumerate() {
@@ -299,14 +307,14 @@ pub async fn transport(rt: &mut NodeRuntime, a: TransportArgs) -> Result<(), Run
                         "--count",
                     ])
                     .arg(a.repeats.to_string());
-                    from_rust(rt, c, &topic, n, a.repeats).await?
+                    from_rust(rt, c, &topic, n, a.repeats, config).await?
                 }
                 "rust-rclpy" => {
                     let mut c = Command::new(&a.python);
                     c.arg(&a.peer)
                         .args(["sink", "--topic", &topic, "--check-synthetic", "--count"])
                         .arg(a.repeats.to_string());
-                    from_rust(rt, c, &topic, n, a.repeats).await?
+                    from_rust(rt, c, &topic, n, a.repeats, config).await?
                 }
                 "rclpy-rust" => from_rclpy(&a, &topic, n, &exe).await?,
                 other => return Err(RuntimeError::Node(format!("unknown direction {other}"))),

@@ -30,7 +30,7 @@ impl Default for TransportConfig {
     fn default() -> Self {
         Self {
             tile_points: tiles::DEFAULT_TILE_POINTS,
-            window_tiles: 8,
+            window_tiles: 4,
             ack_timeout_s: 10.0,
             history_tiles: 256,
         }
