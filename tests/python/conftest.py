@@ -152,11 +152,7 @@ def ros(domain):
 
 
 def qos(kind="reliable", depth=10):
-    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    """latched, reliable or sensor, as peer_cloud.py (and any rclpy user) says it."""
+    from peer_cloud import qos as peer_qos
 
-    return QoSProfile(
-        depth=depth,
-        history=HistoryPolicy.KEEP_LAST,
-        reliability=ReliabilityPolicy.BEST_EFFORT if kind == "sensor" else ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL if kind == "latched" else DurabilityPolicy.VOLATILE,
-    )
+    return peer_qos(kind, depth)

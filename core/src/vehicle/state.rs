@@ -49,6 +49,9 @@ pub struct Vehicle {
     /// Current state.
     pub state: VehicleState,
     goals: VecDeque<[f32; 2]>,
+    // Whether the front goal passed the terrain/inside-building check, so the
+    // ray casts run once per goal rather than once per step.
+    goal_checked: bool,
 }
 
 impl Vehicle {
@@ -65,6 +68,7 @@ impl Vehicle {
                 odometer: 0.0,
             },
             goals: VecDeque::new(),
+            goal_checked: false,
         })
     }
 
@@ -72,11 +76,13 @@ impl Vehicle {
     pub fn set_goal(&mut self, goal: [f32; 2]) {
         self.goals.clear();
         self.goals.push_back(goal);
+        self.goal_checked = false;
     }
 
     /// Replaces the goals by a path, followed in order.
     pub fn set_path(&mut self, path: impl IntoIterator<Item = [f32; 2]>) {
         self.goals = path.into_iter().collect();
+        self.goal_checked = false;
     }
 
     /// The current goal.
@@ -103,21 +109,25 @@ impl Vehicle {
         let dist = (dx * dx + dy * dy).sqrt();
         if dist <= self.config.goal_tolerance {
             self.goals.pop_front();
+            self.goal_checked = false;
             self.state.speed = 0.0;
             return Step::Arrived(goal);
         }
         let block = |s: &mut Self, reason: String| {
             s.goals.pop_front();
+            s.goal_checked = false;
             s.state.speed = 0.0;
             s.state.yaw_rate = 0.0;
             Step::Blocked { goal, reason }
         };
-        match terrain.ground_height(goal[0], goal[1]) {
-            None => return block(self, "the way-point is off the terrain".into()),
-            Some(gz) if goal_inside_building(caster, [goal[0], goal[1], gz + 0.5]) => {
-                return block(self, "the way-point is inside a building".into());
+        if !self.goal_checked {
+            match terrain.ground_height(goal[0], goal[1]) {
+                None => return block(self, "the way-point is off the terrain".into()),
+                Some(gz) if goal_inside_building(caster, [goal[0], goal[1], gz + 0.5]) => {
+                    return block(self, "the way-point is inside a building".into());
+                }
+                Some(_) => self.goal_checked = true,
             }
-            Some(_) => {}
         }
         let heading = dy.atan2(dx);
         let err = wrap(heading - self.state.yaw);

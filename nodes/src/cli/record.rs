@@ -32,6 +32,20 @@ struct Pending {
     type_name: Option<String>,
 }
 
+/// One message a tap handed over: channel, receive time, publish time, CDR.
+type Received = (u16, u64, u64, Vec<u8>);
+
+fn store(
+    writer: &mut BagWriter,
+    counts: &mut BTreeMap<u16, u64>,
+    m: Received,
+) -> Result<(), crate::bag::BagError> {
+    let (ch, log_ns, pub_ns, cdr) = m;
+    writer.write(ch, log_ns, pub_ns, &cdr)?;
+    *counts.entry(ch).or_default() += 1;
+    Ok(())
+}
+
 fn now_ns() -> u64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
@@ -50,9 +64,10 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
             Pending { topic, type_name }
         })
         .collect();
-    let (tx, mut rx) = mpsc::channel::<(u16, u64, u64, Vec<u8>)>(256);
+    let (tx, mut rx) = mpsc::channel::<Received>(256);
     let mut tasks = Vec::new();
-    let mut counts: BTreeMap<String, u64> = BTreeMap::new();
+    // Messages written per channel; `names` gives each channel's topic.
+    let mut counts: BTreeMap<u16, u64> = BTreeMap::new();
     let mut names: BTreeMap<u16, String> = BTreeMap::new();
     let deadline = (a.duration > 0.0).then(|| Instant::now() + Duration::from_secs_f64(a.duration));
     let mut tick = tokio::time::interval(Duration::from_millis(100));
@@ -64,12 +79,7 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
     loop {
         tokio::select! {
             _ = rt.shutdown.wait() => break,
-            Some((ch, log_ns, pub_ns, cdr)) = rx.recv() => {
-                writer.write(ch, log_ns, pub_ns, &cdr).map_err(bag_err)?;
-                if let Some(n) = names.get(&ch) {
-                    *counts.entry(n.clone()).or_default() += 1;
-                }
-            }
+            Some(m) = rx.recv() => store(&mut writer, &mut counts, m).map_err(bag_err)?,
             _ = tick.tick() => {
                 if deadline.is_some_and(|d| Instant::now() > d) {
                     break;
@@ -101,7 +111,7 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                         })
                         .map_err(bag_err)?;
                     names.insert(ch, p.topic.clone());
-                    counts.insert(p.topic.clone(), 0);
+                    counts.insert(ch, 0);
                     rt.log.info(&format!("recording {} ({})", p.topic, info.type_name));
                     let tx = tx.clone();
                     let log = rt.log.clone();
@@ -128,11 +138,8 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
         t.abort();
     }
     // Keep what the taps already handed over.
-    while let Ok((ch, log_ns, pub_ns, cdr)) = rx.try_recv() {
-        writer.write(ch, log_ns, pub_ns, &cdr).map_err(bag_err)?;
-        if let Some(n) = names.get(&ch) {
-            *counts.entry(n.clone()).or_default() += 1;
-        }
+    while let Ok(m) = rx.try_recv() {
+        store(&mut writer, &mut counts, m).map_err(bag_err)?;
     }
     writer.finish().map_err(bag_err)?;
     for p in &pending {
@@ -145,7 +152,7 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
         a.output.display(),
         counts
             .iter()
-            .map(|(t, n)| format!("{t} {n}"))
+            .map(|(ch, n)| format!("{} {n}", names.get(ch).map_or("?", String::as_str)))
             .collect::<Vec<_>>()
             .join(", ")
     ));
