@@ -1,11 +1,25 @@
 //! skyground-core: the ROS-free algorithms of skyground, as pure functions on plain data.
 //!
-//! Modules follow the method's data flow (see DESIGN.md): `cloud` holds point
-//! clouds and their file formats; later steps add scene, lidar, ground, features,
-//! forest, footprint, slice, skeleton, missing, targets, graph, route, explore, metrics.
+//! Modules follow the method's data flow (see DESIGN.md): `cloud`, `scene` and
+//! `lidar` hold the inputs and the simulated world; then `ground` (CSF),
+//! `features`, `forest` and `classify` (step 1), `footprint` (2), `slice`,
+//! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),
+//! `explore` (7), `vehicle` (8) and `metrics` (9).
 
+pub mod classify;
 pub mod cloud;
+pub mod explore;
+pub mod features;
+pub mod footprint;
+pub mod forest;
+pub mod graph;
+pub mod ground;
 pub mod lidar;
 pub mod metrics;
+pub mod missing;
+pub mod route;
 pub mod scene;
+pub mod skeleton;
+pub mod slice;
+pub mod targets;
 pub mod vehicle;

@@ -8,6 +8,7 @@
 
 mod data;
 mod io;
+pub mod class;
 pub mod las;
 pub mod origin;
 pub mod ply;

@@ -1,0 +1,32 @@
+//! The target types shared by the target generator and the planners.
+
+use serde::{Deserialize, Serialize};
+
+/// A place on the ground where a sensor sees a missing part of a wall.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TargetPoint {
+    /// Position on the ground (z = ground height), local frame, metres.
+    pub xyz: [f32; 3],
+    /// The building whose gap it looks at (1-based).
+    pub building: u32,
+}
+
+/// An area around a large gap, to be explored locally.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Region {
+    /// The building whose gap it surrounds (1-based).
+    pub building: u32,
+    /// Convex outline in xy, counter-clockwise, not closed (first != last).
+    pub polygon: Vec<[f64; 2]>,
+    /// Ground height the region lies at, metres (for drawing it).
+    pub z: f32,
+}
+
+/// Everything the planner is asked to reach.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TargetSet {
+    /// Point targets.
+    pub points: Vec<TargetPoint>,
+    /// Region targets.
+    pub regions: Vec<Region>,
+}
