@@ -17,6 +17,7 @@ pub mod ground;
 pub mod lidar;
 pub mod metrics;
 pub mod missing;
+pub mod plot;
 pub mod route;
 pub mod scene;
 pub mod skeleton;

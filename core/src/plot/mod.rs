@@ -1,0 +1,9 @@
+//! Top-down pictures (PNG) of what the method found: clouds, contours,
+//! skeletons, missing points, routes. Plain raster drawing, no fonts: a
+//! picture is for looking at, the numbers go to JSON.
+
+mod canvas;
+mod color;
+
+pub use canvas::{Canvas, PlotError};
+pub use color::{Rgb, ramp};
