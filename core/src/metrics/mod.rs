@@ -7,9 +7,11 @@
 //!   overall / per building / walls vs roofs, and the gap term
 //!   [`mean_gt_distance`].
 //! - [`accuracy`]: the accuracy term [`mean_cloud_to_mesh`].
+//! - [`evaluation`]: both terms and completeness before/after a mission.
 
 pub mod accuracy;
 pub mod completeness;
+pub mod evaluation;
 mod ground_height;
 pub mod gt;
 mod nearest;
@@ -21,6 +23,8 @@ pub use completeness::{
     BuildingCompleteness, CompletenessReport, Coverage, DEFAULT_TAU, completeness,
     completeness_of_cloud, mean_gt_distance, report_from_distances,
 };
+pub use evaluation::{BuildingRow, Evaluation, Measured, building_points, evaluate};
+pub use ground_height::GroundHeight;
 pub use gt::{
     DEFAULT_SPACING, GtOptions, GtSamples, SurfaceKind, sample_building_surfaces,
     sample_building_surfaces_with,

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use skyground_nodes::cli::{self, aerial, bench, demo, echo, record, sink};
+use skyground_nodes::cli::{self, aerial, bench, demo, echo, eval, record, sink};
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
 
@@ -26,6 +26,8 @@ enum Cmd {
     },
     /// Simulate the airborne LiDAR survey of a scene; print its completeness.
     Aerial(aerial::AerialArgs),
+    /// Measure an aerial cloud and a merged cloud against a scene's buildings.
+    Eval(eval::EvalArgs),
     /// Record topics into a rosbag2-compatible MCAP file.
     Record(record::RecordArgs),
     /// Print a topic's messages as JSON lines.
@@ -99,20 +101,8 @@ fn main() -> ExitCode {
                 async |rt, _| demo::run(rt, a).await,
             )
         }
-        Cmd::Aerial(a) => match aerial::run(&a) {
-            Ok(summary) => {
-                if a.json {
-                    println!("{summary}");
-                } else {
-                    eprintln!("{summary:#}");
-                }
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("skyground aerial: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        Cmd::Aerial(a) => offline("aerial", a.json, true, aerial::run(&a)),
+        Cmd::Eval(a) => offline("eval", a.json, false, eval::run(&a)),
         Cmd::Node { name } => skyground_nodes::node::run_by_name(&name, ros).unwrap_or_else(|| {
             eprintln!(
                 "skyground: unknown node `{name}` (nodes: {})",
@@ -156,6 +146,30 @@ fn main() -> ExitCode {
                     bench::BenchCmd::Lidar(_) => Ok(()),
                 },
             )
+        }
+    }
+}
+
+/// Ends an offline command: its JSON on stdout with `--json` (else on
+/// stderr when `echo` is set), or its error.
+fn offline(
+    name: &str,
+    json: bool,
+    echo: bool,
+    result: Result<serde_json::Value, skyground_nodes::runtime::RuntimeError>,
+) -> ExitCode {
+    match result {
+        Ok(v) => {
+            if json {
+                println!("{v}");
+            } else if echo {
+                eprintln!("{v:#}");
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("skyground {name}: {e}");
+            ExitCode::FAILURE
         }
     }
 }

@@ -5,6 +5,7 @@ pub mod aerial;
 pub mod bench;
 pub mod demo;
 pub mod echo;
+pub mod eval;
 pub mod record;
 pub mod sink;
 
