@@ -3,6 +3,7 @@
 
 pub mod bag;
 pub mod cli;
+pub mod convert;
 pub mod netns;
 pub mod node;
 pub mod runtime;

@@ -1,0 +1,303 @@
+//! visualization_msgs helpers: polygons as LINE_STRIP markers and back
+//! (how /target_regions carries `targets::Region`).
+
+use skyground_core::targets::Region;
+use skyground_msgs::geometry_msgs::{Point, Vector3};
+use skyground_msgs::std_msgs::{ColorRGBA, Header};
+use skyground_msgs::visualization_msgs::{Marker, MarkerArray};
+
+/// An opaque colour from 0..=1 components.
+pub fn rgb(r: f32, g: f32, b: f32) -> ColorRGBA {
+    ColorRGBA { r, g, b, a: 1.0 }
+}
+
+fn point(p: [f64; 3]) -> Point {
+    Point {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+/// A LINE_STRIP through `pts` (closed: back to the first point), `width` m wide.
+pub fn line_strip(
+    header: &Header,
+    ns: &str,
+    id: i32,
+    pts: &[[f64; 3]],
+    closed: bool,
+    width: f64,
+    color: ColorRGBA,
+) -> Marker {
+    let mut points: Vec<Point> = pts.iter().map(|&p| point(p)).collect();
+    if closed && let Some(first) = points.first().cloned() {
+        points.push(first);
+    }
+    Marker {
+        header: header.clone(),
+        ns: ns.into(),
+        id,
+        r#type: Marker::LINE_STRIP,
+        action: Marker::ADD,
+        scale: Vector3 {
+            x: width,
+            y: 0.0,
+            z: 0.0,
+        },
+        color,
+        points,
+        pose: identity_pose(),
+        ..Marker::default()
+    }
+}
+
+/// A LINE_LIST of segments.
+pub fn line_list(
+    header: &Header,
+    ns: &str,
+    id: i32,
+    segments: &[[[f64; 3]; 2]],
+    width: f64,
+    color: ColorRGBA,
+) -> Marker {
+    Marker {
+        header: header.clone(),
+        ns: ns.into(),
+        id,
+        r#type: Marker::LINE_LIST,
+        action: Marker::ADD,
+        scale: Vector3 {
+            x: width,
+            y: 0.0,
+            z: 0.0,
+        },
+        color,
+        points: segments
+            .iter()
+            .flat_map(|s| [point(s[0]), point(s[1])])
+            .collect(),
+        pose: identity_pose(),
+        ..Marker::default()
+    }
+}
+
+/// A POINTS marker, `size` m squares.
+pub fn points(
+    header: &Header,
+    ns: &str,
+    id: i32,
+    pts: &[[f64; 3]],
+    size: f64,
+    color: ColorRGBA,
+) -> Marker {
+    Marker {
+        header: header.clone(),
+        ns: ns.into(),
+        id,
+        r#type: Marker::POINTS,
+        action: Marker::ADD,
+        scale: Vector3 {
+            x: size,
+            y: size,
+            z: 0.0,
+        },
+        color,
+        points: pts.iter().map(|&p| point(p)).collect(),
+        pose: identity_pose(),
+        ..Marker::default()
+    }
+}
+
+/// A DELETEALL marker: put first so a new array replaces the old one in RViz.
+pub fn delete_all(header: &Header) -> Marker {
+    Marker {
+        header: header.clone(),
+        action: Marker::DELETEALL,
+        pose: identity_pose(),
+        ..Marker::default()
+    }
+}
+
+fn identity_pose() -> skyground_msgs::geometry_msgs::Pose {
+    let mut p = skyground_msgs::geometry_msgs::Pose::default();
+    p.orientation.w = 1.0;
+    p
+}
+
+/// Regions as a MarkerArray: one closed LINE_STRIP per region, ns = the
+/// building id, ids counting per building (DESIGN.md /target_regions).
+pub fn regions_to_markers(header: &Header, regions: &[Region]) -> MarkerArray {
+    let mut markers = vec![delete_all(header)];
+    let mut per_building = std::collections::BTreeMap::<u32, i32>::new();
+    for r in regions {
+        let id = per_building.entry(r.building).or_insert(0);
+        let pts: Vec<[f64; 3]> = r
+            .polygon
+            .iter()
+            .map(|p| [p[0], p[1], f64::from(r.z)])
+            .collect();
+        markers.push(line_strip(
+            header,
+            &r.building.to_string(),
+            *id,
+            &pts,
+            true,
+            0.3,
+            rgb(1.0, 0.55, 0.0),
+        ));
+        *id += 1;
+    }
+    MarkerArray { markers }
+}
+
+/// Why a marker is not a region.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RegionMarkerError {
+    /// The namespace is not a building id.
+    #[error("marker ns `{0}` is not a building id (regions use the building id as ns)")]
+    Namespace(String),
+    /// Too few distinct points for a polygon.
+    #[error("region marker {ns}/{id} has {points} points; a polygon needs at least 3")]
+    TooFewPoints {
+        /// Namespace.
+        ns: String,
+        /// Marker id.
+        id: i32,
+        /// Points given.
+        points: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("region marker {ns}/{id} has a non-finite point")]
+    NotFinite {
+        /// Namespace.
+        ns: String,
+        /// Marker id.
+        id: i32,
+    },
+}
+
+/// Regions back from a MarkerArray: every ADD LINE_STRIP becomes one region
+/// (closing point dropped); DELETE/DELETEALL and other types are skipped.
+/// Bad markers are returned as errors beside the good regions.
+pub fn markers_to_regions(array: &MarkerArray) -> (Vec<Region>, Vec<RegionMarkerError>) {
+    let mut regions = Vec::new();
+    let mut errors = Vec::new();
+    for m in &array.markers {
+        if m.action != Marker::ADD || m.r#type != Marker::LINE_STRIP {
+            continue;
+        }
+        let Ok(building) = m.ns.parse::<u32>() else {
+            errors.push(RegionMarkerError::Namespace(m.ns.clone()));
+            continue;
+        };
+        if m.points
+            .iter()
+            .any(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+        {
+            errors.push(RegionMarkerError::NotFinite {
+                ns: m.ns.clone(),
+                id: m.id,
+            });
+            continue;
+        }
+        let mut polygon: Vec<[f64; 2]> = m.points.iter().map(|p| [p.x, p.y]).collect();
+        if polygon.len() > 1 && polygon.first() == polygon.last() {
+            polygon.pop();
+        }
+        if polygon.len() < 3 {
+            errors.push(RegionMarkerError::TooFewPoints {
+                ns: m.ns.clone(),
+                id: m.id,
+                points: polygon.len(),
+            });
+            continue;
+        }
+        let z = m.points.first().map_or(0.0, |p| p.z as f32);
+        regions.push(Region {
+            building,
+            polygon,
+            z,
+        });
+    }
+    (regions, errors)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regions_round_trip_through_markers() {
+        let regions = vec![
+            Region {
+                building: 3,
+                polygon: vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]],
+                z: 1.5,
+            },
+            Region {
+                building: 3,
+                polygon: vec![[10.0, 0.0], [14.0, 0.0], [14.0, 3.0], [10.0, 3.0]],
+                z: 2.0,
+            },
+            Region {
+                building: 7,
+                polygon: vec![[0.0, 9.0], [1.0, 9.0], [1.0, 10.0]],
+                z: 0.0,
+            },
+        ];
+        let arr = regions_to_markers(&Header::default(), &regions);
+        assert_eq!(arr.markers[0].action, Marker::DELETEALL);
+        assert_eq!(arr.markers[2].id, 1, "ids count per building");
+        assert_eq!(arr.markers[1].points.len(), 4, "closed strip");
+        let (back, errors) = markers_to_regions(&arr);
+        assert!(errors.is_empty());
+        assert_eq!(back, regions);
+    }
+
+    #[test]
+    fn bad_region_markers_are_reported() {
+        let h = Header::default();
+        let mut arr = MarkerArray {
+            markers: vec![
+                line_strip(
+                    &h,
+                    "roof",
+                    0,
+                    &[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+                    true,
+                    0.1,
+                    rgb(1.0, 0.0, 0.0),
+                ),
+                line_strip(
+                    &h,
+                    "2",
+                    0,
+                    &[[0.0; 3], [1.0, 0.0, 0.0]],
+                    false,
+                    0.1,
+                    rgb(1.0, 0.0, 0.0),
+                ),
+                line_strip(
+                    &h,
+                    "2",
+                    1,
+                    &[[0.0; 3], [f64::NAN, 0.0, 0.0], [1.0, 1.0, 0.0]],
+                    false,
+                    0.1,
+                    rgb(1.0, 0.0, 0.0),
+                ),
+            ],
+        };
+        arr.markers
+            .push(points(&h, "2", 5, &[[0.0; 3]], 0.1, rgb(0.0, 0.0, 1.0)));
+        let (back, errors) = markers_to_regions(&arr);
+        assert!(back.is_empty());
+        assert_eq!(errors.len(), 3);
+        assert!(matches!(errors[0], RegionMarkerError::Namespace(_)));
+        assert!(matches!(
+            errors[1],
+            RegionMarkerError::TooFewPoints { points: 2, .. }
+        ));
+        assert!(matches!(errors[2], RegionMarkerError::NotFinite { .. }));
+    }
+}

@@ -1,0 +1,5 @@
+//! Library values ↔ standard ROS messages, in one place so every node
+//! speaks the same dialect (frames, namespaces, colours).
+
+pub mod diagnostics;
+pub mod markers;
