@@ -178,3 +178,62 @@ mod tests {
         assert_eq!(ros_type_of_dds("PointCloud2"), None);
     }
 }
+
+/// A publisher whose message type is known only at run time (`skyground play`).
+pub trait Emit: Send {
+    /// Publishes one ROS 2 serialized message (encapsulation header + CDR).
+    fn emit<'a>(
+        &'a self,
+        cdr: &'a [u8],
+    ) -> Pin<Box<dyn Future<Output = Result<(), String>> + Send + 'a>>;
+}
+
+struct TypedEmit<M: RosMessage> {
+    publisher: ros2_client::Publisher<M>,
+}
+
+impl<M: RosMessage> Emit for TypedEmit<M> {
+    fn emit<'a>(
+        &'a self,
+        cdr: &'a [u8],
+    ) -> Pin<Box<dyn Future<Output = Result<(), String>> + Send + 'a>> {
+        Box::pin(async move {
+            let msg: M = skyground_msgs::from_cdr(cdr)
+                .map_err(|e| format!("undecodable {}: {e}", M::TYPE_NAME))?;
+            self.publisher
+                .async_publish(msg)
+                .await
+                .map_err(|e| format!("{e}"))
+        })
+    }
+}
+
+struct MakeEmit<'a> {
+    rt: &'a mut NodeRuntime,
+    topic: &'a str,
+    qos: QosProfile,
+}
+
+impl TypeVisitor for MakeEmit<'_> {
+    type Output = Result<Box<dyn Emit>, RuntimeError>;
+
+    fn visit<M: RosMessage + std::fmt::Debug>(self) -> Self::Output {
+        let publisher = self.rt.publisher::<M>(self.topic, self.qos)?;
+        Ok(Box::new(TypedEmit { publisher }))
+    }
+}
+
+/// A publisher on `topic` of type `type_name` (`pkg/msg/Type` or `pkg/Type`).
+pub fn emitter(
+    rt: &mut NodeRuntime,
+    topic: &str,
+    type_name: &str,
+    qos: QosProfile,
+) -> Result<Box<dyn Emit>, RuntimeError> {
+    with_type(type_name, MakeEmit { rt, topic, qos }).unwrap_or_else(|| {
+        Err(RuntimeError::Node(format!(
+            "unknown message type `{type_name}` (known: {})",
+            skyground_msgs::known_types().join(", ")
+        )))
+    })
+}

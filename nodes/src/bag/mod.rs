@@ -14,5 +14,5 @@ mod writer;
 
 pub use error::BagError;
 pub use qos::TopicQos;
-pub use reader::{BagMessage, read_intact_messages, read_messages};
+pub use reader::{BagMessage, read_intact_messages, read_messages, read_topic_qos};
 pub use writer::BagWriter;

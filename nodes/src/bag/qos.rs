@@ -54,9 +54,60 @@ impl TopicQos {
     }
 }
 
+impl TopicQos {
+    /// Reads back the first profile of an `offered_qos_profiles` value
+    /// (rosbag2's YAML); `None` when it names no reliability or durability.
+    pub fn from_offered_qos_profiles(text: &str) -> Option<Self> {
+        let field = |key: &str| {
+            text.lines()
+                .map(str::trim_start)
+                .map(|l| l.trim_start_matches("- "))
+                .find_map(|l| l.strip_prefix(key).map(str::trim))
+        };
+        let reliable = match field("reliability:")? {
+            "reliable" => true,
+            "best_effort" => false,
+            _ => return None,
+        };
+        let transient_local = match field("durability:")? {
+            "transient_local" => true,
+            "volatile" => false,
+            _ => return None,
+        };
+        let depth = field("depth:").and_then(|d| d.parse().ok()).unwrap_or(10);
+        Some(Self {
+            reliable,
+            transient_local,
+            depth,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn profiles_read_back() {
+        for q in [
+            TopicQos {
+                reliable: false,
+                transient_local: true,
+                depth: 1,
+            },
+            TopicQos {
+                reliable: true,
+                transient_local: false,
+                depth: 50,
+            },
+        ] {
+            assert_eq!(
+                TopicQos::from_offered_qos_profiles(&q.offered_qos_profiles()),
+                Some(q)
+            );
+        }
+        assert_eq!(TopicQos::from_offered_qos_profiles("nonsense"), None);
+    }
 
     #[test]
     fn profile_names_each_policy() {

@@ -68,6 +68,27 @@ enum Stop {
     Corrupt(McapError),
 }
 
+/// The QoS each topic of a bag was offered with (rosbag2's
+/// `offered_qos_profiles` channel metadata); topics without it are left out.
+pub fn read_topic_qos(
+    path: impl AsRef<Path>,
+) -> Result<std::collections::BTreeMap<String, super::TopicQos>, BagError> {
+    let path = path.as_ref();
+    let bytes = read_file(path)?;
+    let summary = mcap::Summary::read(&bytes).map_err(|source| malformed(path, source))?;
+    let mut out = std::collections::BTreeMap::new();
+    for channel in summary.iter().flat_map(|s| s.channels.values()) {
+        if let Some(q) = channel
+            .metadata
+            .get("offered_qos_profiles")
+            .and_then(|t| super::TopicQos::from_offered_qos_profiles(t))
+        {
+            out.insert(channel.topic.clone(), q);
+        }
+    }
+    Ok(out)
+}
+
 /// Reads messages in file order, then sorts them by log time; says where it stopped.
 fn scan(path: &Path, bytes: &[u8]) -> Result<(Vec<BagMessage>, Stop), BagError> {
     let complete = match mcap::read::footer(bytes) {

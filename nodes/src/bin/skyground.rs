@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use skyground_nodes::cli::{self, aerial, bench, demo, echo, eval, record, sink};
+use skyground_nodes::cli::{self, aerial, bench, demo, echo, eval, play, record, sink};
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
 
@@ -28,6 +28,8 @@ enum Cmd {
     Aerial(aerial::AerialArgs),
     /// Measure an aerial cloud and a merged cloud against a scene's buildings.
     Eval(eval::EvalArgs),
+    /// Republish a recorded bag with its timing (like `ros2 bag play`).
+    Play(play::PlayArgs),
     /// Record topics into a rosbag2-compatible MCAP file.
     Record(record::RecordArgs),
     /// Print a topic's messages as JSON lines.
@@ -115,6 +117,12 @@ fn main() -> ExitCode {
             ros,
             vec![],
             async |rt, _| record::run(rt, a).await,
+        ),
+        Cmd::Play(a) => run_with(
+            cli::tool_spec("skyground_play"),
+            ros,
+            vec![],
+            async |rt, _| play::run(rt, a).await,
         ),
         Cmd::Echo(a) => run_with(
             cli::tool_spec("skyground_echo"),

@@ -6,6 +6,7 @@ pub mod bench;
 pub mod demo;
 pub mod echo;
 pub mod eval;
+pub mod play;
 pub mod record;
 pub mod sink;
 

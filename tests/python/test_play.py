@@ -1,0 +1,52 @@
+"""`skyground play`: a bag recorded by `skyground record` comes back over DDS
+to rclpy with its contents, its QoS (latched topics reach late joiners) and
+its timing."""
+import signal
+import time
+
+from conftest import qos
+
+
+def test_played_bag_reaches_rclpy_with_timing(spawn, ros, tmp_path):
+    from geometry_msgs.msg import PoseStamped
+    from nav_msgs.msg import Odometry, Path
+    from sensor_msgs.msg import PointCloud2
+
+    bag = tmp_path / "for_play.mcap"
+    path_pub = ros.node.create_publisher(Path, "/global_path", qos("latched", 1))
+    odom_pub = ros.node.create_publisher(Odometry, "/state_estimation", qos("reliable", 10))
+    spawn("cloud_publisher", "--ros-args", "-p", "synthetic_points:=100000")
+    rec = spawn("skyground", "record", "-o", bag, "/aerial_cloud", "/global_path", "/state_estimation")
+    path = Path()
+    path.header.frame_id = "map"
+    for i in range(5):
+        p = PoseStamped()
+        p.pose.position.y = float(i)
+        path.poses.append(p)
+    path_pub.publish(path)
+    assert ros.spin_until(lambda: odom_pub.get_subscription_count() > 0, 30), rec.stderr()
+    for k in range(6):
+        o = Odometry()
+        o.header.frame_id = "map"
+        o.pose.pose.position.x = float(k)
+        odom_pub.publish(o)
+        ros.spin_until(lambda: False, 0.4)
+    ros.spin_until(lambda: False, 2.0)
+    assert rec.stop(signal.SIGINT) == 0, rec.stderr()
+    ros.node.destroy_publisher(path_pub)
+    ros.node.destroy_publisher(odom_pub)
+
+    got = {"odom": [], "path": [], "tiles": []}
+    ros.node.create_subscription(
+        Odometry, "/state_estimation", lambda m: got["odom"].append((time.time(), m.pose.pose.position.x)), qos("reliable", 50)
+    )
+    ros.node.create_subscription(Path, "/global_path", lambda m: got["path"].append(m), qos("latched", 1))
+    ros.node.create_subscription(PointCloud2, "/aerial_cloud", lambda m: got["tiles"].append(m.width), qos("latched", 16))
+    play = spawn("skyground", "play", bag, "--rate", "2", "--delay", "2", "--linger")
+    assert ros.spin_until(lambda: len(got["odom"]) == 6 and got["path"] and sum(got["tiles"]) == 100000, 60), play.stderr()
+    assert [x for _, x in got["odom"]] == [float(k) for k in range(6)]
+    assert [p.pose.position.y for p in got["path"][0].poses] == [float(i) for i in range(5)]
+    # Recorded 0.4 s apart, played at rate 2: 5 gaps of ~0.2 s.
+    span = got["odom"][-1][0] - got["odom"][0][0]
+    assert 0.6 < span < 2.5, span
+    assert play.stop(signal.SIGINT) == 0, play.stderr()
