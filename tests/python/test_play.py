@@ -15,7 +15,7 @@ def test_played_bag_reaches_rclpy_with_timing(spawn, ros, tmp_path):
     bag = tmp_path / "for_play.mcap"
     path_pub = ros.node.create_publisher(Path, "/global_path", qos("latched", 1))
     odom_pub = ros.node.create_publisher(Odometry, "/state_estimation", qos("reliable", 10))
-    spawn("cloud_publisher", "--ros-args", "-p", "synthetic_points:=100000")
+    source = spawn("cloud_publisher", "--ros-args", "-p", "synthetic_points:=100000")
     rec = spawn("skyground", "record", "-o", bag, "/aerial_cloud", "/global_path", "/state_estimation")
     path = Path()
     path.header.frame_id = "map"
@@ -33,6 +33,8 @@ def test_played_bag_reaches_rclpy_with_timing(spawn, ros, tmp_path):
         ros.spin_until(lambda: False, 0.4)
     ros.spin_until(lambda: False, 2.0)
     assert rec.stop(signal.SIGINT) == 0, rec.stderr()
+    # Only the player may publish from here on.
+    source.stop()
     ros.node.destroy_publisher(path_pub)
     ros.node.destroy_publisher(odom_pub)
 
@@ -42,8 +44,11 @@ def test_played_bag_reaches_rclpy_with_timing(spawn, ros, tmp_path):
     )
     ros.node.create_subscription(Path, "/global_path", lambda m: got["path"].append(m), qos("latched", 1))
     ros.node.create_subscription(PointCloud2, "/aerial_cloud", lambda m: got["tiles"].append(m.width), qos("latched", 16))
-    play = spawn("skyground", "play", bag, "--rate", "2", "--delay", "2", "--linger")
-    assert ros.spin_until(lambda: len(got["odom"]) == 6 and got["path"] and sum(got["tiles"]) == 100000, 60), play.stderr()
+    play = spawn("skyground", "play", bag, "--rate", "2", "--delay", "4", "--linger")
+    assert ros.spin_until(lambda: len(got["odom"]) == 6 and got["path"] and sum(got["tiles"]) == 100000, 60), (
+        (len(got["odom"]), len(got["path"]), got["tiles"]),
+        play.stderr(),
+    )
     assert [x for _, x in got["odom"]] == [float(k) for k in range(6)]
     assert [p.pose.position.y for p in got["path"][0].poses] == [float(i) for i in range(5)]
     # Recorded 0.4 s apart, played at rate 2: 5 gaps of ~0.2 s.
