@@ -25,8 +25,11 @@ fn benches(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("graph_matrix_tour", |b| {
         b.iter(|| {
-            let g = GroundGraph::build(black_box(&w.xyz), &w.labels, s, &GraphParams::default()).unwrap();
-            plan(&g, &targets, s, &RouteParams::default()).unwrap().length_m
+            let g = GroundGraph::build(black_box(&w.xyz), &w.labels, s, &GraphParams::default())
+                .unwrap();
+            plan(&g, &targets, s, &RouteParams::default())
+                .unwrap()
+                .length_m
         })
     });
     let g = GroundGraph::build(&w.xyz, &w.labels, s, &GraphParams::default()).unwrap();
@@ -45,8 +48,15 @@ fn benches(c: &mut Criterion) {
     let mut ex = Explorer::new(&region, surface.clone(), &w.xyz, &g, &params).unwrap();
     let vp = ex.next_waypoints(s)[0];
     let pose = Pose::new([vp[0], vp[1], vp[2] + params.sensor_height_m], 0.0);
-    let points = scan(&w.caster, &LidarConfig::default(), &pose, 0).unwrap().xyz;
-    println!("explore_cycle: {} surface samples, {} candidates, {} scan points", surface.len(), ex.candidates(), points.len());
+    let points = scan(&w.caster, &LidarConfig::default(), &pose, 0)
+        .unwrap()
+        .xyz;
+    println!(
+        "explore_cycle: {} surface samples, {} candidates, {} scan points",
+        surface.len(),
+        ex.candidates(),
+        points.len()
+    );
     group.bench_function("explore_cycle", |b| {
         b.iter_batched(
             || ex.clone(),

@@ -54,10 +54,16 @@ impl<'g> Explorer<'g> {
         params.validate()?;
         let surface = surface.into();
         if !surface.normal.is_empty() && surface.normal.len() != surface.xyz.len() {
-            return Err(ExploreError::NormalLength { samples: surface.xyz.len(), normals: surface.normal.len() });
+            return Err(ExploreError::NormalLength {
+                samples: surface.xyz.len(),
+                normals: surface.normal.len(),
+            });
         }
         if region.polygon.len() < 3 {
-            return Err(ExploreError::DegenerateRegion { building: region.building, corners: region.polygon.len() });
+            return Err(ExploreError::DegenerateRegion {
+                building: region.building,
+                corners: region.polygon.len(),
+            });
         }
         let nodes = thin(graph, &graph.nodes_in_polygon(&region.polygon), params);
         let eyes: Vec<[f32; 3]> = nodes
@@ -84,7 +90,10 @@ impl<'g> Explorer<'g> {
         hi = std::array::from_fn(|k| hi[k] + 1.0);
         let mut buckets: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
         for (i, p) in surface.xyz.iter().enumerate() {
-            buckets.entry(bucket(*p, params.tau_m)).or_default().push(i as u32);
+            buckets
+                .entry(bucket(*p, params.tau_m))
+                .or_default()
+                .push(i as u32);
         }
         let n_samples = surface.xyz.len();
         let position = eyes.first().copied().unwrap_or([0.0; 3]);
@@ -119,7 +128,10 @@ impl<'g> Explorer<'g> {
     pub fn next_waypoints(&mut self, position: [f32; 3]) -> Vec<[f32; 3]> {
         self.position = position;
         self.plan = order_tour(&self.eyes, &self.plan, position);
-        self.plan.iter().map(|&c| self.graph.positions()[self.nodes[c]]).collect()
+        self.plan
+            .iter()
+            .map(|&c| self.graph.positions()[self.nodes[c]])
+            .collect()
     }
 
     /// Takes a scan made at `position` (the vehicle's ground position):
@@ -152,10 +164,16 @@ impl<'g> Explorer<'g> {
             }
         }
         // Viewpoints scanned from: what they promised and did not deliver is tried once less.
-        let near = 0.5 * self.params.viewpoint_spacing_m.max(self.graph.params().node_spacing_m);
+        let near = 0.5
+            * self
+                .params
+                .viewpoint_spacing_m
+                .max(self.graph.params().node_spacing_m);
         for c in 0..self.nodes.len() {
             let p = self.graph.positions()[self.nodes[c]];
-            if !self.visited[c] && ((p[0] - position[0]).powi(2) + (p[1] - position[1]).powi(2)).sqrt() <= near {
+            if !self.visited[c]
+                && ((p[0] - position[0]).powi(2) + (p[1] - position[1]).powi(2)).sqrt() <= near
+            {
                 self.visited[c] = true;
                 for &i in &self.sees[c] {
                     if !self.covered[i as usize] {
@@ -186,7 +204,8 @@ impl<'g> Explorer<'g> {
             .filter(|&c| !self.visited[c])
             .map(|c| {
                 let e = self.eyes[c];
-                let d = ((e[0] - self.position[0]).powi(2) + (e[1] - self.position[1]).powi(2)).sqrt();
+                let d =
+                    ((e[0] - self.position[0]).powi(2) + (e[1] - self.position[1]).powi(2)).sqrt();
                 self.sees[c].len() as f32 / d.max(self.params.viewpoint_spacing_m)
             })
             .fold(0.0f32, f32::max);
@@ -199,7 +218,10 @@ impl<'g> Explorer<'g> {
             if !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
-            let low = self.graph.ground_height([p[0], p[1]]).is_some_and(|g| p[2] - g < GROUND_SKIP_M);
+            let low = self
+                .graph
+                .ground_height([p[0], p[1]])
+                .is_some_and(|g| p[2] - g < GROUND_SKIP_M);
             if !low {
                 self.known.insert(*p);
             }
@@ -213,7 +235,10 @@ impl<'g> Explorer<'g> {
             .map(|i| i as u32)
             .collect();
         let p = &self.params;
-        let (lo, hi) = (p.fov_min_deg.to_radians().tan(), p.fov_max_deg.to_radians().tan());
+        let (lo, hi) = (
+            p.fov_min_deg.to_radians().tan(),
+            p.fov_max_deg.to_radians().tan(),
+        );
         let (known, surface) = (&self.known, &self.surface);
         self.sees = self
             .eyes
@@ -233,10 +258,10 @@ impl<'g> Explorer<'g> {
                         if r > p.sensor_range_m || h < 1.0e-3 || d[2] < lo * h || d[2] > hi * h {
                             return false;
                         }
-                        if let Some(n) = surface.normal.get(i as usize) {
-                            if n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > -0.1 * r {
-                                return false;
-                            }
+                        if let Some(n) = surface.normal.get(i as usize)
+                            && n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > -0.1 * r
+                        {
+                            return false;
                         }
                         !known.blocked(*eye, s, 0.3, p.own_neighbourhood_m)
                     })

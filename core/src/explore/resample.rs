@@ -15,7 +15,8 @@ pub fn resample(points: &[[f32; 3]], voxel: f32) -> Result<Vec<[f32; 3]>, Explor
         .iter()
         .filter(|p| p.iter().all(|v| v.is_finite()))
         .filter(|p| {
-            let key: [i64; 3] = std::array::from_fn(|k| (f64::from(p[k]) / f64::from(voxel)).floor() as i64);
+            let key: [i64; 3] =
+                std::array::from_fn(|k| (f64::from(p[k]) / f64::from(voxel)).floor() as i64);
             seen.insert(key)
         })
         .copied()
@@ -28,7 +29,13 @@ mod tests {
 
     #[test]
     fn one_point_per_voxel() {
-        let pts = [[0.1, 0.1, 0.1], [0.2, 0.3, 0.4], [1.1, 0.1, 0.1], [f32::NAN, 0.0, 0.0], [-0.1, 0.0, 0.0]];
+        let pts = [
+            [0.1, 0.1, 0.1],
+            [0.2, 0.3, 0.4],
+            [1.1, 0.1, 0.1],
+            [f32::NAN, 0.0, 0.0],
+            [-0.1, 0.0, 0.0],
+        ];
         let r = resample(&pts, 0.5).unwrap();
         assert_eq!(r, vec![[0.1, 0.1, 0.1], [1.1, 0.1, 0.1], [-0.1, 0.0, 0.0]]);
         assert_eq!(resample(&pts, 0.0), Err(ExploreError::Voxel(0.0)));

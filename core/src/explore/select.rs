@@ -30,18 +30,37 @@ pub struct Problem<'a> {
     pub min_gain: u32,
 }
 
+/// How good a selection is: fewer viewpoints, then more covered, then a shorter tour.
+struct Score {
+    count: usize,
+    covered: usize,
+    length: f32,
+}
+
+impl Score {
+    fn better_than(&self, o: &Score) -> bool {
+        (self.count, std::cmp::Reverse(self.covered)) < (o.count, std::cmp::Reverse(o.covered))
+            || (self.count == o.count && self.covered == o.covered && self.length < o.length)
+    }
+}
+
 /// The best of `1 + restarts` greedy covers: fewest viewpoints, then most
 /// samples covered, then the shortest tour from `from`. Returns the chosen
 /// candidates in tour order.
 pub fn select(p: &Problem<'_>, from: [f32; 3], restarts: u32, seed: u64) -> Vec<usize> {
     let mut rng = SplitMix(seed);
-    let mut best: Option<((usize, std::cmp::Reverse<usize>, f32), Vec<usize>)> = None;
+    // Best so far: (viewpoints, samples covered, tour length) and the tour.
+    let mut best: Option<(Score, Vec<usize>)> = None;
     for run in 0..=restarts {
         let (chosen, covered) = greedy(p, if run == 0 { None } else { Some(&mut rng) });
         let order = order_tour(p.position, &chosen, from);
         let len = tour_length(p.position, &order, from);
-        let key = (chosen.len(), std::cmp::Reverse(covered), len);
-        if best.as_ref().is_none_or(|(k, _)| key.0 < k.0 || (key.0 == k.0 && (key.1 < k.1 || (key.1 == k.1 && key.2 < k.2)))) {
+        let key = Score {
+            count: chosen.len(),
+            covered,
+            length: len,
+        };
+        if best.as_ref().is_none_or(|(k, _)| key.better_than(k)) {
             best = Some((key, order));
         }
     }
@@ -74,10 +93,14 @@ fn greedy(p: &Problem<'_>, mut rng: Option<&mut SplitMix>) -> (Vec<usize>, usize
         }
         let pick = match rng.as_deref_mut() {
             Some(r) => {
-                let near: Vec<usize> = (0..gains.len()).filter(|&c| gains[c] * 5 >= best * 4).collect();
+                let near: Vec<usize> = (0..gains.len())
+                    .filter(|&c| gains[c] * 5 >= best * 4)
+                    .collect();
                 near[(r.next() % near.len() as u64) as usize]
             }
-            None => (0..gains.len()).max_by_key(|&c| (gains[c], std::cmp::Reverse(c))).unwrap_or(0),
+            None => (0..gains.len())
+                .max_by_key(|&c| (gains[c], std::cmp::Reverse(c)))
+                .unwrap_or(0),
         };
         used[pick] = true;
         chosen.push(pick);
@@ -100,7 +123,9 @@ pub fn order_tour(position: &[[f32; 3]], chosen: &[usize], from: [f32; 3]) -> Ve
     let n = chosen.len();
     let costs = Costs {
         start: chosen.iter().map(|&c| dxy(from, position[c])).collect(),
-        between: (0..n * n).map(|k| dxy(position[chosen[k / n]], position[chosen[k % n]])).collect(),
+        between: (0..n * n)
+            .map(|k| dxy(position[chosen[k / n]], position[chosen[k % n]]))
+            .collect(),
     };
     tsp(&costs, 50).into_iter().map(|k| chosen[k]).collect()
 }
@@ -123,15 +148,36 @@ mod tests {
     #[test]
     fn cover_uses_few_viewpoints() {
         // Candidate 3 sees everything the first three see together.
-        let sees = vec![vec![0, 1], vec![2, 3], vec![4, 5], vec![0, 1, 2, 3, 4, 5], vec![6]];
-        let pos = vec![[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0], [9.0, 0.0, 0.0]];
+        let sees = vec![
+            vec![0, 1],
+            vec![2, 3],
+            vec![4, 5],
+            vec![0, 1, 2, 3, 4, 5],
+            vec![6],
+        ];
+        let pos = vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [3.0, 0.0, 0.0],
+            [9.0, 0.0, 0.0],
+        ];
         let allowed = vec![true; 5];
-        let p = Problem { sees: &sees, allowed: &allowed, position: &pos, samples: 7, min_gain: 1 };
+        let p = Problem {
+            sees: &sees,
+            allowed: &allowed,
+            position: &pos,
+            samples: 7,
+            min_gain: 1,
+        };
         assert_eq!(select(&p, [0.0; 3], 4, 7), vec![3, 4]);
         let p2 = Problem { min_gain: 2, ..p };
         assert_eq!(select(&p2, [0.0; 3], 4, 7), vec![3]);
         let none = vec![false; 5];
-        let p3 = Problem { allowed: &none, ..p2 };
+        let p3 = Problem {
+            allowed: &none,
+            ..p2
+        };
         assert!(select(&p3, [0.0; 3], 4, 7).is_empty());
     }
 }

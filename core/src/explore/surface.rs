@@ -12,6 +12,9 @@ pub struct SurfaceSamples {
 
 impl From<Vec<[f32; 3]>> for SurfaceSamples {
     fn from(xyz: Vec<[f32; 3]>) -> Self {
-        Self { xyz, normal: Vec::new() }
+        Self {
+            xyz,
+            normal: Vec::new(),
+        }
     }
 }

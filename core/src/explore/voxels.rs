@@ -14,13 +14,20 @@ impl Voxels {
     /// An empty grid of voxels `size` wide over `lo..hi` (at most ~2^31 voxels: larger boxes are coarsened).
     pub fn new(lo: [f32; 3], hi: [f32; 3], size: f32) -> Self {
         let mut size = size;
-        let count = |s: f32| -> [usize; 3] { std::array::from_fn(|k| (((hi[k] - lo[k]) / s).ceil().max(1.0)) as usize) };
+        let count = |s: f32| -> [usize; 3] {
+            std::array::from_fn(|k| (((hi[k] - lo[k]) / s).ceil().max(1.0)) as usize)
+        };
         while count(size).iter().map(|&d| d as f64).product::<f64>() > 2.0e9 {
             size *= 2.0;
         }
         let dims = count(size);
         let n = dims[0] * dims[1] * dims[2];
-        Self { lo, size, dims, bits: vec![0; n.div_ceil(64)] }
+        Self {
+            lo,
+            size,
+            dims,
+            bits: vec![0; n.div_ceil(64)],
+        }
     }
 
     fn cell(&self, p: [f32; 3]) -> Option<[usize; 3]> {

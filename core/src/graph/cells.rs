@@ -15,7 +15,12 @@ pub struct GroundCells {
 }
 
 /// Bins the finite ground points; `None` when there are none.
-pub fn bin_ground(xyz: &[[f32; 3]], labels: &[u8], spacing: f32, pad: usize) -> Option<GroundCells> {
+pub fn bin_ground(
+    xyz: &[[f32; 3]],
+    labels: &[u8],
+    spacing: f32,
+    pad: usize,
+) -> Option<GroundCells> {
     let is_ground = |p: &[f32; 3], l: u8| l == class::GROUND && p.iter().all(|v| v.is_finite());
     let mut lo = [f32::INFINITY; 2];
     let mut hi = [f32::NEG_INFINITY; 2];
@@ -50,13 +55,21 @@ pub fn bin_ground(xyz: &[[f32; 3]], labels: &[u8], spacing: f32, pad: usize) -> 
         .iter()
         .map(|s| {
             if s[3] > 0.0 {
-                [(s[0] / s[3]) as f32, (s[1] / s[3]) as f32, (s[2] / s[3]) as f32]
+                [
+                    (s[0] / s[3]) as f32,
+                    (s[1] / s[3]) as f32,
+                    (s[2] / s[3]) as f32,
+                ]
             } else {
                 [f32::NAN; 3]
             }
         })
         .collect();
-    Some(GroundCells { frame, mean, ground_points: n })
+    Some(GroundCells {
+        frame,
+        mean,
+        ground_points: n,
+    })
 }
 
 /// Cell heights with unknown cells filled from known neighbours, `rings`
@@ -73,12 +86,21 @@ pub fn filled_heights(cells: &GroundCells, rings: usize) -> Vec<f32> {
             }
             let (i, j) = ((k % f.nx) as i64, (k / f.nx) as i64);
             let (mut s, mut c) = (0.0f32, 0u32);
-            for (di, dj) in [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)] {
-                if let Some(q) = f.index(i + di, j + dj) {
-                    if prev[q].is_finite() {
-                        s += prev[q];
-                        c += 1;
-                    }
+            for (di, dj) in [
+                (-1, 0),
+                (1, 0),
+                (0, -1),
+                (0, 1),
+                (-1, -1),
+                (1, 1),
+                (-1, 1),
+                (1, -1),
+            ] {
+                if let Some(q) = f.index(i + di, j + dj)
+                    && prev[q].is_finite()
+                {
+                    s += prev[q];
+                    c += 1;
                 }
             }
             if c > 0 {

@@ -31,7 +31,9 @@ pub enum GraphError {
         cells: usize,
     },
     /// The start is off the ground graph.
-    #[error("start ({x:.1}, {y:.1}) is {distance:.1} m from the nearest ground node (max_start_snap_m {max:.1}); move the start onto open ground")]
+    #[error(
+        "start ({x:.1}, {y:.1}) is {distance:.1} m from the nearest ground node (max_start_snap_m {max:.1}); move the start onto open ground"
+    )]
     StartOffGraph {
         /// Start x.
         x: f32,

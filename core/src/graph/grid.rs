@@ -21,7 +21,13 @@ impl GridFrame {
         let p = pad as f32 * cell;
         let nx = (((hi[0] - lo[0] + 2.0 * p) / cell).floor() as usize) + 1;
         let ny = (((hi[1] - lo[1] + 2.0 * p) / cell).floor() as usize) + 1;
-        Self { x0: lo[0] - p, y0: lo[1] - p, cell, nx, ny }
+        Self {
+            x0: lo[0] - p,
+            y0: lo[1] - p,
+            cell,
+            nx,
+            ny,
+        }
     }
 
     /// Number of cells.

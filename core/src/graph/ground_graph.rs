@@ -71,14 +71,21 @@ impl GroundGraph {
     ) -> Result<Self, GraphError> {
         params.validate()?;
         if labels.len() != xyz.len() {
-            return Err(GraphError::LabelLength { points: xyz.len(), labels: labels.len() });
+            return Err(GraphError::LabelLength {
+                points: xyz.len(),
+                labels: labels.len(),
+            });
         }
         let pad = (params.vehicle_radius_m / params.node_spacing_m).ceil() as usize + 1;
-        let cells = bin_ground(xyz, labels, params.node_spacing_m, pad).ok_or(GraphError::NoGround)?;
+        let cells =
+            bin_ground(xyz, labels, params.node_spacing_m, pad).ok_or(GraphError::NoGround)?;
         let frame = cells.frame;
-        let occ_cells = frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
+        let occ_cells =
+            frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
         if occ_cells > 2.0e8 {
-            return Err(GraphError::TooLarge { cells: occ_cells as usize });
+            return Err(GraphError::TooLarge {
+                cells: occ_cells as usize,
+            });
         }
         let heights = filled_heights(&cells, HEIGHT_FILL_RINGS);
         let band = Band {
@@ -86,8 +93,12 @@ impl GroundGraph {
             high: params.vehicle_height_m,
             canopy: params.canopy_is_obstacle,
         };
-        let ground = GroundHeights { frame: &frame, z: &heights };
-        let obstacles = ObstacleMap::build(xyz, labels, &ground, &band, params.occupancy_resolution_m);
+        let ground = GroundHeights {
+            frame: &frame,
+            z: &heights,
+        };
+        let obstacles =
+            ObstacleMap::build(xyz, labels, &ground, &band, params.occupancy_resolution_m);
 
         // Candidate nodes: cells with ground where the vehicle fits.
         let mut cand_cell = Vec::new();
@@ -102,17 +113,31 @@ impl GroundGraph {
         for (i, &k) in cand_cell.iter().enumerate() {
             cell_cand[k] = i as u32;
         }
-        let edges = candidate_edges(&frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params);
+        let edges = candidate_edges(
+            &frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params,
+        );
 
-        let start_node = nearest_in(&frame, &cell_cand, &cand_pos, [start[0], start[1]], params.max_start_snap_m)
-            .ok_or(GraphError::StartOffGraph {
-                x: start[0],
-                y: start[1],
-                distance: nearest_in(&frame, &cell_cand, &cand_pos, [start[0], start[1]], f32::INFINITY)
-                    .map_or(f32::INFINITY, |(_, d)| d),
-                max: params.max_start_snap_m,
-            })?
-            .0;
+        let start_node = nearest_in(
+            &frame,
+            &cell_cand,
+            &cand_pos,
+            [start[0], start[1]],
+            params.max_start_snap_m,
+        )
+        .ok_or(GraphError::StartOffGraph {
+            x: start[0],
+            y: start[1],
+            distance: nearest_in(
+                &frame,
+                &cell_cand,
+                &cand_pos,
+                [start[0], start[1]],
+                f32::INFINITY,
+            )
+            .map_or(f32::INFINITY, |(_, d)| d),
+            max: params.max_start_snap_m,
+        })?
+        .0;
 
         let mut uf = UnionFind::<usize>::new(cand_pos.len());
         for &(a, b, _) in &edges {
@@ -146,7 +171,10 @@ impl GroundGraph {
             }
         }
         let (adj_start, adj, adj_w) = csr(positions.len(), &kept_edges);
-        let clearance = positions.iter().map(|p| obstacles.clearance(p[0], p[1])).collect();
+        let clearance = positions
+            .iter()
+            .map(|p| obstacles.clearance(p[0], p[1]))
+            .collect();
         let report = GraphReport {
             ground_points: cells.ground_points,
             candidate_nodes: cand_pos.len(),
@@ -224,7 +252,13 @@ impl GroundGraph {
 
     /// The nearest node to `xy` and its distance (xy), searching the node grid; `None` for an empty graph.
     pub fn nearest_node(&self, xy: [f32; 2]) -> Option<(usize, f32)> {
-        nearest_in(&self.frame, &self.cell_node, &self.positions, xy, f32::INFINITY)
+        nearest_in(
+            &self.frame,
+            &self.cell_node,
+            &self.positions,
+            xy,
+            f32::INFINITY,
+        )
     }
 
     /// Up to `k` nearest nodes within `max_dist` (xy) of `xy`, nearest first.
@@ -235,7 +269,11 @@ impl GroundGraph {
         let mut out = Vec::new();
         for j in cj - r..=cj + r {
             for i in ci - r..=ci + r {
-                if let Some(n) = f.index(i, j).map(|c| self.cell_node[c]).filter(|&n| n != u32::MAX) {
+                if let Some(n) = f
+                    .index(i, j)
+                    .map(|c| self.cell_node[c])
+                    .filter(|&n| n != u32::MAX)
+                {
                     let d = dist2(self.positions[n as usize], xy);
                     if d <= max_dist {
                         out.push((n as usize, d));
@@ -269,7 +307,8 @@ impl GroundGraph {
 
     /// True when the vehicle (its radius) fits along the straight segment `a → b` (xy).
     pub fn segment_free(&self, a: [f32; 2], b: [f32; 2]) -> bool {
-        self.obstacles.segment_free(a, b, self.params.vehicle_radius_m)
+        self.obstacles
+            .segment_free(a, b, self.params.vehicle_radius_m)
     }
 }
 
@@ -279,18 +318,31 @@ fn dist2(p: [f32; 3], xy: [f32; 2]) -> f32 {
 }
 
 /// Nearest node in `cell_node` to `xy` within `max`, by growing square rings of cells.
-fn nearest_in(frame: &GridFrame, cell_node: &[u32], pos: &[[f32; 3]], xy: [f32; 2], max: f32) -> Option<(usize, f32)> {
+fn nearest_in(
+    frame: &GridFrame,
+    cell_node: &[u32],
+    pos: &[[f32; 3]],
+    xy: [f32; 2],
+    max: f32,
+) -> Option<(usize, f32)> {
     if pos.is_empty() || !xy.iter().all(|v| v.is_finite()) {
         return None;
     }
     let (ci, cj) = frame.key(xy[0], xy[1]);
     let (nx, ny) = (frame.nx as i64, frame.ny as i64);
     // Rings before the first one touching the grid are empty; the last one covers it all.
-    let first = [ci - (nx - 1), -ci, cj - (ny - 1), -cj, 0].into_iter().max().unwrap_or(0);
+    let first = [ci - (nx - 1), -ci, cj - (ny - 1), -cj, 0]
+        .into_iter()
+        .max()
+        .unwrap_or(0);
     let last = first + nx.max(ny) + 1;
     let mut best: Option<(usize, f32)> = None;
     let visit = |i: i64, j: i64, best: &mut Option<(usize, f32)>| {
-        if let Some(n) = frame.index(i, j).map(|c| cell_node[c]).filter(|&n| n != u32::MAX) {
+        if let Some(n) = frame
+            .index(i, j)
+            .map(|c| cell_node[c])
+            .filter(|&n| n != u32::MAX)
+        {
             let d = dist2(pos[n as usize], xy);
             if d <= max && best.is_none_or(|(_, bd)| d < bd) {
                 *best = Some((n as usize, d));
@@ -341,7 +393,11 @@ fn candidate_edges(
                     if dj == 0 && di <= 0 {
                         continue;
                     }
-                    let Some(b) = frame.index(ci + di, cj + dj).map(|c| cell_cand[c]).filter(|&b| b != u32::MAX) else {
+                    let Some(b) = frame
+                        .index(ci + di, cj + dj)
+                        .map(|c| cell_cand[c])
+                        .filter(|&b| b != u32::MAX)
+                    else {
                         continue;
                     };
                     let (p, q) = (pos[a], pos[b as usize]);

@@ -56,7 +56,11 @@ impl ObstacleMap {
         );
         let mut occ = vec![false; frame.len()];
         for (p, &l) in xyz.iter().zip(labels) {
-            if class::fold(l) == class::GROUND || l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
+            if class::fold(l) == class::GROUND
+                || l == 7
+                || l == 18
+                || !p.iter().all(|v| v.is_finite())
+            {
                 continue;
             }
             let Some(cell) = frame.index_of(p[0], p[1]) else {
@@ -81,7 +85,11 @@ impl ObstacleMap {
         }
         let occupied = occ.iter().filter(|&&o| o).count();
         let distance = distance_field(&frame, &occ);
-        Self { frame, distance, occupied }
+        Self {
+            frame,
+            distance,
+            occupied,
+        }
     }
 
     /// Number of obstacle cells.
@@ -151,5 +159,13 @@ fn distance_field(frame: &GridFrame, occ: &[bool]) -> Vec<f32> {
             d[k] = v;
         }
     }
-    d.iter().map(|&v| if v == 0.0 { 0.0 } else { (v - 0.5 * c).min(FAR) }).collect()
+    d.iter()
+        .map(|&v| {
+            if v == 0.0 {
+                0.0
+            } else {
+                (v - 0.5 * c).min(FAR)
+            }
+        })
+        .collect()
 }

@@ -49,19 +49,70 @@ impl GraphParams {
     pub fn validate(&self) -> Result<(), GraphError> {
         let positive = |v: f32| v.is_finite() && v > 0.0;
         let checks: [(&'static str, f32, bool, &'static str); 9] = [
-            ("node_spacing_m", self.node_spacing_m, (0.1..=20.0).contains(&self.node_spacing_m), "must be in [0.1, 20]"),
-            ("d_threshold_m", self.d_threshold_m, positive(self.d_threshold_m) && self.d_threshold_m > self.node_spacing_m, "must exceed node_spacing_m, or no two nodes are joined"),
-            ("vehicle_height_m", self.vehicle_height_m, positive(self.vehicle_height_m), "must be finite and > 0"),
-            ("vehicle_radius_m", self.vehicle_radius_m, self.vehicle_radius_m.is_finite() && self.vehicle_radius_m >= 0.0, "must be finite and ≥ 0"),
-            ("max_slope_deg", self.max_slope_deg, (0.0..90.0).contains(&self.max_slope_deg), "must be in [0, 90)"),
-            ("clearance_m", self.clearance_m, self.clearance_m.is_finite() && self.clearance_m >= 0.0 && self.clearance_m < self.vehicle_height_m, "must be ≥ 0 and below vehicle_height_m"),
-            ("occupancy_resolution_m", self.occupancy_resolution_m, (0.02..=5.0).contains(&self.occupancy_resolution_m), "must be in [0.02, 5]"),
-            ("max_start_snap_m", self.max_start_snap_m, positive(self.max_start_snap_m), "must be finite and > 0"),
-            ("d_threshold_m", self.d_threshold_m, self.d_threshold_m <= 10.0 * self.node_spacing_m, "must be at most 10 × node_spacing_m"),
+            (
+                "node_spacing_m",
+                self.node_spacing_m,
+                (0.1..=20.0).contains(&self.node_spacing_m),
+                "must be in [0.1, 20]",
+            ),
+            (
+                "d_threshold_m",
+                self.d_threshold_m,
+                positive(self.d_threshold_m) && self.d_threshold_m > self.node_spacing_m,
+                "must exceed node_spacing_m, or no two nodes are joined",
+            ),
+            (
+                "vehicle_height_m",
+                self.vehicle_height_m,
+                positive(self.vehicle_height_m),
+                "must be finite and > 0",
+            ),
+            (
+                "vehicle_radius_m",
+                self.vehicle_radius_m,
+                self.vehicle_radius_m.is_finite() && self.vehicle_radius_m >= 0.0,
+                "must be finite and ≥ 0",
+            ),
+            (
+                "max_slope_deg",
+                self.max_slope_deg,
+                (0.0..90.0).contains(&self.max_slope_deg),
+                "must be in [0, 90)",
+            ),
+            (
+                "clearance_m",
+                self.clearance_m,
+                self.clearance_m.is_finite()
+                    && self.clearance_m >= 0.0
+                    && self.clearance_m < self.vehicle_height_m,
+                "must be ≥ 0 and below vehicle_height_m",
+            ),
+            (
+                "occupancy_resolution_m",
+                self.occupancy_resolution_m,
+                (0.02..=5.0).contains(&self.occupancy_resolution_m),
+                "must be in [0.02, 5]",
+            ),
+            (
+                "max_start_snap_m",
+                self.max_start_snap_m,
+                positive(self.max_start_snap_m),
+                "must be finite and > 0",
+            ),
+            (
+                "d_threshold_m",
+                self.d_threshold_m,
+                self.d_threshold_m <= 10.0 * self.node_spacing_m,
+                "must be at most 10 × node_spacing_m",
+            ),
         ];
         for (field, value, ok, expected) in checks {
             if !ok {
-                return Err(GraphError::Param { field, value, expected });
+                return Err(GraphError::Param {
+                    field,
+                    value,
+                    expected,
+                });
             }
         }
         Ok(())

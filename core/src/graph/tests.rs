@@ -42,9 +42,15 @@ fn edges_avoid_walls_and_the_pen_is_cut_off() {
     let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &p).unwrap();
     let r = g.report();
     assert!(r.nodes > 300, "{r:?}");
-    assert!(r.unreachable_components >= 1 && r.unreachable_nodes > 4, "{r:?}");
+    assert!(
+        r.unreachable_components >= 1 && r.unreachable_nodes > 4,
+        "{r:?}"
+    );
     // No kept node inside the pen.
-    assert!(g.nodes_in_polygon(&[[5.0, 7.0], [11.0, 7.0], [11.0, 13.0], [5.0, 13.0]]).is_empty());
+    assert!(
+        g.nodes_in_polygon(&[[5.0, 7.0], [11.0, 7.0], [11.0, 13.0], [5.0, 13.0]])
+            .is_empty()
+    );
     // No edge crosses the wall at x = 20 below y = 14, nor the pen.
     for (a, b, w) in g.edges() {
         let (p, q) = (g.positions()[a], g.positions()[b]);
@@ -71,13 +77,25 @@ fn bad_input_gives_errors() {
         Err(GraphError::LabelLength { .. })
     ));
     let none = vec![6u8; xyz.len()];
-    assert_eq!(GroundGraph::build(&xyz, &none, [2.0, 2.0, 0.0], &p).unwrap_err(), GraphError::NoGround);
+    assert_eq!(
+        GroundGraph::build(&xyz, &none, [2.0, 2.0, 0.0], &p).unwrap_err(),
+        GraphError::NoGround
+    );
     assert!(matches!(
         GroundGraph::build(&xyz, &lab, [200.0, 2.0, 0.0], &p),
         Err(GraphError::StartOffGraph { .. })
     ));
-    let bad = GraphParams { d_threshold_m: 0.5, ..p.clone() };
-    assert!(matches!(bad.validate(), Err(GraphError::Param { field: "d_threshold_m", .. })));
+    let bad = GraphParams {
+        d_threshold_m: 0.5,
+        ..p.clone()
+    };
+    assert!(matches!(
+        bad.validate(),
+        Err(GraphError::Param {
+            field: "d_threshold_m",
+            ..
+        })
+    ));
     assert!(GroundGraph::build(&[], &[], [0.0; 3], &p).is_err());
 }
 
@@ -97,5 +115,9 @@ fn nearest_node_and_polygon_queries() {
     assert!(far.1 > 60.0);
     let inside = g.nodes_in_polygon(&[[25.0, 2.0], [35.0, 2.0], [35.0, 8.0], [25.0, 8.0]]);
     assert!(inside.len() > 20);
-    assert!(inside.iter().all(|&i| (25.0..35.0).contains(&g.positions()[i][0])));
+    assert!(
+        inside
+            .iter()
+            .all(|&i| (25.0..35.0).contains(&g.positions()[i][0]))
+    );
 }

@@ -14,7 +14,9 @@ pub enum RouteError {
         expected: &'static str,
     },
     /// The start is not near the ground graph.
-    #[error("start ({x:.1}, {y:.1}) is more than max_snap_m = {max:.1} m from the ground graph; move it onto open ground reachable from the graph's start")]
+    #[error(
+        "start ({x:.1}, {y:.1}) is more than max_snap_m = {max:.1} m from the ground graph; move it onto open ground reachable from the graph's start"
+    )]
     StartOffGraph {
         /// Start x.
         x: f32,

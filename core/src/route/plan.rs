@@ -42,11 +42,19 @@ pub fn plan(
     let start_node = graph
         .nearest_node([start[0], start[1]])
         .filter(|&(_, d)| d <= params.max_snap_m)
-        .ok_or(RouteError::StartOffGraph { x: start[0], y: start[1], max: params.max_snap_m })?
+        .ok_or(RouteError::StartOffGraph {
+            x: start[0],
+            y: start[1],
+            max: params.max_snap_m,
+        })?
         .0;
     let snapped = snap(graph, targets, params.max_snap_m);
     // One search per stop, from its nodes: the distance of any node to the stop.
-    let trees: Vec<ShortestPaths> = snapped.stops.par_iter().map(|(_, nodes)| graph.shortest_paths(nodes)).collect();
+    let trees: Vec<ShortestPaths> = snapped
+        .stops
+        .par_iter()
+        .map(|(_, nodes)| graph.shortest_paths(nodes))
+        .collect();
     let mut unreachable_points = snapped.unreachable_points;
     let mut unreachable_regions = snapped.unreachable_regions;
     let mut stops = Vec::new();
@@ -63,7 +71,10 @@ pub fn plan(
         }
     }
     let costs = matrix(&stops, &kept_trees, start_node);
-    let is_region: Vec<bool> = stops.iter().map(|(s, _)| matches!(s, Stop::Region(_))).collect();
+    let is_region: Vec<bool> = stops
+        .iter()
+        .map(|(s, _)| matches!(s, Stop::Region(_)))
+        .collect();
     let greedy = greedy_alternating(&costs, &is_region);
     let tsp_order = tsp(&costs, params.max_passes);
     let greedy_len = drive(&kept_trees, start_node, &greedy).0;
@@ -107,11 +118,18 @@ pub fn replan(
     position: [f32; 3],
     params: &RouteParams,
 ) -> Result<Route, RouteError> {
-    let point_ids: Vec<usize> = (0..targets.points.len()).filter(|i| !visited.points.contains(i)).collect();
-    let region_ids: Vec<usize> = (0..targets.regions.len()).filter(|i| !visited.regions.contains(i)).collect();
+    let point_ids: Vec<usize> = (0..targets.points.len())
+        .filter(|i| !visited.points.contains(i))
+        .collect();
+    let region_ids: Vec<usize> = (0..targets.regions.len())
+        .filter(|i| !visited.regions.contains(i))
+        .collect();
     let rest = TargetSet {
         points: point_ids.iter().map(|&i| targets.points[i]).collect(),
-        regions: region_ids.iter().map(|&i| targets.regions[i].clone()).collect(),
+        regions: region_ids
+            .iter()
+            .map(|&i| targets.regions[i].clone())
+            .collect(),
     };
     let mut route = plan(graph, &rest, position, params)?;
     for s in &mut route.order {
@@ -120,8 +138,14 @@ pub fn replan(
             Stop::Region(i) => Stop::Region(region_ids[i]),
         };
     }
-    route.unreachable_points.iter_mut().for_each(|i| *i = point_ids[*i]);
-    route.unreachable_regions.iter_mut().for_each(|i| *i = region_ids[*i]);
+    route
+        .unreachable_points
+        .iter_mut()
+        .for_each(|i| *i = point_ids[*i]);
+    route
+        .unreachable_regions
+        .iter_mut()
+        .for_each(|i| *i = region_ids[*i]);
     Ok(route)
 }
 
@@ -137,10 +161,17 @@ fn matrix(stops: &[(Stop, Vec<usize>)], trees: &[ShortestPaths], start: usize) -
             if a == b {
                 return 0.0;
             }
-            stops[a].1.iter().map(|&v| trees[b].dist[v]).fold(f32::INFINITY, f32::min)
+            stops[a]
+                .1
+                .iter()
+                .map(|&v| trees[b].dist[v])
+                .fold(f32::INFINITY, f32::min)
         })
         .collect();
-    Costs { start: start_row, between }
+    Costs {
+        start: start_row,
+        between,
+    }
 }
 
 /// Drives `order` from `start`: each leg follows the stop's search tree to

@@ -27,13 +27,20 @@ pub struct Snapped {
 /// that the vehicle can drive to in a straight line (or that shares its cell).
 pub fn snap(graph: &GroundGraph, targets: &TargetSet, max_snap: f32) -> Snapped {
     let cell = graph.params().node_spacing_m;
-    let mut out = Snapped { stops: Vec::new(), unreachable_points: Vec::new(), unreachable_regions: Vec::new() };
+    let mut out = Snapped {
+        stops: Vec::new(),
+        unreachable_points: Vec::new(),
+        unreachable_regions: Vec::new(),
+    };
     for (i, t) in targets.points.iter().enumerate() {
         let xy = [t.xyz[0], t.xyz[1]];
-        let node = graph.nodes_near(xy, max_snap, 16).into_iter().find(|&(n, d)| {
-            let p = graph.positions()[n];
-            d <= 0.75 * cell || graph.segment_free(xy, [p[0], p[1]])
-        });
+        let node = graph
+            .nodes_near(xy, max_snap, 16)
+            .into_iter()
+            .find(|&(n, d)| {
+                let p = graph.positions()[n];
+                d <= 0.75 * cell || graph.segment_free(xy, [p[0], p[1]])
+            });
         match node {
             Some((n, _)) => out.stops.push((Stop::Point(i), vec![n])),
             None => out.unreachable_points.push(i),

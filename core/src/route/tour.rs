@@ -102,7 +102,10 @@ fn two_opt(costs: &Costs, order: &mut [usize]) -> bool {
             let old_in = costs.cost(before, order[i]);
             let new_in = costs.cost(before, order[j]);
             let (old_out, new_out) = if j + 1 < n {
-                (costs.cost(Some(order[j]), order[j + 1]), costs.cost(Some(order[i]), order[j + 1]))
+                (
+                    costs.cost(Some(order[j]), order[j + 1]),
+                    costs.cost(Some(order[i]), order[j + 1]),
+                )
             } else {
                 (0.0, 0.0)
             };
@@ -168,7 +171,10 @@ mod tests {
                 between[a * n + b] = (xs[a] - xs[b]).abs();
             }
         }
-        Costs { start: xs.iter().map(|x| x.abs()).collect(), between }
+        Costs {
+            start: xs.iter().map(|x| x.abs()).collect(),
+            between,
+        }
     }
 
     #[test]
@@ -191,6 +197,15 @@ mod tests {
         let g = greedy_alternating(&c, &is_region);
         assert_eq!(g, vec![0, 3, 2, 1]);
         assert!(c.tour_cost(&g) > c.tour_cost(&tsp(&c, 10)));
-        assert!(tsp(&Costs { start: vec![], between: vec![] }, 5).is_empty());
+        assert!(
+            tsp(
+                &Costs {
+                    start: vec![],
+                    between: vec![]
+                },
+                5
+            )
+            .is_empty()
+        );
     }
 }

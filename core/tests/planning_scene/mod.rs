@@ -29,19 +29,29 @@ pub fn world() -> &'static World {
         let cloud = airborne_scan(&caster, &AirborneConfig::default()).unwrap();
         let labels = cloud.label.clone().unwrap();
         let gt = sample_building_surfaces(&scene, 0.25);
-        World { xyz: cloud.xyz, labels, gt, caster, scene }
+        World {
+            xyz: cloud.xyz,
+            labels,
+            gt,
+            caster,
+            scene,
+        }
     })
 }
 
 /// The object kind a ray from above hits first at `xy`.
 pub fn kind_below(w: &World, xy: [f32; 2]) -> Option<ObjectKind> {
-    let hit = w.caster.cast([xy[0], xy[1], 400.0], [0.0, 0.0, -1.0], 1000.0)?;
+    let hit = w
+        .caster
+        .cast([xy[0], xy[1], 400.0], [0.0, 0.0, -1.0], 1000.0)?;
     w.caster.object(hit.object).map(|o| o.kind)
 }
 
 /// Ground height at `xy` from the mesh.
 pub fn ground_z(w: &World, xy: [f32; 2]) -> f32 {
-    w.caster.cast([xy[0], xy[1], 400.0], [0.0, 0.0, -1.0], 1000.0).map_or(0.0, |h| 400.0 - h.t)
+    w.caster
+        .cast([xy[0], xy[1], 400.0], [0.0, 0.0, -1.0], 1000.0)
+        .map_or(0.0, |h| 400.0 - h.t)
 }
 
 /// Open ground: the point and a ring of 8 points `r` around it see ground from above.
@@ -81,12 +91,17 @@ pub fn point_targets(w: &World, per_building: usize) -> Vec<TargetPoint> {
         let h = (n[0] * n[0] + n[1] * n[1]).sqrt();
         let xy = [p[0] + 8.0 * n[0] / h, p[1] + 8.0 * n[1] / h];
         if out.iter().filter(|t| t.building == b).count() >= per_building
-            || out.iter().any(|t| (t.xyz[0] - xy[0]).hypot(t.xyz[1] - xy[1]) < 12.0)
+            || out
+                .iter()
+                .any(|t| (t.xyz[0] - xy[0]).hypot(t.xyz[1] - xy[1]) < 12.0)
             || !open_ground(w, xy, 2.0)
         {
             continue;
         }
-        out.push(TargetPoint { xyz: [xy[0], xy[1], ground_z(w, xy)], building: b });
+        out.push(TargetPoint {
+            xyz: [xy[0], xy[1], ground_z(w, xy)],
+            building: b,
+        });
     }
     out
 }
@@ -125,11 +140,22 @@ pub fn corner_region(w: &World, b: u32, inside: f64, outside: f64) -> Region {
 
 /// Building id of the first object whose name contains `part`.
 pub fn building_named(w: &World, part: &str) -> u32 {
-    w.scene.objects.iter().find(|o| o.name.contains(part)).map(|o| o.building).unwrap()
+    w.scene
+        .objects
+        .iter()
+        .find(|o| o.name.contains(part))
+        .map(|o| o.building)
+        .unwrap()
 }
 
 /// A realistic target set: up to 3 points per building and regions at three corners.
 pub fn target_set(w: &World) -> TargetSet {
-    let regions = [2u32, 9, 16].iter().map(|&b| corner_region(w, b, 6.0, 10.0)).collect();
-    TargetSet { points: point_targets(w, 3), regions }
+    let regions = [2u32, 9, 16]
+        .iter()
+        .map(|&b| corner_region(w, b, 6.0, 10.0))
+        .collect();
+    TargetSet {
+        points: point_targets(w, 3),
+        regions,
+    }
 }
