@@ -1,1 +1,23 @@
-//! (being written)
+//! Local exploration of one region (DESIGN.md step 7), TARE-style:
+//! candidate viewpoints on the ground graph inside the region, scored by the
+//! still-uncovered surface each would see (range, vertical field of view,
+//! line of sight through known occupancy), chosen greedily with randomized
+//! restarts, ordered by a small TSP, updated from incoming scans.
+//!
+//! - [`ExploreParams`] (`params`), [`ExploreError`] (`error`), [`SurfaceSamples`] (`surface`);
+//! - `voxels`: known occupancy and line of sight; `select`: greedy cover + tour;
+//! - [`Explorer`] (`explorer`); [`resample`] (`resample`): voxel de-duplication.
+
+mod error;
+mod explorer;
+mod params;
+mod resample;
+mod select;
+mod surface;
+mod voxels;
+
+pub use error::ExploreError;
+pub use explorer::Explorer;
+pub use params::ExploreParams;
+pub use resample::resample;
+pub use surface::SurfaceSamples;

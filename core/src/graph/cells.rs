@@ -1,0 +1,116 @@
+//! Distance-based downsampling of the ground: ground points binned into
+//! square cells, one node per occupied cell at the cell's mean point.
+
+use super::grid::GridFrame;
+use crate::cloud::class;
+
+/// Ground points binned into the node grid.
+pub struct GroundCells {
+    /// The node grid.
+    pub frame: GridFrame,
+    /// Mean ground point per cell; NaN z where the cell has no ground point.
+    pub mean: Vec<[f32; 3]>,
+    /// Ground points counted.
+    pub ground_points: usize,
+}
+
+/// Bins the finite ground points; `None` when there are none.
+pub fn bin_ground(
+    xyz: &[[f32; 3]],
+    labels: &[u8],
+    spacing: f32,
+    pad: usize,
+) -> Option<GroundCells> {
+    let is_ground = |p: &[f32; 3], l: u8| l == class::GROUND && p.iter().all(|v| v.is_finite());
+    let mut lo = [f32::INFINITY; 2];
+    let mut hi = [f32::NEG_INFINITY; 2];
+    let mut n = 0usize;
+    for (p, &l) in xyz.iter().zip(labels) {
+        if is_ground(p, l) {
+            n += 1;
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    if n == 0 {
+        return None;
+    }
+    let frame = GridFrame::covering(lo, hi, spacing, pad);
+    let mut sum = vec![[0.0f64; 4]; frame.len()];
+    for (p, &l) in xyz.iter().zip(labels) {
+        if !is_ground(p, l) {
+            continue;
+        }
+        if let Some(k) = frame.index_of(p[0], p[1]) {
+            let s = &mut sum[k];
+            s[0] += f64::from(p[0]);
+            s[1] += f64::from(p[1]);
+            s[2] += f64::from(p[2]);
+            s[3] += 1.0;
+        }
+    }
+    let mean = sum
+        .iter()
+        .map(|s| {
+            if s[3] > 0.0 {
+                [
+                    (s[0] / s[3]) as f32,
+                    (s[1] / s[3]) as f32,
+                    (s[2] / s[3]) as f32,
+                ]
+            } else {
+                [f32::NAN; 3]
+            }
+        })
+        .collect();
+    Some(GroundCells {
+        frame,
+        mean,
+        ground_points: n,
+    })
+}
+
+/// Cell heights with unknown cells filled from known neighbours, `rings`
+/// times (each pass reaches one cell farther); NaN where still unknown.
+pub fn filled_heights(cells: &GroundCells, rings: usize) -> Vec<f32> {
+    let f = &cells.frame;
+    let mut z: Vec<f32> = cells.mean.iter().map(|p| p[2]).collect();
+    for _ in 0..rings {
+        let prev = z.clone();
+        let mut changed = false;
+        for k in 0..f.len() {
+            if prev[k].is_finite() {
+                continue;
+            }
+            let (i, j) = ((k % f.nx) as i64, (k / f.nx) as i64);
+            let (mut s, mut c) = (0.0f32, 0u32);
+            for (di, dj) in [
+                (-1, 0),
+                (1, 0),
+                (0, -1),
+                (0, 1),
+                (-1, -1),
+                (1, 1),
+                (-1, 1),
+                (1, -1),
+            ] {
+                if let Some(q) = f.index(i + di, j + dj)
+                    && prev[q].is_finite()
+                {
+                    s += prev[q];
+                    c += 1;
+                }
+            }
+            if c > 0 {
+                z[k] = s / c as f32;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    z
+}

@@ -1,0 +1,47 @@
+//! Why a ground graph cannot be built.
+
+/// Errors of [`GroundGraph::build`](super::GroundGraph::build).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GraphError {
+    /// A parameter is out of range.
+    #[error("graph parameter {field} = {value}: {expected}")]
+    Param {
+        /// The field's name as in the params file.
+        field: &'static str,
+        /// The value given.
+        value: f32,
+        /// What it must be.
+        expected: &'static str,
+    },
+    /// `labels` does not have one entry per point.
+    #[error("cloud has {points} points but {labels} labels")]
+    LabelLength {
+        /// Number of points.
+        points: usize,
+        /// Number of labels.
+        labels: usize,
+    },
+    /// No finite point is labelled ground (class 2): classify the cloud first.
+    #[error("no ground points (class 2) in the cloud: classify it first")]
+    NoGround,
+    /// The ground is too large for the chosen node spacing.
+    #[error("ground spans {cells} cells at this node spacing; raise node_spacing_m")]
+    TooLarge {
+        /// Cells the grid would need.
+        cells: usize,
+    },
+    /// The start is off the ground graph.
+    #[error(
+        "start ({x:.1}, {y:.1}) is {distance:.1} m from the nearest ground node (max_start_snap_m {max:.1}); move the start onto open ground"
+    )]
+    StartOffGraph {
+        /// Start x.
+        x: f32,
+        /// Start y.
+        y: f32,
+        /// Distance to the nearest node, metres (infinite when there is none).
+        distance: f32,
+        /// The allowed distance.
+        max: f32,
+    },
+}

@@ -1,0 +1,441 @@
+//! The ground graph: nodes on open ground, edges the vehicle can drive,
+//! only the part reachable from the start.
+
+use petgraph::graph::UnGraph;
+use petgraph::unionfind::UnionFind;
+use rayon::prelude::*;
+
+use super::cells::{bin_ground, filled_heights};
+use super::error::GraphError;
+use super::grid::GridFrame;
+use super::obstacles::{Band, GroundHeights, ObstacleMap};
+use super::params::GraphParams;
+use super::polygon::contains;
+
+/// Ground cells this far from known ground still get a height, so walls at
+/// the edge of large roofs are measured against the street beside them.
+const HEIGHT_FILL_RINGS: usize = 6;
+
+/// What the build kept and what it left out.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct GraphReport {
+    /// Ground points used.
+    pub ground_points: usize,
+    /// Nodes before the reachability cut (cells with ground and room for the vehicle).
+    pub candidate_nodes: usize,
+    /// Nodes kept (reachable from the start).
+    pub nodes: usize,
+    /// Edges kept.
+    pub edges: usize,
+    /// Nodes in the other components (not reachable from the start).
+    pub unreachable_nodes: usize,
+    /// Number of other components.
+    pub unreachable_components: usize,
+    /// Cells of the obstacle grid holding a blocking non-ground point.
+    pub obstacle_cells: usize,
+}
+
+/// Nodes on open ground joined where the vehicle can drive, restricted to the
+/// connected component of the start.
+#[derive(Debug, Clone)]
+pub struct GroundGraph {
+    /// The graph (node weight: position; edge weight: length in metres).
+    graph: UnGraph<[f32; 3], f32>,
+    /// Node positions (the node's index is its position here).
+    pub(super) positions: Vec<[f32; 3]>,
+    /// Distance (xy) from each node to the nearest obstacle, metres (capped at 8).
+    clearance: Vec<f32>,
+    /// The node grid and which kept node (if any) sits in each cell.
+    frame: GridFrame,
+    cell_node: Vec<u32>,
+    obstacles: ObstacleMap,
+    /// Ground height per node-grid cell (gaps filled near known ground), NaN where unknown.
+    heights: Vec<f32>,
+    /// Adjacency in compressed rows, for fast searches.
+    pub(super) adj_start: Vec<usize>,
+    pub(super) adj: Vec<u32>,
+    pub(super) adj_w: Vec<f32>,
+    start: usize,
+    report: GraphReport,
+    params: GraphParams,
+}
+
+impl GroundGraph {
+    /// Builds the graph from a classified cloud (`labels`: LAS classes, 2 =
+    /// ground) and keeps the component of the node nearest `start`.
+    pub fn build(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        start: [f32; 3],
+        params: &GraphParams,
+    ) -> Result<Self, GraphError> {
+        params.validate()?;
+        if labels.len() != xyz.len() {
+            return Err(GraphError::LabelLength {
+                points: xyz.len(),
+                labels: labels.len(),
+            });
+        }
+        let pad = (params.vehicle_radius_m / params.node_spacing_m).ceil() as usize + 1;
+        let cells =
+            bin_ground(xyz, labels, params.node_spacing_m, pad).ok_or(GraphError::NoGround)?;
+        let frame = cells.frame;
+        let occ_cells =
+            frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
+        if occ_cells > 2.0e8 {
+            return Err(GraphError::TooLarge {
+                cells: occ_cells as usize,
+            });
+        }
+        let heights = filled_heights(&cells, HEIGHT_FILL_RINGS);
+        let band = Band {
+            low: params.clearance_m,
+            high: params.vehicle_height_m,
+            canopy: params.canopy_is_obstacle,
+        };
+        let ground = GroundHeights {
+            frame: &frame,
+            z: &heights,
+        };
+        let obstacles =
+            ObstacleMap::build(xyz, labels, &ground, &band, params.occupancy_resolution_m);
+
+        // Candidate nodes: cells with ground where the vehicle fits.
+        let mut cand_cell = Vec::new();
+        let mut cand_pos = Vec::new();
+        for (k, p) in cells.mean.iter().enumerate() {
+            if p[2].is_finite() && obstacles.clearance(p[0], p[1]) >= params.vehicle_radius_m {
+                cand_cell.push(k);
+                cand_pos.push(*p);
+            }
+        }
+        let mut cell_cand = vec![u32::MAX; frame.len()];
+        for (i, &k) in cand_cell.iter().enumerate() {
+            cell_cand[k] = i as u32;
+        }
+        let edges = candidate_edges(
+            &frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params,
+        );
+
+        let start_node = nearest_in(
+            &frame,
+            &cell_cand,
+            &cand_pos,
+            [start[0], start[1]],
+            params.max_start_snap_m,
+        )
+        .ok_or(GraphError::StartOffGraph {
+            x: start[0],
+            y: start[1],
+            distance: nearest_in(
+                &frame,
+                &cell_cand,
+                &cand_pos,
+                [start[0], start[1]],
+                f32::INFINITY,
+            )
+            .map_or(f32::INFINITY, |(_, d)| d),
+            max: params.max_start_snap_m,
+        })?
+        .0;
+
+        let mut uf = UnionFind::<usize>::new(cand_pos.len());
+        for &(a, b, _) in &edges {
+            uf.union(a as usize, b as usize);
+        }
+        let labels_cc = uf.into_labeling();
+        let keep_label = labels_cc[start_node];
+        let mut other = std::collections::HashSet::new();
+        let mut new_index = vec![u32::MAX; cand_pos.len()];
+        let mut positions = Vec::new();
+        let mut cell_node = vec![u32::MAX; frame.len()];
+        for (i, &l) in labels_cc.iter().enumerate() {
+            if l == keep_label {
+                new_index[i] = positions.len() as u32;
+                cell_node[cand_cell[i]] = positions.len() as u32;
+                positions.push(cand_pos[i]);
+            } else {
+                other.insert(l);
+            }
+        }
+        let mut graph = UnGraph::<[f32; 3], f32>::with_capacity(positions.len(), edges.len());
+        for p in &positions {
+            graph.add_node(*p);
+        }
+        let mut kept_edges = Vec::new();
+        for &(a, b, w) in &edges {
+            let (a, b) = (new_index[a as usize], new_index[b as usize]);
+            if a != u32::MAX && b != u32::MAX {
+                graph.add_edge(a.into(), b.into(), w);
+                kept_edges.push((a, b, w));
+            }
+        }
+        let (adj_start, adj, adj_w) = csr(positions.len(), &kept_edges);
+        let clearance = positions
+            .iter()
+            .map(|p| obstacles.clearance(p[0], p[1]))
+            .collect();
+        let report = GraphReport {
+            ground_points: cells.ground_points,
+            candidate_nodes: cand_pos.len(),
+            nodes: positions.len(),
+            edges: kept_edges.len(),
+            unreachable_nodes: cand_pos.len() - positions.len(),
+            unreachable_components: other.len(),
+            obstacle_cells: obstacles.occupied_cells(),
+        };
+        Ok(Self {
+            graph,
+            start: new_index[start_node] as usize,
+            positions,
+            clearance,
+            frame,
+            cell_node,
+            obstacles,
+            heights,
+            adj_start,
+            adj,
+            adj_w,
+            report,
+            params: params.clone(),
+        })
+    }
+
+    /// The petgraph graph (node weight: position; edge weight: metres).
+    pub fn graph(&self) -> &UnGraph<[f32; 3], f32> {
+        &self.graph
+    }
+
+    /// Node positions; node `i` is at `positions()[i]`.
+    pub fn positions(&self) -> &[[f32; 3]] {
+        &self.positions
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// True when the graph has no node (never after a successful build).
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// Edges as `(a, b, length_m)`, each once.
+    pub fn edges(&self) -> Vec<(usize, usize, f32)> {
+        self.graph
+            .raw_edges()
+            .iter()
+            .map(|e| (e.source().index(), e.target().index(), e.weight))
+            .collect()
+    }
+
+    /// The node the start was snapped to.
+    pub fn start_node(&self) -> usize {
+        self.start
+    }
+
+    /// Counts of what was kept and left out.
+    pub fn report(&self) -> GraphReport {
+        self.report
+    }
+
+    /// The parameters the graph was built with.
+    pub fn params(&self) -> &GraphParams {
+        &self.params
+    }
+
+    /// Distance (xy) from node `i` to the nearest obstacle, metres (capped at 8; 0 for a bad index).
+    pub fn clearance(&self, i: usize) -> f32 {
+        self.clearance.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// The nearest node to `xy` and its distance (xy), searching the node grid; `None` for an empty graph.
+    pub fn nearest_node(&self, xy: [f32; 2]) -> Option<(usize, f32)> {
+        nearest_in(
+            &self.frame,
+            &self.cell_node,
+            &self.positions,
+            xy,
+            f32::INFINITY,
+        )
+    }
+
+    /// Up to `k` nearest nodes within `max_dist` (xy) of `xy`, nearest first.
+    pub fn nodes_near(&self, xy: [f32; 2], max_dist: f32, k: usize) -> Vec<(usize, f32)> {
+        let f = &self.frame;
+        let r = (max_dist / f.cell).ceil().min(1.0e6) as i64 + 1;
+        let (ci, cj) = f.key(xy[0], xy[1]);
+        let mut out = Vec::new();
+        for j in cj - r..=cj + r {
+            for i in ci - r..=ci + r {
+                if let Some(n) = f
+                    .index(i, j)
+                    .map(|c| self.cell_node[c])
+                    .filter(|&n| n != u32::MAX)
+                {
+                    let d = dist2(self.positions[n as usize], xy);
+                    if d <= max_dist {
+                        out.push((n as usize, d));
+                    }
+                }
+            }
+        }
+        out.sort_by(|a, b| a.1.total_cmp(&b.1));
+        out.truncate(k);
+        out
+    }
+
+    /// Nodes whose xy lies inside `polygon` (a ring, open or closed).
+    pub fn nodes_in_polygon(&self, polygon: &[[f64; 2]]) -> Vec<usize> {
+        self.positions
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| contains(polygon, [f64::from(p[0]), f64::from(p[1])]))
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// Ground height at `xy` from the ground points of its cell (or nearby
+    /// ones where the cell has none); `None` off the known ground.
+    pub fn ground_height(&self, xy: [f32; 2]) -> Option<f32> {
+        self.frame
+            .index_of(xy[0], xy[1])
+            .map(|k| self.heights[k])
+            .filter(|z| z.is_finite())
+    }
+
+    /// True when the vehicle (its radius) fits along the straight segment `a → b` (xy).
+    pub fn segment_free(&self, a: [f32; 2], b: [f32; 2]) -> bool {
+        self.obstacles
+            .segment_free(a, b, self.params.vehicle_radius_m)
+    }
+}
+
+/// Distance in xy.
+fn dist2(p: [f32; 3], xy: [f32; 2]) -> f32 {
+    ((p[0] - xy[0]).powi(2) + (p[1] - xy[1]).powi(2)).sqrt()
+}
+
+/// Nearest node in `cell_node` to `xy` within `max`, by growing square rings of cells.
+fn nearest_in(
+    frame: &GridFrame,
+    cell_node: &[u32],
+    pos: &[[f32; 3]],
+    xy: [f32; 2],
+    max: f32,
+) -> Option<(usize, f32)> {
+    if pos.is_empty() || !xy.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let (ci, cj) = frame.key(xy[0], xy[1]);
+    let (nx, ny) = (frame.nx as i64, frame.ny as i64);
+    // Rings before the first one touching the grid are empty; the last one covers it all.
+    let first = [ci - (nx - 1), -ci, cj - (ny - 1), -cj, 0]
+        .into_iter()
+        .max()
+        .unwrap_or(0);
+    let last = first + nx.max(ny) + 1;
+    let mut best: Option<(usize, f32)> = None;
+    let visit = |i: i64, j: i64, best: &mut Option<(usize, f32)>| {
+        if let Some(n) = frame
+            .index(i, j)
+            .map(|c| cell_node[c])
+            .filter(|&n| n != u32::MAX)
+        {
+            let d = dist2(pos[n as usize], xy);
+            if d <= max && best.is_none_or(|(_, bd)| d < bd) {
+                *best = Some((n as usize, d));
+            }
+        }
+    };
+    for r in first..=last {
+        // Every node in ring r is at least (r - 1) cells away.
+        let ring_min = (r - 1).max(0) as f32 * frame.cell;
+        if best.is_some_and(|(_, d)| d <= ring_min) || ring_min > max {
+            break;
+        }
+        for i in ci - r..=ci + r {
+            visit(i, cj - r, &mut best);
+            if r > 0 {
+                visit(i, cj + r, &mut best);
+            }
+        }
+        for j in cj - r + 1..cj + r {
+            visit(ci - r, j, &mut best);
+            visit(ci + r, j, &mut best);
+        }
+    }
+    best
+}
+
+/// Edges between candidate nodes closer than `d_threshold` whose slope is
+/// drivable and whose segment keeps the vehicle's radius from obstacles.
+fn candidate_edges(
+    frame: &GridFrame,
+    cell_cand: &[u32],
+    cand_cell: &[usize],
+    pos: &[[f32; 3]],
+    obstacles: &ObstacleMap,
+    params: &GraphParams,
+) -> Vec<(u32, u32, f32)> {
+    let r = (params.d_threshold_m / frame.cell).ceil() as i64;
+    let max_grade = params.max_slope_deg.to_radians().tan();
+    (0..pos.len())
+        .into_par_iter()
+        .flat_map_iter(|a| {
+            let k = cand_cell[a];
+            let (ci, cj) = ((k % frame.nx) as i64, (k / frame.nx) as i64);
+            let mut out = Vec::new();
+            for dj in 0..=r {
+                for di in -r..=r {
+                    // Half the neighbourhood: every pair once.
+                    if dj == 0 && di <= 0 {
+                        continue;
+                    }
+                    let Some(b) = frame
+                        .index(ci + di, cj + dj)
+                        .map(|c| cell_cand[c])
+                        .filter(|&b| b != u32::MAX)
+                    else {
+                        continue;
+                    };
+                    let (p, q) = (pos[a], pos[b as usize]);
+                    let dxy = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+                    let len = (dxy * dxy + (q[2] - p[2]).powi(2)).sqrt();
+                    if len >= params.d_threshold_m || (q[2] - p[2]).abs() > max_grade * dxy {
+                        continue;
+                    }
+                    if obstacles.segment_free([p[0], p[1]], [q[0], q[1]], params.vehicle_radius_m) {
+                        out.push((a as u32, b, len));
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+/// Compressed adjacency rows of an undirected edge list.
+fn csr(n: usize, edges: &[(u32, u32, f32)]) -> (Vec<usize>, Vec<u32>, Vec<f32>) {
+    let mut deg = vec![0usize; n + 1];
+    for &(a, b, _) in edges {
+        deg[a as usize + 1] += 1;
+        deg[b as usize + 1] += 1;
+    }
+    for i in 0..n {
+        deg[i + 1] += deg[i];
+    }
+    let mut fill = deg.clone();
+    let mut adj = vec![0u32; 2 * edges.len()];
+    let mut w = vec![0f32; 2 * edges.len()];
+    for &(a, b, l) in edges {
+        for (u, v) in [(a, b), (b, a)] {
+            let s = &mut fill[u as usize];
+            adj[*s] = v;
+            w[*s] = l;
+            *s += 1;
+        }
+    }
+    (deg, adj, w)
+}

@@ -1,0 +1,120 @@
+//! Tunables of the ground graph, filled from the planner's params YAML.
+
+use serde::{Deserialize, Serialize};
+
+use super::error::GraphError;
+
+/// How the ground graph is built (DESIGN.md step 5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GraphParams {
+    /// Node spacing: ground points are binned into square cells this wide, one node per cell, metres.
+    pub node_spacing_m: f32,
+    /// Nodes closer than this (3D) are joined when the way between them is free, metres.
+    pub d_threshold_m: f32,
+    /// Height of the vehicle's body above the ground, metres.
+    pub vehicle_height_m: f32,
+    /// Half the vehicle's width: obstacles must stay this far from every edge, metres.
+    pub vehicle_radius_m: f32,
+    /// Steepest edge the vehicle climbs, degrees.
+    pub max_slope_deg: f32,
+    /// Non-ground points lower than this above the ground (curbs, noise) do not block, metres.
+    pub clearance_m: f32,
+    /// Cell size of the obstacle grid the edges are checked against, metres.
+    pub occupancy_resolution_m: f32,
+    /// Vegetation blocks its whole column: aerial scans see crowns but rarely the trunks beneath.
+    pub canopy_is_obstacle: bool,
+    /// The start must lie within this distance (xy) of a ground node, metres.
+    pub max_start_snap_m: f32,
+}
+
+impl Default for GraphParams {
+    fn default() -> Self {
+        Self {
+            node_spacing_m: 1.25,
+            d_threshold_m: 1.9,
+            vehicle_height_m: 1.8,
+            vehicle_radius_m: 0.5,
+            max_slope_deg: 20.0,
+            clearance_m: 0.2,
+            occupancy_resolution_m: 0.25,
+            canopy_is_obstacle: true,
+            max_start_snap_m: 5.0,
+        }
+    }
+}
+
+impl GraphParams {
+    /// Checks every field's range and that edges can reach the neighbouring cells.
+    pub fn validate(&self) -> Result<(), GraphError> {
+        let positive = |v: f32| v.is_finite() && v > 0.0;
+        let checks: [(&'static str, f32, bool, &'static str); 9] = [
+            (
+                "node_spacing_m",
+                self.node_spacing_m,
+                (0.1..=20.0).contains(&self.node_spacing_m),
+                "must be in [0.1, 20]",
+            ),
+            (
+                "d_threshold_m",
+                self.d_threshold_m,
+                positive(self.d_threshold_m) && self.d_threshold_m > self.node_spacing_m,
+                "must exceed node_spacing_m, or no two nodes are joined",
+            ),
+            (
+                "vehicle_height_m",
+                self.vehicle_height_m,
+                positive(self.vehicle_height_m),
+                "must be finite and > 0",
+            ),
+            (
+                "vehicle_radius_m",
+                self.vehicle_radius_m,
+                self.vehicle_radius_m.is_finite() && self.vehicle_radius_m >= 0.0,
+                "must be finite and ≥ 0",
+            ),
+            (
+                "max_slope_deg",
+                self.max_slope_deg,
+                (0.0..90.0).contains(&self.max_slope_deg),
+                "must be in [0, 90)",
+            ),
+            (
+                "clearance_m",
+                self.clearance_m,
+                self.clearance_m.is_finite()
+                    && self.clearance_m >= 0.0
+                    && self.clearance_m < self.vehicle_height_m,
+                "must be ≥ 0 and below vehicle_height_m",
+            ),
+            (
+                "occupancy_resolution_m",
+                self.occupancy_resolution_m,
+                (0.02..=5.0).contains(&self.occupancy_resolution_m),
+                "must be in [0.02, 5]",
+            ),
+            (
+                "max_start_snap_m",
+                self.max_start_snap_m,
+                positive(self.max_start_snap_m),
+                "must be finite and > 0",
+            ),
+            (
+                "d_threshold_m",
+                self.d_threshold_m,
+                self.d_threshold_m <= 10.0 * self.node_spacing_m,
+                "must be at most 10 × node_spacing_m",
+            ),
+        ];
+        for (field, value, ok, expected) in checks {
+            if !ok {
+                return Err(GraphError::Param {
+                    field,
+                    value,
+                    expected,
+                });
+            }
+        }
+        Ok(())
+    }
+}

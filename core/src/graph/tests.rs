@@ -1,0 +1,123 @@
+//! Unit tests of the ground graph on small synthetic clouds.
+
+use super::*;
+
+/// Flat ground 0..40 × 0..20 at 0.25 m, a 3 m wall along x = 20 for
+/// y < 14 (open above), and a closed 6 m square pen around (8, 10).
+fn cloud() -> (Vec<[f32; 3]>, Vec<u8>) {
+    let mut xyz = Vec::new();
+    let mut lab = Vec::new();
+    for i in 0..160 {
+        for j in 0..80 {
+            let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
+            let in_wall = (19.8..20.2).contains(&x) && y < 14.0;
+            if !in_wall {
+                xyz.push([x, y, 0.0]);
+                lab.push(2);
+            }
+        }
+    }
+    let mut wall = |x0: f32, y0: f32, x1: f32, y1: f32| {
+        let n = (((x1 - x0).abs() + (y1 - y0).abs()) / 0.1) as usize;
+        for s in 0..=n {
+            let t = s as f32 / n.max(1) as f32;
+            for h in 0..30 {
+                xyz.push([x0 + t * (x1 - x0), y0 + t * (y1 - y0), h as f32 * 0.1]);
+                lab.push(6);
+            }
+        }
+    };
+    wall(20.0, 0.0, 20.0, 14.0);
+    wall(5.0, 7.0, 11.0, 7.0);
+    wall(11.0, 7.0, 11.0, 13.0);
+    wall(11.0, 13.0, 5.0, 13.0);
+    wall(5.0, 13.0, 5.0, 7.0);
+    (xyz, lab)
+}
+
+#[test]
+fn edges_avoid_walls_and_the_pen_is_cut_off() {
+    let (xyz, lab) = cloud();
+    let p = GraphParams::default();
+    let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &p).unwrap();
+    let r = g.report();
+    assert!(r.nodes > 300, "{r:?}");
+    assert!(
+        r.unreachable_components >= 1 && r.unreachable_nodes > 4,
+        "{r:?}"
+    );
+    // No kept node inside the pen.
+    assert!(
+        g.nodes_in_polygon(&[[5.0, 7.0], [11.0, 7.0], [11.0, 13.0], [5.0, 13.0]])
+            .is_empty()
+    );
+    // No edge crosses the wall at x = 20 below y = 14, nor the pen.
+    for (a, b, w) in g.edges() {
+        let (p, q) = (g.positions()[a], g.positions()[b]);
+        assert!(w < GraphParams::default().d_threshold_m);
+        let crosses = (p[0] - 20.0) * (q[0] - 20.0) < 0.0 && p[1].max(q[1]) < 14.0;
+        assert!(!crosses, "edge {p:?} → {q:?} crosses the wall");
+        assert!(g.segment_free([p[0], p[1]], [q[0], q[1]]));
+    }
+    // The far side is reached through the gap: the path is longer than the straight line.
+    let a = g.nearest_node([15.0, 3.0]).unwrap().0;
+    let b = g.nearest_node([25.0, 3.0]).unwrap().0;
+    let (d, path) = g.shortest_path(a, b).unwrap();
+    assert!(d > 2.0 * 11.0 + 10.0 - 3.0, "{d}");
+    assert_eq!(path.first(), Some(&a));
+    assert_eq!(path.last(), Some(&b));
+}
+
+#[test]
+fn bad_input_gives_errors() {
+    let (xyz, lab) = cloud();
+    let p = GraphParams::default();
+    assert!(matches!(
+        GroundGraph::build(&xyz, &lab[1..], [2.0, 2.0, 0.0], &p),
+        Err(GraphError::LabelLength { .. })
+    ));
+    let none = vec![6u8; xyz.len()];
+    assert_eq!(
+        GroundGraph::build(&xyz, &none, [2.0, 2.0, 0.0], &p).unwrap_err(),
+        GraphError::NoGround
+    );
+    assert!(matches!(
+        GroundGraph::build(&xyz, &lab, [200.0, 2.0, 0.0], &p),
+        Err(GraphError::StartOffGraph { .. })
+    ));
+    let bad = GraphParams {
+        d_threshold_m: 0.5,
+        ..p.clone()
+    };
+    assert!(matches!(
+        bad.validate(),
+        Err(GraphError::Param {
+            field: "d_threshold_m",
+            ..
+        })
+    ));
+    assert!(GroundGraph::build(&[], &[], [0.0; 3], &p).is_err());
+}
+
+#[test]
+fn nearest_node_and_polygon_queries() {
+    let (xyz, lab) = cloud();
+    let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
+    let (n, d) = g.nearest_node([30.3, 4.1]).unwrap();
+    assert!(d < 1.0, "{d}");
+    let brute = g
+        .positions()
+        .iter()
+        .map(|p| ((p[0] - 30.3).powi(2) + (p[1] - 4.1).powi(2)).sqrt())
+        .fold(f32::INFINITY, f32::min);
+    assert!((d - brute).abs() < 1e-5 && g.positions()[n][0] > 29.0);
+    let far = g.nearest_node([-50.0, -50.0]).unwrap();
+    assert!(far.1 > 60.0);
+    let inside = g.nodes_in_polygon(&[[25.0, 2.0], [35.0, 2.0], [35.0, 8.0], [25.0, 8.0]]);
+    assert!(inside.len() > 20);
+    assert!(
+        inside
+            .iter()
+            .all(|&i| (25.0..35.0).contains(&g.positions()[i][0]))
+    );
+}

@@ -1,0 +1,60 @@
+//! Tunables of the global route, filled from the planner's params YAML.
+
+use serde::{Deserialize, Serialize};
+
+use super::error::RouteError;
+
+/// Which tour the route follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TourChoice {
+    /// The shorter of the two tours.
+    Shortest,
+    /// The paper's alternation of point and region targets by shortest distance.
+    Greedy,
+    /// Nearest neighbour improved by 2-opt and Or-opt.
+    Tsp,
+}
+
+/// How targets are tied to the graph and toured (DESIGN.md step 6).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RouteParams {
+    /// A target point farther (xy) than this from every reachable node is unreachable, metres.
+    pub max_snap_m: f32,
+    /// Which tour to follow.
+    pub tour: TourChoice,
+    /// Improvement passes of 2-opt + Or-opt at most (each pass is O(n²)).
+    pub max_passes: u32,
+}
+
+impl Default for RouteParams {
+    fn default() -> Self {
+        Self {
+            max_snap_m: 3.0,
+            tour: TourChoice::Shortest,
+            max_passes: 100,
+        }
+    }
+}
+
+impl RouteParams {
+    /// Checks every field's range.
+    pub fn validate(&self) -> Result<(), RouteError> {
+        if !(self.max_snap_m.is_finite() && self.max_snap_m > 0.0) {
+            return Err(RouteError::Param {
+                field: "max_snap_m",
+                value: f64::from(self.max_snap_m),
+                expected: "must be finite and > 0",
+            });
+        }
+        if self.max_passes > 100_000 {
+            return Err(RouteError::Param {
+                field: "max_passes",
+                value: f64::from(self.max_passes),
+                expected: "must be at most 100000",
+            });
+        }
+        Ok(())
+    }
+}
