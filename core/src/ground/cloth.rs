@@ -126,7 +126,14 @@ fn relax_columns(z: &mut [f32], fixed: &[bool], nx: usize, single: f32, double: 
             .for_each(|(pair, f)| {
                 let (lower, upper) = pair.split_at_mut(nx);
                 for i in 0..nx {
-                    relax(&mut lower[i], f[i], &mut upper[i], f[nx + i], single, double);
+                    relax(
+                        &mut lower[i],
+                        f[i],
+                        &mut upper[i],
+                        f[nx + i],
+                        single,
+                        double,
+                    );
                 }
             });
     }

@@ -74,7 +74,11 @@ mod tests {
         assert_eq!(dtm.height_at(0.0, 0.0), 0.0);
         assert_eq!(dtm.height_at(100.0, 100.0), 6.0);
         assert!(dtm.height_at(f32::NAN, 0.0).is_nan());
-        let empty = Dtm { nx: 0, heights: vec![], ..dtm };
+        let empty = Dtm {
+            nx: 0,
+            heights: vec![],
+            ..dtm
+        };
         assert!(empty.height_at(11.0, 21.0).is_nan());
     }
 }

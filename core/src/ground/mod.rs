@@ -12,6 +12,7 @@
 mod cloth;
 mod dtm;
 mod error;
+mod fill;
 mod grid;
 mod params;
 mod smoothing;
@@ -34,7 +35,8 @@ pub struct GroundSplit {
     /// Height of each point above the terrain model, metres (NaN exactly
     /// for points with a non-finite coordinate).
     pub hag: Vec<f32>,
-    /// The terrain model: the settled cloth, turned back up.
+    /// The terrain model: the settled cloth turned back up, bridged parts
+    /// filled smoothly from where it touched.
     pub dtm: Dtm,
     /// Simulation steps run before the cloth settled (or the step limit).
     pub iterations_run: u32,
@@ -68,6 +70,7 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
             params.slope_threshold,
         );
     }
+    fill::fill_bridged(&lattice, &mut cloth.z, &cloth.fixed);
     let heights: Vec<f32> = cloth.z.par_iter().map(|z| -z).collect();
     let dtm = Dtm::from_lattice(&lattice, heights);
     let (is_ground, hag): (Vec<bool>, Vec<f32>) = xyz

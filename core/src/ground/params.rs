@@ -36,7 +36,7 @@ pub struct CsfParams {
 impl Default for CsfParams {
     fn default() -> Self {
         Self {
-            cloth_resolution: 1.0,
+            cloth_resolution: 2.0,
             rigidness: 3,
             time_step: 0.65,
             class_threshold: 0.5,

@@ -36,7 +36,9 @@ mod tests {
     fn pulls_near_particles_down_and_leaves_far_ones() {
         let l = Lattice::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
         let n = l.len();
-        let surface: Vec<f32> = (0..n).map(|k| if k % l.nx < 5 { 0.0 } else { -5.0 }).collect();
+        let surface: Vec<f32> = (0..n)
+            .map(|k| if k % l.nx < 5 { 0.0 } else { -5.0 })
+            .collect();
         let mut z = vec![0.2; n];
         let mut fixed = vec![false; n];
         fixed[0] = true;
