@@ -59,13 +59,8 @@ mod tests {
             }
         }
         fill_bridged(&l, &mut z, &fixed);
-        for k in 0..l.len() {
-            assert!(
-                (z[k] - plane(k)).abs() < 0.02,
-                "{k}: {} vs {}",
-                z[k],
-                plane(k)
-            );
+        for (k, &got) in z.iter().enumerate() {
+            assert!((got - plane(k)).abs() < 0.02, "{k}: {got} vs {}", plane(k));
         }
     }
 }

@@ -44,9 +44,8 @@ mod tests {
         fixed[0] = true;
         z[0] = 0.0;
         smooth_slopes(&l, &surface, &mut z, &mut fixed, 0.3);
-        for k in 0..n {
-            let near = k % l.nx < 5;
-            assert_eq!(fixed[k], near, "particle {k}");
+        for (k, &f) in fixed.iter().enumerate() {
+            assert_eq!(f, k % l.nx < 5, "particle {k}");
         }
     }
 }
