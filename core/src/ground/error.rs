@@ -1,0 +1,37 @@
+//! What can go wrong in ground filtering, with what to do about it.
+
+/// Errors of [`super::csf`] and [`super::CsfParams::validate`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CsfError {
+    /// The cloud has no points at all.
+    #[error("ground filter: the cloud is empty; give it at least one point")]
+    Empty,
+    /// Every point has a NaN or infinite coordinate.
+    #[error("ground filter: none of the {count} points has finite x, y, z")]
+    NoFinitePoints {
+        /// Number of points given.
+        count: usize,
+    },
+    /// A parameter is outside its allowed range.
+    #[error("ground filter parameter {name} = {value} is invalid: {expected}")]
+    BadParam {
+        /// The parameter's field name in `CsfParams`.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed range, in words.
+        expected: &'static str,
+    },
+    /// The cloud's extent divided by the cloth resolution gives too many particles.
+    #[error(
+        "ground filter: cloth of {nx} × {ny} particles exceeds {max}; raise cloth_resolution or split the cloud"
+    )]
+    ClothTooLarge {
+        /// Particles along x.
+        nx: usize,
+        /// Particles along y.
+        ny: usize,
+        /// The largest particle count allowed.
+        max: usize,
+    },
+}

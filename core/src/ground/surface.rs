@@ -1,0 +1,69 @@
+//! The inverted surface under each cloth particle: the height (z → −z) of
+//! the point nearest to it in xy, gaps filled from the nearest particle
+//! along the grid that has one.
+
+use std::collections::VecDeque;
+
+use rayon::prelude::*;
+
+use super::grid::Lattice;
+
+/// Inverted height of the surface below every particle (one per particle).
+///
+/// `points` are all finite. A particle with no point nearer to it than to
+/// any other particle takes the value of the nearest such particle along
+/// the grid (breadth-first, 4-neighbours), as the paper does, so gaps
+/// (water, occluded ground) hold the cloth at their surroundings' height.
+pub(crate) fn inverted_surface(lattice: &Lattice, points: &[[f32; 3]]) -> Vec<f32> {
+    let keyed: Vec<(usize, f32, f32)> = points
+        .par_iter()
+        .map(|p| {
+            let k = lattice.nearest(p[0], p[1]);
+            let c = lattice.position(k % lattice.nx, k / lattice.nx);
+            let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2);
+            (k, d2, -p[2])
+        })
+        .collect();
+    let mut best = vec![(f32::INFINITY, f32::NAN); lattice.len()];
+    for &(k, d2, z) in &keyed {
+        if d2 < best[k].0 {
+            best[k] = (d2, z);
+        }
+    }
+    let mut height: Vec<f32> = best.into_iter().map(|(_, z)| z).collect();
+    fill_from_neighbours(lattice, &mut height);
+    height
+}
+
+/// Replaces NaN entries by the value of the nearest (grid steps) non-NaN
+/// entry; leaves all-NaN input unchanged.
+fn fill_from_neighbours(lattice: &Lattice, height: &mut [f32]) {
+    let mut queue: VecDeque<usize> = (0..height.len()).filter(|&k| !height[k].is_nan()).collect();
+    while let Some(k) = queue.pop_front() {
+        let h = height[k];
+        for n in lattice.neighbours(k) {
+            if height[n].is_nan() {
+                height[n] = h;
+                queue.push_back(n);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_point_wins_and_gaps_take_neighbours() {
+        let l = Lattice::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
+        let pts = [[0.1, 0.0, 5.0], [0.4, 0.0, 9.0], [4.0, 0.0, 1.0]];
+        let h = inverted_surface(&l, &pts);
+        assert_eq!(h[l.nearest(0.0, 0.0)], -5.0);
+        assert_eq!(h[l.nearest(4.0, 0.0)], -1.0);
+        // x = 1 is nearer to the particle at 0, x = 3 to the one at 4.
+        assert_eq!(h[l.nearest(1.0, 0.0)], -5.0);
+        assert_eq!(h[l.nearest(3.0, 0.0)], -1.0);
+        assert!(h.iter().all(|v| v.is_finite()));
+    }
+}
