@@ -8,6 +8,7 @@
 mod planning_scene;
 
 use std::hint::black_box;
+use std::sync::Arc;
 
 use criterion::{BatchSize, Criterion};
 use planning_scene::{corner_region, start, target_set, world};
@@ -32,7 +33,7 @@ fn benches(c: &mut Criterion) {
                 .length_m
         })
     });
-    let g = GroundGraph::build(&w.xyz, &w.labels, s, &GraphParams::default()).unwrap();
+    let g = Arc::new(GroundGraph::build(&w.xyz, &w.labels, s, &GraphParams::default()).unwrap());
     let region = corner_region(w, 2, 6.0, 12.0);
     // All wall samples of the corner (not only the missing ones): the heavier case.
     let surface: Vec<[f32; 3]> = (0..w.gt.len())
@@ -45,7 +46,7 @@ fn benches(c: &mut Criterion) {
         .map(|i| w.gt.xyz[i])
         .collect();
     let params = ExploreParams::default();
-    let mut ex = Explorer::new(&region, surface.clone(), &w.xyz, &g, &params).unwrap();
+    let mut ex = Explorer::new(&region, surface.clone(), &w.xyz, g.clone(), &params).unwrap();
     let vp = ex.next_waypoints(s)[0];
     let pose = Pose::new([vp[0], vp[1], vp[2] + params.sensor_height_m], 0.0);
     let points = scan(&w.caster, &LidarConfig::default(), &pose, 0)

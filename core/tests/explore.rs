@@ -5,6 +5,8 @@
 
 mod planning_scene;
 
+use std::sync::Arc;
+
 use planning_scene::{corner_region, start, world};
 use skyground_core::explore::{ExploreError, ExploreParams, Explorer, SurfaceSamples, resample};
 use skyground_core::graph::{GraphParams, GroundGraph, polygon_contains};
@@ -47,13 +49,13 @@ fn missing_walls(region: &Region) -> SurfaceSamples {
 
 /// Coverage after scanning from every 4th graph node in the region.
 fn reachable_coverage(
-    g: &GroundGraph,
+    g: &Arc<GroundGraph>,
     region: &Region,
     surface: &SurfaceSamples,
     params: &ExploreParams,
 ) -> f64 {
     let w = world();
-    let mut ex = Explorer::new(region, surface.clone(), &[], g, params).unwrap();
+    let mut ex = Explorer::new(region, surface.clone(), &[], g.clone(), params).unwrap();
     let mut all = Vec::new();
     for (k, &n) in g
         .nodes_in_polygon(&region.polygon)
@@ -76,7 +78,8 @@ fn reachable_coverage(
 #[test]
 fn coverage_rises_with_every_scan_until_done() {
     let w = world();
-    let g = GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap();
+    let g =
+        Arc::new(GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap());
     let params = ExploreParams::default();
     let lidar = LidarConfig::default();
     for b in [2u32, 9] {
@@ -87,7 +90,7 @@ fn coverage_rises_with_every_scan_until_done() {
             "building {b}: only {} missing samples",
             surface.xyz.len()
         );
-        let mut ex = Explorer::new(&region, surface.clone(), &w.xyz, &g, &params).unwrap();
+        let mut ex = Explorer::new(&region, surface.clone(), &w.xyz, g.clone(), &params).unwrap();
         let mut pos = g.positions()[g
             .nearest_node([region.polygon[0][0] as f32, region.polygon[0][1] as f32])
             .unwrap()
@@ -141,7 +144,8 @@ fn coverage_rises_with_every_scan_until_done() {
 #[test]
 fn bad_input_gives_errors() {
     let w = world();
-    let g = GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap();
+    let g =
+        Arc::new(GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap());
     let region = corner_region(w, 2, 6.0, 12.0);
     let p = ExploreParams::default();
     let bad = SurfaceSamples {
@@ -149,7 +153,7 @@ fn bad_input_gives_errors() {
         normal: vec![[1.0, 0.0, 0.0]],
     };
     assert!(matches!(
-        Explorer::new(&region, bad, &[], &g, &p),
+        Explorer::new(&region, bad, &[], g.clone(), &p),
         Err(ExploreError::NormalLength { .. })
     ));
     let line = Region {
@@ -157,7 +161,7 @@ fn bad_input_gives_errors() {
         ..region.clone()
     };
     assert!(matches!(
-        Explorer::new(&line, vec![], &[], &g, &p),
+        Explorer::new(&line, vec![], &[], g.clone(), &p),
         Err(ExploreError::DegenerateRegion { .. })
     ));
     let bad_p = ExploreParams {
@@ -165,10 +169,46 @@ fn bad_input_gives_errors() {
         ..p.clone()
     };
     assert!(matches!(
-        Explorer::new(&region, vec![], &[], &g, &bad_p),
+        Explorer::new(&region, vec![], &[], g.clone(), &bad_p),
         Err(ExploreError::Param { field: "tau_m", .. })
     ));
     // Nothing to cover: done at once, full coverage.
-    let ex = Explorer::new(&region, vec![], &[], &g, &p).unwrap();
+    let ex = Explorer::new(&region, vec![], &[], g.clone(), &p).unwrap();
     assert!(ex.done() && ex.coverage() == 1.0);
+}
+
+#[test]
+fn path_to_follows_graph_edges_to_the_target_node() {
+    let w = world();
+    let g =
+        Arc::new(GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap());
+    let region = corner_region(w, 2, 6.0, 12.0);
+    let ex = Explorer::new(&region, vec![], &[], g.clone(), &ExploreParams::default()).unwrap();
+    let from = start(w);
+    let target = [
+        region.polygon[0][0] as f32,
+        region.polygon[0][1] as f32,
+        0.0,
+    ];
+    let path = ex.path_to(from, target);
+    let a = g.nearest_node([from[0], from[1]]).unwrap().0;
+    let b = g.nearest_node([target[0], target[1]]).unwrap().0;
+    assert_eq!(path.first(), Some(&g.positions()[a]));
+    assert_eq!(path.last(), Some(&g.positions()[b]));
+    // Every leg is a graph edge: short and free of obstacles.
+    let edge_max = g.params().d_threshold_m;
+    for leg in path.windows(2) {
+        let (p, q) = (leg[0], leg[1]);
+        let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+        assert!(d > 0.0 && d <= edge_max, "leg of {d} m");
+        assert!(g.segment_free([p[0], p[1]], [q[0], q[1]]));
+    }
+    let straight = ((from[0] - target[0]).powi(2) + (from[1] - target[1]).powi(2)).sqrt();
+    assert!(
+        path.len() as f32 >= straight / edge_max,
+        "{} nodes for {straight} m",
+        path.len()
+    );
+    // Nowhere to start from: the target alone.
+    assert_eq!(ex.path_to([f32::NAN; 3], target), vec![target]);
 }

@@ -1,6 +1,6 @@
 //! Why a region cannot be explored.
 
-/// Errors of the explorer and of [`resample`](super::resample).
+/// Errors of the explorer and of the voxel merge ([`VoxelMerge`](super::VoxelMerge), [`resample`](super::resample)).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ExploreError {
     /// A parameter is out of range.

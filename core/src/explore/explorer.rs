@@ -3,6 +3,7 @@
 //! order, and coverage kept up to date from the scans.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
@@ -20,8 +21,9 @@ const GROUND_SKIP_M: f32 = 0.35;
 
 /// Local exploration of one region (DESIGN.md step 7).
 #[derive(Debug, Clone)]
-pub struct Explorer<'g> {
-    graph: &'g GroundGraph,
+pub struct Explorer {
+    /// Shared, so the explorer can live in a node beside the route planner.
+    graph: Arc<GroundGraph>,
     params: ExploreParams,
     /// Candidate viewpoints: graph nodes, and the sensor position above each.
     nodes: Vec<usize>,
@@ -40,7 +42,7 @@ pub struct Explorer<'g> {
     position: [f32; 3],
 }
 
-impl<'g> Explorer<'g> {
+impl Explorer {
     /// Prepares the exploration of `region`: `surface` is what must be seen
     /// (e.g. the missing wall samples of its building), `known` the points
     /// known so far (aerial + scans) that can hide it.
@@ -48,7 +50,7 @@ impl<'g> Explorer<'g> {
         region: &Region,
         surface: impl Into<SurfaceSamples>,
         known: &[[f32; 3]],
-        graph: &'g GroundGraph,
+        graph: Arc<GroundGraph>,
         params: &ExploreParams,
     ) -> Result<Self, ExploreError> {
         params.validate()?;
@@ -65,7 +67,7 @@ impl<'g> Explorer<'g> {
                 corners: region.polygon.len(),
             });
         }
-        let nodes = thin(graph, &graph.nodes_in_polygon(&region.polygon), params);
+        let nodes = thin(&graph, &graph.nodes_in_polygon(&region.polygon), params);
         let eyes: Vec<[f32; 3]> = nodes
             .iter()
             .map(|&n| {
@@ -132,6 +134,27 @@ impl<'g> Explorer<'g> {
             .iter()
             .map(|&c| self.graph.positions()[self.nodes[c]])
             .collect()
+    }
+
+    /// The graph path from the node nearest `position` to the node nearest
+    /// `target` (ground positions of the nodes, both ends included); just
+    /// `[target]` when either has no node or the target cannot be reached.
+    pub fn path_to(&self, position: [f32; 3], target: [f32; 3]) -> Vec<[f32; 3]> {
+        let g = &self.graph;
+        let finite = |p: [f32; 3]| p[0].is_finite() && p[1].is_finite();
+        if !finite(position) || !finite(target) {
+            return vec![target];
+        }
+        let ends = g
+            .nearest_node([position[0], position[1]])
+            .zip(g.nearest_node([target[0], target[1]]));
+        let Some(((a, _), (b, _))) = ends else {
+            return vec![target];
+        };
+        match g.shortest_path(a, b) {
+            Some((_, nodes)) => nodes.iter().map(|&n| g.positions()[n]).collect(),
+            None => vec![target],
+        }
     }
 
     /// Takes a scan made at `position` (the vehicle's ground position):

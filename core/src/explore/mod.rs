@@ -6,18 +6,18 @@
 //!
 //! - [`ExploreParams`] (`params`), [`ExploreError`] (`error`), [`SurfaceSamples`] (`surface`);
 //! - `voxels`: known occupancy and line of sight; `select`: greedy cover + tour;
-//! - [`Explorer`] (`explorer`); [`resample`] (`resample`): voxel de-duplication.
+//! - [`Explorer`] (`explorer`); [`VoxelMerge`], [`resample`] (`voxel_merge`): voxel de-duplication.
 
 mod error;
 mod explorer;
 mod params;
-mod resample;
 mod select;
 mod surface;
+mod voxel_merge;
 mod voxels;
 
 pub use error::ExploreError;
 pub use explorer::Explorer;
 pub use params::ExploreParams;
-pub use resample::resample;
 pub use surface::SurfaceSamples;
+pub use voxel_merge::{VoxelMerge, resample};
