@@ -1,1 +1,27 @@
-//! (being written)
+//! Step 1 of DESIGN.md as one pipeline: ground from the ground filter,
+//! then vegetation vs building by the Random Forest on per-point features;
+//! training on simulated scenes and evaluation against labels.
+//!
+//! - [`hag`]: height above ground from ground-flagged points (a stand-in
+//!   ground model until the CSF's own surface is used).
+//! - [`model`]: [`Model`] (feature params + forest), one JSON file.
+//! - [`pipeline`]: [`classify`] → LAS codes.
+//! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
+//! - [`training`]: [`TrainingCloud`], [`TrainParams`], [`train`],
+//!   [`default_training_set`] (simulated airborne scans of several seeds).
+
+pub mod error;
+pub mod hag;
+pub mod model;
+pub mod pipeline;
+pub mod report;
+pub mod training;
+
+pub use error::ClassifyError;
+pub use hag::hag_from_ground_points;
+pub use model::Model;
+pub use pipeline::classify;
+pub use report::{ClassMetrics, ClassReport};
+pub use training::{
+    TrainParams, TrainingCloud, default_training_set, simulated_cloud, train, training_surveys,
+};

@@ -1,0 +1,54 @@
+//! Classification speed: `cargo bench -p skyground-core --bench classify`.
+//!
+//! The reference scene's airborne prior, thinned to 1 M points; heights
+//! above ground and ground flags from its labels (set up once, untimed).
+//! Timed: features of every non-ground point plus the forest's votes
+//! (`classify`), and the features alone, with the shipped model.
+
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput};
+use skyground_core::classify::{Model, classify, hag_from_ground_points, simulated_cloud};
+use skyground_core::cloud::class::GROUND;
+use skyground_core::features::compute;
+use skyground_core::lidar::AirborneConfig;
+use skyground_core::scene::REFERENCE_SEED;
+
+const POINTS: usize = 1_000_000;
+
+fn benches(c: &mut Criterion) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    let model = Model::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let full = simulated_cloud(REFERENCE_SEED, &AirborneConfig::default()).unwrap();
+    let n = full.xyz.len();
+    let keep: Vec<usize> = (0..POINTS.min(n)).map(|i| i * n / POINTS.min(n)).collect();
+    let xyz: Vec<[f32; 3]> = keep.iter().map(|&i| full.xyz[i]).collect();
+    let is_ground: Vec<bool> = keep.iter().map(|&i| full.label[i] == GROUND).collect();
+    let hag = hag_from_ground_points(&xyz, &is_ground).unwrap();
+    println!(
+        "{} of {} points, {} not ground, {} threads",
+        xyz.len(),
+        n,
+        is_ground.iter().filter(|g| !**g).count(),
+        rayon::current_num_threads()
+    );
+    let mut g = c.benchmark_group("classify");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(30));
+    g.throughput(Throughput::Elements(xyz.len() as u64));
+    g.bench_function("classify_1M", |b| {
+        b.iter(|| classify(black_box(&xyz), &hag, &is_ground, &model).map(|l| l.len()))
+    });
+    g.bench_function("features_all_1M", |b| {
+        b.iter(|| compute(black_box(&xyz), &hag, &model.feature_params).map(|f| f.len()))
+    });
+    g.finish();
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    benches(&mut c);
+    c.final_summary();
+}

@@ -1,0 +1,62 @@
+//! What can go wrong classifying, training or loading a model.
+
+use crate::features::FeatureError;
+use crate::forest::ForestError;
+
+/// Errors of the classification pipeline.
+#[derive(Debug, thiserror::Error)]
+pub enum ClassifyError {
+    /// Bad cloud or feature parameters.
+    #[error(transparent)]
+    Features(#[from] FeatureError),
+    /// Training or prediction of the forest failed.
+    #[error(transparent)]
+    Forest(#[from] ForestError),
+    /// A per-point column does not match the cloud.
+    #[error("{what} has {got} values but the cloud has {expected} points")]
+    LengthMismatch {
+        /// Which column.
+        what: &'static str,
+        /// Number of points.
+        expected: usize,
+        /// Number of values given.
+        got: usize,
+    },
+    /// The cloud has no points.
+    #[error("the cloud is empty")]
+    Empty,
+    /// A coordinate is NaN or infinite.
+    #[error("coordinate of point {index} is not finite: drop or repair such points first")]
+    NonFinite {
+        /// First offending point.
+        index: usize,
+    },
+    /// No point is flagged as ground, so heights above ground are unknown.
+    #[error("no ground points: run the ground filter first or flag ground points")]
+    NoGround,
+    /// Training found no labelled samples of some class.
+    #[error("training data have no samples of class {class}")]
+    MissingClass {
+        /// LAS code.
+        class: u8,
+    },
+    /// The model's feature count does not match its feature definition.
+    #[error("model expects {expected} features but the feature set has {got}: retrain the model")]
+    ModelMismatch {
+        /// Features the forest was trained on.
+        expected: usize,
+        /// Features computed now.
+        got: usize,
+    },
+    /// Simulating a training scan failed.
+    #[error("simulating a training scan: {0}")]
+    Simulation(String),
+    /// Reading or writing a model file.
+    #[error("model file {path}: {message}")]
+    File {
+        /// The file.
+        path: String,
+        /// What failed.
+        message: String,
+    },
+}

@@ -1,0 +1,71 @@
+//! A trained classifier as one file: the feature definition and the forest.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::error::ClassifyError;
+use crate::features::{FEATURE_NAMES, FeatureParams};
+use crate::forest::RandomForest;
+
+/// What `classify` needs: how features are computed and the forest on them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    /// Neighbourhood sizes the forest was trained with.
+    pub feature_params: FeatureParams,
+    /// Feature names in column order (checked on load).
+    pub feature_names: Vec<String>,
+    /// The forest; its classes are LAS codes (2, 5, 6).
+    pub forest: RandomForest,
+    /// The LAS codes the forest tells apart.
+    pub classes: Vec<u8>,
+    /// What the model was trained on, for provenance.
+    pub trained_on: String,
+}
+
+impl Model {
+    /// Checks the forest against the current feature definition.
+    pub fn check(&self) -> Result<(), ClassifyError> {
+        self.feature_params.validate()?;
+        self.forest.check()?;
+        let names_match = self
+            .feature_names
+            .iter()
+            .map(String::as_str)
+            .eq(FEATURE_NAMES);
+        if self.forest.dims() != FEATURE_NAMES.len() || !names_match {
+            return Err(ClassifyError::ModelMismatch {
+                expected: self.forest.dims(),
+                got: FEATURE_NAMES.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Writes the model as JSON.
+    pub fn save(&self, path: &Path) -> Result<(), ClassifyError> {
+        let err = |m: String| ClassifyError::File {
+            path: path.display().to_string(),
+            message: m,
+        };
+        let f = File::create(path).map_err(|e| err(e.to_string()))?;
+        let mut w = BufWriter::new(f);
+        serde_json::to_writer(&mut w, self).map_err(|e| err(e.to_string()))?;
+        w.flush().map_err(|e| err(e.to_string()))
+    }
+
+    /// Reads and checks a model written by [`Self::save`].
+    pub fn load(path: &Path) -> Result<Self, ClassifyError> {
+        let err = |m: String| ClassifyError::File {
+            path: path.display().to_string(),
+            message: m,
+        };
+        let f = File::open(path).map_err(|e| err(e.to_string()))?;
+        let m: Self = serde_json::from_reader(BufReader::new(f)).map_err(|e| err(e.to_string()))?;
+        m.check()?;
+        Ok(m)
+    }
+}

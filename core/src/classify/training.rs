@@ -1,0 +1,222 @@
+//! Training data from simulated airborne scans, and training itself.
+//!
+//! Every simulated point knows its class (the scene object it hit), so the
+//! reference scene's other seeds, scanned at several densities, angles and
+//! noise levels, make a labelled training set without any real data; the
+//! reference seed itself is left out for evaluation.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::error::ClassifyError;
+use super::hag::hag_from_ground_points;
+use super::model::Model;
+use crate::cloud::class::{BUILDING, GROUND, VEGETATION, fold};
+use crate::features::{FEATURE_NAMES, FeatureParams, compute_subset};
+use crate::forest::{ForestParams, RandomForest};
+use crate::lidar::{AirborneConfig, Caster, FlightPattern, airborne_scan};
+use crate::scene::reference_scene;
+
+/// One labelled cloud to learn from.
+#[derive(Debug, Clone)]
+pub struct TrainingCloud {
+    /// Where it came from (goes into `Model::trained_on`).
+    pub name: String,
+    /// Points.
+    pub xyz: Vec<[f32; 3]>,
+    /// Height above ground per point, metres.
+    pub hag: Vec<f32>,
+    /// Reference LAS class per point (folded by `train`).
+    pub label: Vec<u8>,
+}
+
+/// How to sample and train.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TrainParams {
+    /// Neighbourhood sizes.
+    pub features: FeatureParams,
+    /// Forest hyper-parameters.
+    pub forest: ForestParams,
+    /// Samples drawn per class from each cloud (fewer if it has fewer), so
+    /// every class and every density weighs alike.
+    pub per_class: usize,
+    /// Seed of the sampling.
+    pub seed: u64,
+}
+
+impl Default for TrainParams {
+    fn default() -> Self {
+        Self {
+            features: FeatureParams::default(),
+            forest: ForestParams::default(),
+            per_class: 10_000,
+            seed: 11,
+        }
+    }
+}
+
+impl TrainParams {
+    /// Checks every field's range.
+    pub fn validate(&self) -> Result<(), ClassifyError> {
+        self.features.validate()?;
+        self.forest.validate()?;
+        if self.per_class == 0 {
+            return Err(ClassifyError::Forest(crate::forest::ForestError::Param {
+                field: "per_class",
+                value: 0.0,
+                rule: "must be ≥ 1",
+            }));
+        }
+        Ok(())
+    }
+}
+
+/// Classes the forest learns.
+const CLASSES: [u8; 3] = [GROUND, VEGETATION, BUILDING];
+
+/// Trains a model on balanced samples of `clouds`.
+pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, ClassifyError> {
+    params.validate()?;
+    let mut x = Vec::new();
+    let mut y = Vec::new();
+    for (ci, c) in clouds.iter().enumerate() {
+        if c.label.len() != c.xyz.len() {
+            return Err(ClassifyError::LengthMismatch {
+                what: "training labels",
+                expected: c.xyz.len(),
+                got: c.label.len(),
+            });
+        }
+        let rows = balanced_rows(&c.label, params.per_class, params.seed ^ ci as u64);
+        let f = compute_subset(&c.xyz, &c.hag, &rows, &params.features)?;
+        x.extend_from_slice(&f.data);
+        y.extend(rows.iter().map(|&r| fold(c.label[r])));
+    }
+    for class in CLASSES {
+        if !y.contains(&class) {
+            return Err(ClassifyError::MissingClass { class });
+        }
+    }
+    let forest = RandomForest::fit(&x, FEATURE_NAMES.len(), &y, &params.forest)?;
+    let names: Vec<&str> = clouds.iter().map(|c| c.name.as_str()).collect();
+    Ok(Model {
+        feature_params: params.features.clone(),
+        feature_names: FEATURE_NAMES.iter().map(|s| s.to_string()).collect(),
+        classes: forest.classes().to_vec(),
+        forest,
+        trained_on: format!("{} samples from {}", y.len(), names.join(", ")),
+    })
+}
+
+/// Up to `per_class` rows of each learned class, drawn without replacement.
+fn balanced_rows(label: &[u8], per_class: usize, seed: u64) -> Vec<usize> {
+    let mut out = Vec::new();
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    for class in CLASSES {
+        let mut rows: Vec<usize> = (0..label.len())
+            .filter(|&i| fold(label[i]) == class)
+            .collect();
+        let take = per_class.min(rows.len());
+        for t in 0..take {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let pick = t + (state % (rows.len() - t) as u64) as usize;
+            rows.swap(t, pick);
+        }
+        rows.truncate(take);
+        out.extend(rows);
+    }
+    out.sort_unstable();
+    out
+}
+
+/// The simulated surveys of the default training set: (scene seed, survey),
+/// from ~1.5 to ~46 pts/m², nadir and oblique, range noise 3–8 cm. None
+/// uses `REFERENCE_SEED`.
+pub fn training_surveys() -> Vec<(u64, AirborneConfig)> {
+    let d = AirborneConfig::default();
+    vec![
+        (1, d.clone()),
+        (
+            2,
+            AirborneConfig {
+                pulse_rate_hz: 60_000.0,
+                pattern: FlightPattern::AlongX,
+                seed: 2,
+                ..d.clone()
+            },
+        ),
+        (
+            3,
+            AirborneConfig {
+                pulse_rate_hz: 20_000.0,
+                oblique_deg: None,
+                range_noise_sigma: 0.05,
+                seed: 3,
+                ..d.clone()
+            },
+        ),
+        (
+            4,
+            AirborneConfig {
+                pulse_rate_hz: 15_000.0,
+                altitude_m: 400.0,
+                pattern: FlightPattern::AlongY,
+                oblique_deg: Some(15.0),
+                seed: 4,
+                ..d.clone()
+            },
+        ),
+        (
+            5,
+            AirborneConfig {
+                pulse_rate_hz: 100_000.0,
+                oblique_deg: Some(35.0),
+                range_noise_sigma: 0.08,
+                seed: 5,
+                ..d.clone()
+            },
+        ),
+        (
+            6,
+            AirborneConfig {
+                pulse_rate_hz: 30_000.0,
+                altitude_m: 250.0,
+                pattern: FlightPattern::AlongX,
+                oblique_deg: None,
+                seed: 6,
+                ..d
+            },
+        ),
+    ]
+}
+
+/// One simulated airborne scan of the reference city `seed`, with heights
+/// above ground from its ground-labelled points (the stand-in for CSF).
+pub fn simulated_cloud(seed: u64, survey: &AirborneConfig) -> Result<TrainingCloud, ClassifyError> {
+    let scene = reference_scene(seed);
+    let caster = Caster::new(&scene).map_err(|e| ClassifyError::Simulation(e.to_string()))?;
+    let cloud =
+        airborne_scan(&caster, survey).map_err(|e| ClassifyError::Simulation(e.to_string()))?;
+    let label = cloud
+        .label
+        .ok_or_else(|| ClassifyError::Simulation("scan has no labels".into()))?;
+    let is_ground: Vec<bool> = label.iter().map(|&c| c == GROUND).collect();
+    let hag = hag_from_ground_points(&cloud.xyz, &is_ground)?;
+    Ok(TrainingCloud {
+        name: format!("reference:{seed} @ {:.0} pts/m²", survey.nominal_density()),
+        xyz: cloud.xyz,
+        hag,
+        label,
+    })
+}
+
+/// The default training set: [`simulated_cloud`] of every [`training_surveys`] entry.
+pub fn default_training_set() -> Result<Vec<TrainingCloud>, ClassifyError> {
+    training_surveys()
+        .par_iter()
+        .map(|(seed, survey)| simulated_cloud(*seed, survey))
+        .collect()
+}

@@ -1,0 +1,177 @@
+//! Shape of one neighbourhood from the eigenvalues of its covariance:
+//! how line-, plane- or volume-like it is and which way its normal points.
+
+/// Running sums of a neighbourhood (coordinates relative to an anchor, so
+/// f64 sums stay accurate far from the origin).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Moments {
+    n: f64,
+    s: [f64; 3],
+    ss: [[f64; 3]; 3],
+    z_min: f64,
+    z_max: f64,
+}
+
+impl Moments {
+    /// Adds one point, given relative to the anchor.
+    pub fn add(&mut self, d: [f64; 3]) {
+        if self.n == 0.0 {
+            self.z_min = d[2];
+            self.z_max = d[2];
+        }
+        self.n += 1.0;
+        for i in 0..3 {
+            self.s[i] += d[i];
+            for j in i..3 {
+                self.ss[i][j] += d[i] * d[j];
+            }
+        }
+        self.z_min = self.z_min.min(d[2]);
+        self.z_max = self.z_max.max(d[2]);
+    }
+
+    /// Number of points added.
+    pub fn count(&self) -> f64 {
+        self.n
+    }
+
+    /// The shape; all zeros for fewer than 3 points.
+    pub fn shape(&self) -> Shape {
+        if self.n < 3.0 {
+            return Shape::default();
+        }
+        let m = self.s.map(|v| v / self.n);
+        let mut c = [[0.0f64; 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                c[i][j] = self.ss[i][j] / self.n - m[i] * m[j];
+                c[j][i] = c[i][j];
+            }
+        }
+        let (l, normal) = eigen_sym3(c);
+        let sum = l[0] + l[1] + l[2];
+        let mut out = Shape {
+            mean: m,
+            z_min: self.z_min,
+            z_max: self.z_max,
+            normal,
+            ..Shape::default()
+        };
+        if sum > 1e-12 && l[0] > 1e-12 {
+            out.linearity = (l[0] - l[1]) / l[0];
+            out.planarity = (l[1] - l[2]) / l[0];
+            out.sphericity = l[2] / l[0];
+            out.curvature = l[2] / sum;
+            out.spread = l[0].sqrt();
+        }
+        out
+    }
+}
+
+/// Eigen-features of a neighbourhood (λ1 ≥ λ2 ≥ λ3).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Shape {
+    /// (λ1 − λ2) / λ1.
+    pub linearity: f64,
+    /// (λ2 − λ3) / λ1.
+    pub planarity: f64,
+    /// λ3 / λ1.
+    pub sphericity: f64,
+    /// λ3 / (λ1 + λ2 + λ3): change of curvature.
+    pub curvature: f64,
+    /// √λ1: the neighbourhood's extent along its main axis.
+    pub spread: f64,
+    /// Unit eigenvector of λ3.
+    pub normal: [f64; 3],
+    /// Centroid, relative to the anchor.
+    pub mean: [f64; 3],
+    /// Lowest z, relative to the anchor.
+    pub z_min: f64,
+    /// Highest z, relative to the anchor.
+    pub z_max: f64,
+}
+
+/// Eigenvalues (descending, clamped ≥ 0) and the eigenvector of the smallest,
+/// by cyclic Jacobi rotations (robust for repeated eigenvalues).
+fn eigen_sym3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [f64; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..32 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+        if off <= 1e-15 * scale.max(1e-300) {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
+    let vals = idx.map(|i| a[i][i].max(0.0));
+    let small = idx[2];
+    let normal = [v[0][small], v[1][small], v[2][small]];
+    (vals, normal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shape_of(points: &[[f64; 3]]) -> Shape {
+        let mut m = Moments::default();
+        points.iter().for_each(|p| m.add(*p));
+        m.shape()
+    }
+
+    #[test]
+    fn plane_line_and_blob() {
+        let plane: Vec<[f64; 3]> = (0..100)
+            .map(|i| [(i % 10) as f64, (i / 10) as f64, 0.5 * (i % 10) as f64])
+            .collect();
+        let s = shape_of(&plane);
+        assert!(s.planarity > 0.7 && s.curvature < 1e-9, "{s:?}");
+        // Normal of the plane z = 0.5 x is ∝ (−0.5, 0, 1).
+        let n = s.normal;
+        assert!((n[2].abs() - 1.0 / 1.25f64.sqrt()).abs() < 1e-6, "{n:?}");
+        assert!(n[1].abs() < 1e-6);
+        let line: Vec<[f64; 3]> = (0..50).map(|i| [i as f64, 2.0 * i as f64, 0.0]).collect();
+        assert!(shape_of(&line).linearity > 0.99);
+        let cube: Vec<[f64; 3]> = (0..27)
+            .map(|i| [(i % 3) as f64, ((i / 3) % 3) as f64, (i / 9) as f64])
+            .collect();
+        let s = shape_of(&cube);
+        assert!((s.sphericity - 1.0).abs() < 1e-9 && (s.curvature - 1.0 / 3.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn degenerate_is_zero_not_nan() {
+        let s = shape_of(&[[1.0, 1.0, 1.0]; 8]);
+        assert_eq!(s.linearity, 0.0);
+        assert_eq!(s.curvature, 0.0);
+        assert!(s.normal.iter().all(|v| v.is_finite()));
+        let s = shape_of(&[[0.0; 3], [1.0, 0.0, 0.0]]);
+        assert_eq!(s.planarity, 0.0);
+    }
+}

@@ -1,0 +1,179 @@
+//! Classification (DESIGN.md step 1) against ground truth: the shipped model
+//! on the reference scene's airborne prior (a seed it was not trained on)
+//! and on a real producer-classified file, a small training run, and typed
+//! errors for bad input.
+//!
+//! Heights above ground come from the ground-labelled points
+//! (`hag_from_ground_points`), standing in for the CSF ground model, and
+//! `is_ground` is the reference ground label: these tests measure the
+//! vegetation / building forest, not the ground filter.
+
+use std::path::PathBuf;
+
+use skyground_core::classify::{
+    ClassReport, ClassifyError, Model, TrainParams, classify, hag_from_ground_points,
+    simulated_cloud, train,
+};
+use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
+use skyground_core::cloud::read_cloud;
+use skyground_core::features::FeatureError;
+use skyground_core::forest::ForestParams;
+use skyground_core::lidar::{AirborneConfig, FlightPattern};
+use skyground_core::scene::REFERENCE_SEED;
+
+fn shipped_model() -> Model {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn real_file(name: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
+        PathBuf::from,
+    );
+    if !dir.is_dir() {
+        eprintln!("SKIPPED: real data not found (looked in {})", dir.display());
+        return None;
+    }
+    Some(dir.join(name))
+}
+
+fn evaluate(xyz: &[[f32; 3]], label: &[u8], model: &Model) -> ClassReport {
+    let is_ground: Vec<bool> = label.iter().map(|&c| c == GROUND).collect();
+    let hag = hag_from_ground_points(xyz, &is_ground).unwrap();
+    let predicted = classify(xyz, &hag, &is_ground, model).unwrap();
+    ClassReport::new(label, &predicted).unwrap()
+}
+
+#[test]
+fn reference_prior_buildings_and_vegetation() {
+    let model = shipped_model();
+    assert!(
+        !model
+            .trained_on
+            .contains(&format!("reference:{REFERENCE_SEED} "))
+    );
+    let cloud = simulated_cloud(REFERENCE_SEED, &AirborneConfig::default()).unwrap();
+    let r = evaluate(&cloud.xyz, &cloud.label, &model);
+    println!(
+        "reference scene (seed {REFERENCE_SEED}), default survey, hag from ground truth:\n{}",
+        r.table()
+    );
+    let b = r.class(BUILDING).unwrap().f1;
+    let v = r.class(VEGETATION).unwrap().f1;
+    assert!(b >= 0.97, "building F1 {b:.4}");
+    assert!(v >= 0.90, "vegetation F1 {v:.4}");
+}
+
+#[test]
+fn sample_c_buildings_with_the_shipped_model() {
+    let Some(path) = real_file("sample_c.las") else {
+        return;
+    };
+    let cloud = read_cloud(&path).unwrap();
+    let label = cloud.label.clone().unwrap();
+    assert_eq!(cloud.len(), 14_408);
+    let r = evaluate(&cloud.xyz, &label, &shipped_model());
+    println!(
+        "sample_c.las (producer ground labels as is_ground, hag from them):\n{}",
+        r.table()
+    );
+    let b = r.class(BUILDING).unwrap().f1;
+    assert!(b >= 0.90, "building F1 {b:.4}");
+}
+
+#[test]
+fn a_small_training_run_generalises_to_another_city() {
+    let sparse = AirborneConfig {
+        pulse_rate_hz: 40_000.0,
+        pattern: FlightPattern::AlongX,
+        ..AirborneConfig::default()
+    };
+    let train_cloud = simulated_cloud(31, &sparse).unwrap();
+    let params = TrainParams {
+        per_class: 3_000,
+        forest: ForestParams {
+            trees: 12,
+            ..ForestParams::default()
+        },
+        ..TrainParams::default()
+    };
+    let model = train(&[train_cloud], &params).unwrap();
+    assert_eq!(model.classes, vec![GROUND, VEGETATION, BUILDING]);
+    let test_cloud = simulated_cloud(32, &sparse).unwrap();
+    let r = evaluate(&test_cloud.xyz, &test_cloud.label, &model);
+    println!(
+        "trained on city 31, tested on city 32 at {:.0} pts/m²:\n{}",
+        sparse.nominal_density(),
+        r.table()
+    );
+    assert!(r.class(BUILDING).unwrap().f1 > 0.9);
+    assert!(r.class(VEGETATION).unwrap().f1 > 0.75);
+    // Round trip through the model file.
+    let path = std::env::temp_dir().join(format!("skyground_model_{}.json", std::process::id()));
+    model.save(&path).unwrap();
+    let back = Model::load(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(back, model);
+}
+
+#[test]
+fn bad_input_gives_typed_errors() {
+    let model = shipped_model();
+    let xyz: Vec<[f32; 3]> = (0..50)
+        .map(|i| [i as f32, (i * 7 % 11) as f32, 0.0])
+        .collect();
+    let hag = vec![0.0f32; 50];
+    let ground = vec![false; 50];
+    assert!(matches!(
+        classify(&[], &[], &[], &model),
+        Err(ClassifyError::Empty)
+    ));
+    assert!(matches!(
+        classify(&xyz, &hag[..10], &ground, &model),
+        Err(ClassifyError::LengthMismatch { what: "hag", .. })
+    ));
+    assert!(matches!(
+        classify(&xyz, &hag, &ground[..49], &model),
+        Err(ClassifyError::LengthMismatch {
+            what: "is_ground",
+            ..
+        })
+    ));
+    let mut nan = xyz.clone();
+    nan[5][2] = f32::NAN;
+    assert!(matches!(
+        classify(&nan, &hag, &ground, &model),
+        Err(ClassifyError::Features(FeatureError::NonFinite {
+            index: 5,
+            ..
+        }))
+    ));
+    let mut bad_hag = hag.clone();
+    bad_hag[3] = f32::INFINITY;
+    assert!(matches!(
+        classify(&xyz, &bad_hag, &ground, &model),
+        Err(ClassifyError::Features(FeatureError::NonFinite {
+            what: "hag",
+            index: 3
+        }))
+    ));
+    assert!(matches!(
+        hag_from_ground_points(&nan, &[true; 50]),
+        Err(ClassifyError::NonFinite { index: 5 })
+    ));
+    // All ground: nothing for the forest to do.
+    assert_eq!(
+        classify(&xyz, &hag, &[true; 50], &model).unwrap(),
+        vec![GROUND; 50]
+    );
+    assert!(matches!(
+        ClassReport::new(&[1, 2], &[2]),
+        Err(ClassifyError::LengthMismatch { .. })
+    ));
+    let missing = PathBuf::from("/nonexistent/model.json");
+    assert!(matches!(
+        Model::load(&missing),
+        Err(ClassifyError::File { .. })
+    ));
+}
