@@ -1,0 +1,218 @@
+//! GeoJSON footprints: a FeatureCollection, a Feature or a bare geometry;
+//! Polygon, MultiPolygon and GeometryCollections of them, with holes.
+//!
+//! Ids come from the feature's `id`, or its property `id` or `building`
+//! (a positive integer or a string of one); features without one get the
+//! next free ids in file order. Features sharing an id are merged.
+
+use std::collections::BTreeMap;
+
+use geo::{MultiPolygon, Polygon};
+use serde_json::Value;
+
+use super::error::{ParseError, RingProblem, Skipped};
+use super::polygon::{ring, union_valid};
+use super::types::{Footprint, Loaded};
+
+/// Decodes GeoJSON bytes; coordinates have `origin` (x, y) subtracted.
+pub fn parse_geojson(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError> {
+    let v = super::json::parse(data)?;
+    let kind = v.get("type").and_then(Value::as_str).unwrap_or("");
+    let features: Vec<&Value> = match kind {
+        "FeatureCollection" => v
+            .get("features")
+            .and_then(Value::as_array)
+            .ok_or_else(|| shape("a FeatureCollection needs a `features` array"))?
+            .iter()
+            .collect(),
+        "Feature" | "Polygon" | "MultiPolygon" | "GeometryCollection" => vec![&v],
+        "" => return Err(shape("not GeoJSON: no `type` member at the top level")),
+        other => {
+            return Err(shape(&format!(
+                "GeoJSON type `{other}` holds no polygons (FeatureCollection, Feature, Polygon or MultiPolygon expected)"
+            )));
+        }
+    };
+    let mut skipped = Vec::new();
+    let mut parts: Vec<(Option<u32>, String, MultiPolygon<f64>)> = Vec::new();
+    for (k, f) in features.iter().enumerate() {
+        let (geometry, props) = if f.get("type").and_then(Value::as_str) == Some("Feature") {
+            (f.get("geometry").unwrap_or(&Value::Null), f.get("properties"))
+        } else {
+            (*f, None)
+        };
+        let label = format!("feature {k}");
+        let mut polys = Vec::new();
+        collect_polygons(geometry, origin, &label, &mut polys, &mut skipped);
+        if polys.is_empty() {
+            continue;
+        }
+        match union_valid(&polys) {
+            Ok(mp) => {
+                let id = feature_id(f, props);
+                let name = props
+                    .and_then(|p| p.get("name"))
+                    .and_then(Value::as_str)
+                    .map(str::to_string)
+                    .or_else(|| id.map(|i| i.to_string()))
+                    .unwrap_or_else(|| format!("feature_{k}"));
+                parts.push((id, name, mp));
+            }
+            Err(problem) => skipped.push(Skipped {
+                source: label,
+                problem,
+            }),
+        }
+    }
+    let mut next = parts.iter().filter_map(|p| p.0).max().unwrap_or(0);
+    let mut by_id: BTreeMap<u32, (String, Vec<Polygon<f64>>)> = BTreeMap::new();
+    for (id, name, mp) in parts {
+        let id = id.unwrap_or_else(|| {
+            next = next.saturating_add(1);
+            next
+        });
+        by_id
+            .entry(id)
+            .or_insert_with(|| (name, Vec::new()))
+            .1
+            .extend(mp);
+    }
+    let footprints: Vec<Footprint> = by_id
+        .into_iter()
+        .filter_map(|(id, (name, polys))| {
+            Some(Footprint {
+                id,
+                polygon: union_valid(&polys).ok()?,
+                name,
+            })
+        })
+        .collect();
+    if footprints.is_empty() {
+        return Err(ParseError::NoFootprints {
+            skipped: skipped.len(),
+            first: skipped.first().map(ToString::to_string),
+        });
+    }
+    Ok(Loaded {
+        footprints,
+        skipped,
+    })
+}
+
+fn shape(what: &str) -> ParseError {
+    ParseError::Shape {
+        what: what.to_string(),
+    }
+}
+
+/// A positive id from the feature's `id` or its properties `id` / `building`.
+fn feature_id(feature: &Value, props: Option<&Value>) -> Option<u32> {
+    let as_id = |v: &Value| -> Option<u32> {
+        let n = match v {
+            Value::Number(n) => n.as_u64()?,
+            Value::String(s) => s.trim().parse::<u64>().ok()?,
+            _ => return None,
+        };
+        u32::try_from(n).ok().filter(|&n| n > 0)
+    };
+    let p = |key: &str| props.and_then(|p| p.get(key)).and_then(as_id);
+    p("id")
+        .or_else(|| p("building"))
+        .or_else(|| feature.get("id").and_then(as_id))
+}
+
+/// Appends the polygons of a geometry (non-polygon geometries are skipped and counted).
+fn collect_polygons(
+    g: &Value,
+    origin: [f64; 3],
+    label: &str,
+    out: &mut Vec<Polygon<f64>>,
+    skipped: &mut Vec<Skipped>,
+) {
+    let coords = g.get("coordinates");
+    match g.get("type").and_then(Value::as_str) {
+        Some("Polygon") => {
+            if let Some(p) = polygon(coords, origin, label, skipped) {
+                out.push(p);
+            }
+        }
+        Some("MultiPolygon") => match coords.and_then(Value::as_array) {
+            Some(ps) => {
+                for (k, p) in ps.iter().enumerate() {
+                    let l = format!("{label}, polygon {k}");
+                    if let Some(p) = polygon(Some(p), origin, &l, skipped) {
+                        out.push(p);
+                    }
+                }
+            }
+            None => skipped.push(Skipped {
+                source: label.to_string(),
+                problem: RingProblem::BadPosition,
+            }),
+        },
+        Some("GeometryCollection") => {
+            for sub in g
+                .get("geometries")
+                .and_then(Value::as_array)
+                .into_iter()
+                .flatten()
+            {
+                collect_polygons(sub, origin, label, out, skipped);
+            }
+        }
+        other => skipped.push(Skipped {
+            source: label.to_string(),
+            problem: RingProblem::NotPolygon(other.unwrap_or("null").to_string()),
+        }),
+    }
+}
+
+/// One Polygon's `coordinates`: a bad exterior skips the polygon, a bad hole only the hole.
+fn polygon(
+    coords: Option<&Value>,
+    origin: [f64; 3],
+    label: &str,
+    skipped: &mut Vec<Skipped>,
+) -> Option<Polygon<f64>> {
+    let mut skip = |problem| {
+        skipped.push(Skipped {
+            source: label.to_string(),
+            problem,
+        })
+    };
+    let Some(rings) = coords.and_then(Value::as_array) else {
+        skip(RingProblem::BadPosition);
+        return None;
+    };
+    let mut out = Vec::with_capacity(rings.len());
+    for (k, r) in rings.iter().enumerate() {
+        let parsed = positions(r, origin).and_then(|p| ring(&p, true));
+        match parsed {
+            Ok(l) => out.push(l),
+            Err(problem) if k == 0 => {
+                skip(problem);
+                return None;
+            }
+            Err(problem) => skip(problem),
+        }
+    }
+    let mut it = out.into_iter();
+    let outer = it.next()?;
+    Some(Polygon::new(outer, it.collect()))
+}
+
+fn positions(ring: &Value, origin: [f64; 3]) -> Result<Vec<[f64; 2]>, RingProblem> {
+    ring.as_array()
+        .ok_or(RingProblem::BadPosition)?
+        .iter()
+        .map(|p| {
+            let a = p.as_array().filter(|a| a.len() >= 2);
+            let x = a.and_then(|a| a[0].as_f64());
+            let y = a.and_then(|a| a[1].as_f64());
+            match (x, y) {
+                (Some(x), Some(y)) => Ok([x - origin[0], y - origin[1]]),
+                _ => Err(RingProblem::BadPosition),
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,105 @@
+//! Tunables of splitting and deriving, as read from a node's params YAML.
+
+use super::error::ParamsError;
+
+/// How points are assigned to footprints ([`super::split`]).
+#[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SplitParams {
+    /// Points outside every footprint but within this distance (m) of one's
+    /// outline still belong to it (wall points, roof overhangs, noise).
+    pub tolerance_m: f64,
+    /// Cell size (m) of the grid that indexes footprints by bounding box.
+    pub index_cell_m: f64,
+}
+
+impl Default for SplitParams {
+    fn default() -> Self {
+        Self {
+            tolerance_m: 0.5,
+            index_cell_m: 4.0,
+        }
+    }
+}
+
+impl SplitParams {
+    /// Checks ranges.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        check("tolerance_m", self.tolerance_m, 0.0, 100.0, "0 ≤ value ≤ 100 m")?;
+        check("index_cell_m", self.index_cell_m, 0.1, 1000.0, "0.1 ≤ value ≤ 1000 m")
+    }
+}
+
+/// How footprints are derived from building points ([`super::derive`]).
+#[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DeriveParams {
+    /// Occupancy grid cell (m): about twice the point spacing or more.
+    pub cell_m: f64,
+    /// Closing radius in cells: fills gaps up to twice this between occupied
+    /// cells (sparse roofs) while keeping wider alleys open.
+    pub closing_cells: u32,
+    /// Clusters with fewer points are dropped (clutter, misclassified points).
+    pub min_points: usize,
+    /// Outlines with less area (m²) are dropped.
+    pub min_area_m2: f64,
+    /// Adjacent cells whose highest points differ by more (m) belong to
+    /// different buildings; 0 turns this split off.
+    pub height_jump_m: f64,
+    /// A height-split part whose outline touches open ground for less than
+    /// this share of its cell edges is merged back into its neighbour (a
+    /// tower on its podium is one building).
+    pub min_open_share: f64,
+    /// Douglas–Peucker tolerance (m) for the traced outlines.
+    pub simplify_m: f64,
+}
+
+impl Default for DeriveParams {
+    fn default() -> Self {
+        Self {
+            cell_m: 0.5,
+            closing_cells: 1,
+            min_points: 50,
+            min_area_m2: 10.0,
+            height_jump_m: 0.0,
+            min_open_share: 0.25,
+            simplify_m: 0.4,
+        }
+    }
+}
+
+impl DeriveParams {
+    /// Checks ranges.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        check("cell_m", self.cell_m, 0.05, 50.0, "0.05 ≤ value ≤ 50 m")?;
+        check(
+            "closing_cells",
+            f64::from(self.closing_cells),
+            0.0,
+            10.0,
+            "0 ≤ value ≤ 10 cells",
+        )?;
+        check("min_area_m2", self.min_area_m2, 0.0, 1e9, "value ≥ 0 m²")?;
+        check("height_jump_m", self.height_jump_m, 0.0, 1e4, "value ≥ 0 m (0 = off)")?;
+        check("min_open_share", self.min_open_share, 0.0, 1.0, "0 ≤ value ≤ 1")?;
+        check("simplify_m", self.simplify_m, 0.0, 100.0, "0 ≤ value ≤ 100 m")
+    }
+}
+
+fn check(
+    name: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    expected: &'static str,
+) -> Result<(), ParamsError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(ParamsError::OutOfRange {
+            name,
+            value,
+            expected,
+        })
+    }
+}

@@ -1,0 +1,269 @@
+//! An occupancy grid of building points: count and highest z per cell,
+//! closing of small gaps, and connected components that may be cut where
+//! roof heights jump.
+
+use std::collections::HashMap;
+
+/// The grid never exceeds this many cells (the cell grows instead).
+const MAX_CELLS: f64 = 2.0e7;
+/// Empty cells kept around the data, so every component has an outside.
+const PAD: usize = 2;
+
+/// Occupancy of a regular xy grid.
+pub struct Raster {
+    /// World xy of cell (0, 0)'s lower-left corner.
+    pub lo: [f64; 2],
+    /// Cell size (m), possibly larger than asked for (see `MAX_CELLS`).
+    pub cell: f64,
+    /// Columns.
+    pub nx: usize,
+    /// Rows.
+    pub ny: usize,
+    /// Points per cell.
+    pub count: Vec<u32>,
+    /// Highest z per cell (`NEG_INFINITY` when empty).
+    pub top: Vec<f32>,
+    /// Occupied (after closing).
+    pub filled: Vec<bool>,
+}
+
+impl Raster {
+    /// Bins finite points; `None` when there are none.
+    pub fn new(points: &[[f32; 3]], cell: f64, closing: usize) -> Option<Self> {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for p in points.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
+            for k in 0..2 {
+                lo[k] = lo[k].min(f64::from(p[k]));
+                hi[k] = hi[k].max(f64::from(p[k]));
+            }
+        }
+        if !lo[0].is_finite() {
+            return None;
+        }
+        let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
+        let cell = cell.max((w * h / MAX_CELLS).sqrt());
+        let pad = PAD + closing;
+        let margin = pad as f64 * cell;
+        let lo = [lo[0] - margin, lo[1] - margin];
+        // Bounded by MAX_CELLS: the casts cannot overflow.
+        let nx = (w / cell) as usize + 1 + 2 * pad;
+        let ny = (h / cell) as usize + 1 + 2 * pad;
+        let mut count = vec![0u32; nx * ny];
+        let mut top = vec![f32::NEG_INFINITY; nx * ny];
+        for p in points.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
+            let i = ((f64::from(p[0]) - lo[0]) / cell) as usize;
+            let j = ((f64::from(p[1]) - lo[1]) / cell) as usize;
+            let k = j.min(ny - 1) * nx + i.min(nx - 1);
+            count[k] += 1;
+            top[k] = top[k].max(p[2]);
+        }
+        let filled = count.iter().map(|&c| c > 0).collect();
+        let mut r = Self {
+            lo,
+            cell,
+            nx,
+            ny,
+            count,
+            top,
+            filled,
+        };
+        r.close(closing);
+        Some(r)
+    }
+
+    /// Morphological closing with a (2r+1)² square; cells it fills take the
+    /// top of the nearest occupied cell, so height cuts still see a roof.
+    fn close(&mut self, r: usize) {
+        if r == 0 {
+            return;
+        }
+        let dilated = self.morph(&self.filled, r, true);
+        let closed = self.morph(&dilated, r, false);
+        let ri = r as isize;
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let k = j * self.nx + i;
+                if !closed[k] || self.filled[k] {
+                    continue;
+                }
+                let mut best = (usize::MAX, f32::NEG_INFINITY);
+                for dj in -ri..=ri {
+                    for di in -ri..=ri {
+                        let (x, y) = (i as isize + di, j as isize + dj);
+                        if x < 0 || y < 0 || x as usize >= self.nx || y as usize >= self.ny {
+                            continue;
+                        }
+                        let n = y as usize * self.nx + x as usize;
+                        let d = (di * di + dj * dj) as usize;
+                        if self.count[n] > 0 && d < best.0 {
+                            best = (d, self.top[n]);
+                        }
+                    }
+                }
+                self.top[k] = best.1;
+            }
+        }
+        self.filled = closed;
+    }
+
+    /// Dilation (`grow`) or erosion by a (2r+1)² square, separably.
+    fn morph(&self, src: &[bool], r: usize, grow: bool) -> Vec<bool> {
+        let (nx, ny) = (self.nx, self.ny);
+        let pass = |src: &[bool], along_x: bool| -> Vec<bool> {
+            let mut out = vec![false; nx * ny];
+            for j in 0..ny {
+                for i in 0..nx {
+                    let (c, n) = if along_x { (i, nx) } else { (j, ny) };
+                    let (a, b) = (c.saturating_sub(r), (c + r).min(n - 1));
+                    let at = |t: usize| {
+                        if along_x {
+                            src[j * nx + t]
+                        } else {
+                            src[t * nx + i]
+                        }
+                    };
+                    // Erosion treats outside the grid as empty.
+                    let edge = a + r != c || b != c + r;
+                    out[j * nx + i] = if grow {
+                        (a..=b).any(at)
+                    } else {
+                        !edge && (a..=b).all(at)
+                    };
+                }
+            }
+            out
+        };
+        let h = pass(src, true);
+        pass(&h, false)
+    }
+
+    /// Component label per cell (0 = empty), 4-connected; with `jump > 0`,
+    /// neighbours whose tops differ by more are cut apart, then parts that
+    /// touch open ground on less than `min_open` of their edges are merged
+    /// into the neighbour they share most edges with.
+    pub fn components(&self, jump: f64, min_open: f64) -> (Vec<u32>, u32) {
+        let n = self.nx * self.ny;
+        let mut uf = UnionFind::new(n);
+        let joins = |a: usize, b: usize| {
+            jump <= 0.0 || f64::from((self.top[a] - self.top[b]).abs()) <= jump
+        };
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let k = j * self.nx + i;
+                if !self.filled[k] {
+                    continue;
+                }
+                if i + 1 < self.nx && self.filled[k + 1] && joins(k, k + 1) {
+                    uf.union(k, k + 1);
+                }
+                if j + 1 < self.ny && self.filled[k + self.nx] && joins(k, k + self.nx) {
+                    uf.union(k, k + self.nx);
+                }
+            }
+        }
+        if jump > 0.0 {
+            self.merge_enclosed(&mut uf, min_open);
+        }
+        let mut label = vec![0u32; n];
+        let mut ids: HashMap<usize, u32> = HashMap::new();
+        for k in 0..n {
+            if self.filled[k] {
+                let root = uf.find(k);
+                let next = u32::try_from(ids.len() + 1).unwrap_or(u32::MAX);
+                label[k] = *ids.entry(root).or_insert(next);
+            }
+        }
+        (label, u32::try_from(ids.len()).unwrap_or(u32::MAX))
+    }
+
+    fn merge_enclosed(&self, uf: &mut UnionFind, min_open: f64) {
+        for _ in 0..8 {
+            // Per part: edges to open ground, and edges shared with each neighbour part.
+            let mut open: HashMap<usize, usize> = HashMap::new();
+            let mut total: HashMap<usize, usize> = HashMap::new();
+            let mut shared: HashMap<(usize, usize), usize> = HashMap::new();
+            for j in 0..self.ny {
+                for i in 0..self.nx {
+                    let k = j * self.nx + i;
+                    if !self.filled[k] {
+                        continue;
+                    }
+                    let a = uf.find(k);
+                    let nbrs = [
+                        (i > 0).then(|| k - 1),
+                        (i + 1 < self.nx).then(|| k + 1),
+                        (j > 0).then(|| k - self.nx),
+                        (j + 1 < self.ny).then(|| k + self.nx),
+                    ];
+                    for nb in nbrs {
+                        match nb.filter(|&m| self.filled[m]) {
+                            None => {
+                                *open.entry(a).or_default() += 1;
+                                *total.entry(a).or_default() += 1;
+                            }
+                            Some(m) => {
+                                let b = uf.find(m);
+                                if b != a {
+                                    *shared.entry((a, b)).or_default() += 1;
+                                    *total.entry(a).or_default() += 1;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            let mut merged = false;
+            let mut parts: Vec<(usize, usize)> = total.iter().map(|(&a, &t)| (t, a)).collect();
+            parts.sort_unstable();
+            for (t, a) in parts {
+                let o = open.get(&a).copied().unwrap_or(0);
+                if t == 0 || (o as f64) >= min_open * t as f64 {
+                    continue;
+                }
+                let best = shared
+                    .iter()
+                    .filter(|((x, _), _)| *x == a)
+                    .max_by_key(|&(&(_, b), &c)| (c, b))
+                    .map(|(&(_, b), _)| b);
+                if let Some(b) = best
+                    && uf.find(a) != uf.find(b)
+                {
+                    uf.union(a, b);
+                    merged = true;
+                }
+            }
+            if !merged {
+                break;
+            }
+        }
+    }
+}
+
+/// Disjoint sets over cell indices.
+struct UnionFind {
+    parent: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        Self {
+            parent: (0..n).collect(),
+        }
+    }
+
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! Assigning points to footprints: point-in-polygon over a grid of
+//! footprint bounding boxes, in parallel.
+
+use rayon::prelude::*;
+
+use super::error::ParamsError;
+use super::params::SplitParams;
+use super::types::Footprint;
+
+/// The index grid never exceeds this many cells (the cell grows instead).
+const MAX_CELLS: f64 = 4.0e6;
+
+/// One footprint as edges, for fast tests.
+struct Shape {
+    id: u32,
+    edges: Vec<[[f64; 2]; 2]>,
+}
+
+impl Shape {
+    /// Even-odd crossing count over all rings (valid multipolygons: holes excluded).
+    fn contains(&self, p: [f64; 2]) -> bool {
+        let mut inside = false;
+        for [a, b] in &self.edges {
+            if (a[1] > p[1]) != (b[1] > p[1]) {
+                let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+                if p[0] < x {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+
+    /// Squared distance to the nearest edge.
+    fn edge_distance2(&self, p: [f64; 2]) -> f64 {
+        self.edges
+            .iter()
+            .map(|&[a, b]| segment_distance2(p, a, b))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+fn segment_distance2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let q = [a[0] + t * d[0] - p[0], a[1] + t * d[1] - p[1]];
+    q[0] * q[0] + q[1] * q[1]
+}
+
+/// The building id of each point (x, y used; 0 = outside every footprint).
+///
+/// A point inside one footprint gets its id; inside several (overlapping
+/// footprints), the one it lies deepest in; inside none, the footprint whose
+/// outline is nearest if within `tolerance_m`.
+pub fn split(
+    points: &[[f32; 3]],
+    footprints: &[Footprint],
+    params: &SplitParams,
+) -> Result<Vec<u32>, ParamsError> {
+    params.validate()?;
+    let tol = params.tolerance_m;
+    let shapes: Vec<(Shape, [f64; 4])> = footprints
+        .iter()
+        .filter_map(|f| {
+            let b = f.bounds()?;
+            let mut edges = Vec::new();
+            for poly in &f.polygon.0 {
+                for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+                    for l in ring.lines() {
+                        edges.push([[l.start.x, l.start.y], [l.end.x, l.end.y]]);
+                    }
+                }
+            }
+            let b = [b[0] - tol, b[1] - tol, b[2] + tol, b[3] + tol];
+            Some((Shape { id: f.id, edges }, b))
+        })
+        .collect();
+    if shapes.is_empty() {
+        return Ok(vec![0; points.len()]);
+    }
+    let grid = Grid::new(&shapes, params.index_cell_m);
+    Ok(points
+        .par_iter()
+        .map(|p| {
+            let q = [f64::from(p[0]), f64::from(p[1])];
+            let Some(cands) = grid.candidates(q) else {
+                return 0;
+            };
+            let mut best_inside: Option<(f64, u32)> = None;
+            let mut best_near: Option<(f64, u32)> = None;
+            for &k in cands {
+                let (s, b) = &shapes[k as usize];
+                if q[0] < b[0] || q[0] > b[2] || q[1] < b[1] || q[1] > b[3] {
+                    continue;
+                }
+                if s.contains(q) {
+                    if cands.len() == 1 {
+                        return s.id;
+                    }
+                    let depth = s.edge_distance2(q);
+                    if best_inside.is_none_or(|(d, _)| depth > d) {
+                        best_inside = Some((depth, s.id));
+                    }
+                } else if best_inside.is_none() {
+                    let d = s.edge_distance2(q);
+                    if d <= tol * tol && best_near.is_none_or(|(e, _)| d < e) {
+                        best_near = Some((d, s.id));
+                    }
+                }
+            }
+            best_inside.or(best_near).map_or(0, |(_, id)| id)
+        })
+        .collect())
+}
+
+/// Footprint indices per cell of a regular grid over their (buffered) boxes.
+struct Grid {
+    lo: [f64; 2],
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+impl Grid {
+    fn new(shapes: &[(Shape, [f64; 4])], cell: f64) -> Self {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for (_, b) in shapes {
+            lo = [lo[0].min(b[0]), lo[1].min(b[1])];
+            hi = [hi[0].max(b[2]), hi[1].max(b[3])];
+        }
+        let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
+        let cell = cell.max((w * h / MAX_CELLS).sqrt());
+        // Bounded by MAX_CELLS above; the float-to-int casts cannot overflow.
+        let nx = ((w / cell).floor() as usize + 1).max(1);
+        let ny = ((h / cell).floor() as usize + 1).max(1);
+        let mut cells = vec![Vec::new(); nx * ny];
+        for (k, (_, b)) in shapes.iter().enumerate() {
+            let i0 = ((b[0] - lo[0]) / cell) as usize;
+            let i1 = (((b[2] - lo[0]) / cell) as usize).min(nx - 1);
+            let j0 = ((b[1] - lo[1]) / cell) as usize;
+            let j1 = (((b[3] - lo[1]) / cell) as usize).min(ny - 1);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    cells[j * nx + i].push(u32::try_from(k).unwrap_or(u32::MAX));
+                }
+            }
+        }
+        Self {
+            lo,
+            cell,
+            nx,
+            ny,
+            cells,
+        }
+    }
+
+    fn candidates(&self, p: [f64; 2]) -> Option<&[u32]> {
+        let fx = (p[0] - self.lo[0]) / self.cell;
+        let fy = (p[1] - self.lo[1]) / self.cell;
+        if !(fx >= 0.0 && fy >= 0.0) {
+            return None;
+        }
+        let (i, j) = (fx as usize, fy as usize);
+        if i >= self.nx || j >= self.ny {
+            return None;
+        }
+        let c = &self.cells[j * self.nx + i];
+        (!c.is_empty()).then_some(c.as_slice())
+    }
+}

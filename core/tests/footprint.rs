@@ -1,0 +1,451 @@
+//! Footprints (step 2): readers, true footprints of scenes, splitting clouds
+//! into buildings, and footprints derived from building points, checked
+//! against the ground truth of simulated scenes and real files.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use geo::{Area, Distance, Euclidean};
+use skyground_core::cloud::class::BUILDING;
+use skyground_core::cloud::{Cloud, read_cloud};
+use skyground_core::footprint::{
+    DeriveParams, Footprint, FootprintError, ParseError, RingProblem, SplitParams, derive,
+    footprints_of_scene, iou, load_footprints, match_footprints, parse_cityjson_footprints,
+    parse_geojson, parse_obj_footprints, split,
+};
+use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
+use skyground_core::scene::{REFERENCE_SEED, Scene, load_scene, reference_scene};
+
+fn real_file(name: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
+        PathBuf::from,
+    );
+    if !dir.is_dir() {
+        eprintln!(
+            "SKIPPED: ../shared/data/real not found (looked in {})",
+            dir.display()
+        );
+        return None;
+    }
+    Some(dir.join(name))
+}
+
+fn prior(scene: &Scene) -> Cloud {
+    airborne_scan(&Caster::new(scene).unwrap(), &AirborneConfig::default()).unwrap()
+}
+
+fn building_points(cloud: &Cloud) -> Vec<[f32; 3]> {
+    let labels = cloud.label.as_ref().unwrap();
+    cloud
+        .xyz
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| **l == BUILDING)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
+/// Share of building points (true id > 0) whose split id equals the true id.
+fn split_accuracy(cloud: &Cloud, ids: &[u32]) -> (f64, usize) {
+    let truth = cloud.building.as_ref().unwrap();
+    let (mut ok, mut n) = (0usize, 0usize);
+    for (t, got) in truth.iter().zip(ids) {
+        if *t > 0 {
+            n += 1;
+            ok += usize::from(t == got);
+        }
+    }
+    (ok as f64 / n.max(1) as f64, n)
+}
+
+#[test]
+fn reference_scene_derived_footprints_match_the_truth() {
+    let scene = reference_scene(REFERENCE_SEED);
+    let truth = footprints_of_scene(&scene);
+    assert_eq!(truth.len(), scene.building_count());
+    let cloud = prior(&scene);
+    let pts = building_points(&cloud);
+    let derived = derive(&pts, &DeriveParams::default()).unwrap();
+    let matches = match_footprints(&derived, &truth);
+    println!(
+        "reference scene: {} true footprints, {} derived from {} building points",
+        truth.len(),
+        derived.len(),
+        pts.len()
+    );
+    println!("{:>5} {:<22} {:>9} {:>8} {:>6}", "truth", "name", "area m²", "derived", "IoU");
+    for (m, t) in matches.iter().zip(&truth) {
+        println!(
+            "{:>5} {:<22} {:>9.1} {:>8} {:>6.3}",
+            m.truth,
+            t.name,
+            t.area(),
+            m.derived,
+            m.iou
+        );
+    }
+    // Neighbours closer than 5 m: were they told apart?
+    for (i, a) in truth.iter().enumerate() {
+        for b in &truth[i + 1..] {
+            let gap = Euclidean.distance(&a.polygon, &b.polygon);
+            if gap < 5.0 {
+                let da = matches[i].derived;
+                let db = matches.iter().find(|m| m.truth == b.id).unwrap().derived;
+                println!(
+                    "  {} and {}: gap {gap:.2} m, derived {da} / {db} ({})",
+                    a.name,
+                    b.name,
+                    if da != db { "separated" } else { "MERGED" }
+                );
+                assert_ne!(da, db, "{} and {} merged", a.name, b.name);
+            }
+        }
+    }
+    let worst = matches.iter().map(|m| m.iou).fold(1.0, f64::min);
+    println!("worst IoU {worst:.3}");
+    for m in &matches {
+        assert!(m.iou >= 0.9, "building {} IoU {:.3}", m.truth, m.iou);
+    }
+    // Every derived footprint is some building (no clutter outlines).
+    assert_eq!(derived.len(), truth.len());
+
+    // The height-jump split must not cut the podium from its towers.
+    let cut = derive(
+        &pts,
+        &DeriveParams {
+            height_jump_m: 3.0,
+            ..DeriveParams::default()
+        },
+    )
+    .unwrap();
+    let cut_matches = match_footprints(&cut, &truth);
+    let cut_worst = cut_matches.iter().map(|m| m.iou).fold(1.0, f64::min);
+    println!(
+        "with height_jump_m = 3: {} derived, worst IoU {cut_worst:.3}",
+        cut.len()
+    );
+    assert_eq!(cut.len(), truth.len());
+    assert!(cut_worst >= 0.9);
+}
+
+#[test]
+fn reference_prior_splits_by_true_footprints() {
+    let scene = reference_scene(REFERENCE_SEED);
+    let truth = footprints_of_scene(&scene);
+    let cloud = prior(&scene);
+    let ids = split(&cloud.xyz, &truth, &SplitParams::default()).unwrap();
+    let (acc, n) = split_accuracy(&cloud, &ids);
+    let labels = cloud.label.as_ref().unwrap();
+    let (mut other_in, mut other) = (0usize, 0usize);
+    for (l, id) in labels.iter().zip(&ids) {
+        if *l != BUILDING {
+            other += 1;
+            other_in += usize::from(*id > 0);
+        }
+    }
+    println!(
+        "reference prior: {:.3} % of {n} building points get their true id; {:.2} % of {other} other points fall in a footprint",
+        100.0 * acc,
+        100.0 * other_in as f64 / other.max(1) as f64
+    );
+    assert!(acc >= 0.99, "split accuracy {acc:.4}");
+}
+
+#[test]
+fn touching_buildings_split_at_height_jumps() {
+    // Two terraced boxes sharing a wall (6 m and 12 m roofs), and a podium
+    // (8 m) with a 30 m tower in its middle, 20 m away: roof points at 0.25 m.
+    let mut pts = Vec::new();
+    let mut grid = |x0: f32, y0: f32, w: f32, d: f32, z: f32| {
+        let (nx, ny) = ((w / 0.25) as i32, (d / 0.25) as i32);
+        for j in 0..=ny {
+            for i in 0..=nx {
+                pts.push([x0 + i as f32 * 0.25, y0 + j as f32 * 0.25, z]);
+            }
+        }
+    };
+    grid(0.0, 0.0, 10.0, 12.0, 6.0);
+    grid(10.0, 0.0, 8.0, 12.0, 12.0);
+    // Podium ring around the tower, then the tower.
+    for (x0, y0, w, d) in [
+        (40.0, 0.0, 30.0, 8.0),
+        (40.0, 22.0, 30.0, 8.0),
+        (40.0, 8.0, 10.0, 14.0),
+        (60.0, 8.0, 10.0, 14.0),
+    ] {
+        grid(x0, y0, w, d, 8.0);
+    }
+    grid(50.0, 8.0, 10.0, 14.0, 30.0);
+
+    let plain = derive(&pts, &DeriveParams::default()).unwrap();
+    let cut = derive(
+        &pts,
+        &DeriveParams {
+            height_jump_m: 3.0,
+            ..DeriveParams::default()
+        },
+    )
+    .unwrap();
+    println!(
+        "touching pair + podium: {} footprints without the height split, {} with it",
+        plain.len(),
+        cut.len()
+    );
+    assert_eq!(plain.len(), 2, "without cuts the terrace is one cluster");
+    assert_eq!(cut.len(), 3, "terrace cut in two, podium kept whole");
+    let areas: Vec<f64> = cut.iter().map(Footprint::area).collect();
+    let mut sorted = areas.clone();
+    sorted.sort_by(f64::total_cmp);
+    // 96 m², 120 m², 900 m² within a cell's worth of outline.
+    for (got, want) in sorted.iter().zip([96.0, 120.0, 900.0]) {
+        assert!((got - want).abs() / want < 0.1, "area {got:.1} vs {want}");
+    }
+}
+
+#[test]
+fn zurich_cityjson_footprints_split_the_simulated_prior() {
+    let Some(path) = real_file("zurich_subset_lod2.json") else {
+        return;
+    };
+    let scene = load_scene(path.to_str().unwrap()).unwrap();
+    let loaded = load_footprints(&path, scene.origin).unwrap();
+    let fps = &loaded.footprints;
+    println!(
+        "zurich: {} footprints ({} skipped), scene has {} buildings",
+        fps.len(),
+        loaded.skipped.len(),
+        scene.building_count()
+    );
+    assert_eq!(fps.len(), 49);
+    let areas: Vec<f64> = fps.iter().map(Footprint::area).collect();
+    let total: f64 = areas.iter().sum();
+    let (min, max) = areas
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+    println!("  areas: min {min:.1} m², max {max:.1} m², total {total:.0} m²");
+    assert!(min > 1.0 && max < 20_000.0);
+    // Same ids as the scene: each file footprint overlaps the scene's own.
+    let scene_fps = footprints_of_scene(&scene);
+    let by_id: BTreeMap<u32, &Footprint> = scene_fps.iter().map(|f| (f.id, f)).collect();
+    let ious: Vec<f64> = fps
+        .iter()
+        .map(|f| by_id.get(&f.id).map_or(0.0, |s| iou(&f.polygon, &s.polygon)))
+        .collect();
+    let worst = ious.iter().copied().fold(1.0, f64::min);
+    let mean = ious.iter().sum::<f64>() / ious.len() as f64;
+    println!("  file vs scene projection, same id: mean IoU {mean:.3}, worst {worst:.3}");
+    assert!(worst > 0.5);
+
+    let cloud = prior(&scene);
+    let ids = split(&cloud.xyz, fps, &SplitParams::default()).unwrap();
+    let (acc, n) = split_accuracy(&cloud, &ids);
+    println!(
+        "  prior: {:.2} % of {n} building points get their true id",
+        100.0 * acc
+    );
+    assert!(acc >= 0.95, "split accuracy {acc:.4}");
+}
+
+#[test]
+fn delft_lod1_loads() {
+    let Some(path) = real_file("delft.json") else {
+        return;
+    };
+    let loaded = load_footprints(&path, [84_616.0, 447_422.0, 0.0]).unwrap();
+    let total: f64 = loaded.footprints.iter().map(Footprint::area).sum();
+    println!(
+        "delft: {} footprints ({} skipped), total {total:.0} m²",
+        loaded.footprints.len(),
+        loaded.skipped.len()
+    );
+    assert_eq!(loaded.footprints.len(), 160);
+}
+
+#[test]
+fn city3d_points_fall_inside_their_footprint() {
+    let (Some(ply), Some(obj)) = (
+        real_file("city3d_001.ply"),
+        real_file("city3d_001_footprint.obj"),
+    ) else {
+        return;
+    };
+    let cloud = read_cloud(&ply).unwrap();
+    let loaded = load_footprints(&obj, cloud.origin).unwrap();
+    assert_eq!(loaded.footprints.len(), 1);
+    let fp = &loaded.footprints[0];
+    let ring = &fp.polygon.0[0];
+    println!(
+        "city3d_001: footprint {} vertices, {:.0} m²",
+        ring.exterior().0.len() - 1,
+        fp.area()
+    );
+    assert_eq!(ring.exterior().0.len() - 1, 60);
+    for tol in [0.0, 0.5, 1.0] {
+        let ids = split(
+            &cloud.xyz,
+            &loaded.footprints,
+            &SplitParams {
+                tolerance_m: tol,
+                ..SplitParams::default()
+            },
+        )
+        .unwrap();
+        let inside = ids.iter().filter(|&&i| i == fp.id).count();
+        let share = inside as f64 / cloud.xyz.len() as f64;
+        println!(
+            "  tolerance {tol} m: {:.2} % of {} points inside",
+            100.0 * share,
+            cloud.xyz.len()
+        );
+        assert!(share > 0.8);
+    }
+}
+
+fn temp(name: &str, content: &[u8]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("skyground-fp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, content).unwrap();
+    p
+}
+
+#[test]
+fn geojson_polygons_holes_ids_and_origin() {
+    let doc = br#"{"type":"FeatureCollection","features":[
+      {"type":"Feature","properties":{"building":7,"name":"court"},"geometry":{"type":"Polygon","coordinates":[
+        [[1000,2000],[1030,2000],[1030,2030],[1000,2030],[1000,2000]],
+        [[1010,2010],[1010,2020],[1020,2020],[1020,2010],[1010,2010]]]}},
+      {"type":"Feature","properties":{},"geometry":{"type":"MultiPolygon","coordinates":[
+        [[[1100,2000],[1110,2000],[1110,2010],[1100,2010],[1100,2000]]],
+        [[[1120,2000],[1130,2000],[1130,2010],[1120,2010],[1120,2000]]]]}},
+      {"type":"Feature","properties":{"id":"3"},"geometry":{"type":"Point","coordinates":[0,0]}}
+    ]}"#;
+    let loaded = parse_geojson(doc, [1000.0, 2000.0, 0.0]).unwrap();
+    let ids: Vec<u32> = loaded.footprints.iter().map(|f| f.id).collect();
+    assert_eq!(ids, vec![7, 8]);
+    assert!((loaded.footprints[0].area() - 800.0).abs() < 1e-6);
+    assert_eq!(loaded.footprints[0].name, "court");
+    assert!((loaded.footprints[1].area() - 200.0).abs() < 1e-6);
+    assert_eq!(loaded.skipped.len(), 1);
+    assert!(matches!(loaded.skipped[0].problem, RingProblem::NotPolygon(_)));
+    // The courtyard is outside, the wing inside, in the local frame.
+    let ids = split(
+        &[[15.0, 15.0, 0.0], [5.0, 5.0, 0.0], [105.0, 5.0, 0.0], [-3.0, 5.0, 0.0]],
+        &loaded.footprints,
+        &SplitParams::default(),
+    )
+    .unwrap();
+    assert_eq!(ids, vec![0, 7, 8, 0]);
+    // Ring form round trip.
+    let back = Footprint::from(&loaded.footprints[0].to_rings());
+    assert!((back.area() - 800.0).abs() < 1e-6);
+}
+
+#[test]
+fn bad_inputs_give_typed_errors_or_skips() {
+    let o = [0.0; 3];
+    // Empty and broken files.
+    assert_eq!(parse_geojson(b"  \n", o).unwrap_err(), ParseError::Empty);
+    assert!(matches!(
+        parse_geojson(b"{\"type\": \"Feature\",", o),
+        Err(ParseError::Json { .. })
+    ));
+    assert!(matches!(parse_geojson(b"[1,2,3]", o), Err(ParseError::Shape { .. })));
+    assert!(matches!(
+        parse_geojson(br#"{"type":"LineString","coordinates":[[0,0],[1,1]]}"#, o),
+        Err(ParseError::Shape { .. })
+    ));
+    assert!(matches!(
+        parse_cityjson_footprints(br#"{"type":"FeatureCollection","features":[]}"#, o),
+        Err(ParseError::Shape { .. })
+    ));
+    assert!(matches!(
+        parse_obj_footprints(b"v 0 0 0\nv 1 0 0\nf 1 2 9\n", o),
+        Err(ParseError::Shape { .. })
+    ));
+    assert_eq!(parse_obj_footprints(b"", o).unwrap_err(), ParseError::Empty);
+    // Unclosed and two-vertex rings are skipped and counted; the good one loads.
+    let doc = br#"{"type":"FeatureCollection","features":[
+      {"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,1]]]}},
+      {"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],[1,0],[0,0]]]}},
+      {"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[0,0],["a",0],[1,1],[0,0]]]}},
+      {"type":"Feature","geometry":{"type":"Polygon","coordinates":[[[5,5],[6,5],[6,6],[5,6],[5,5]]]}}
+    ]}"#;
+    let loaded = parse_geojson(doc, o).unwrap();
+    assert_eq!(loaded.footprints.len(), 1);
+    let problems: Vec<&RingProblem> = loaded.skipped.iter().map(|s| &s.problem).collect();
+    assert_eq!(
+        problems,
+        vec![
+            &RingProblem::NotClosed,
+            &RingProblem::TooFewVertices(2),
+            &RingProblem::BadPosition
+        ]
+    );
+    // Nothing usable at all is an error that says why.
+    let only_bad = br#"{"type":"Polygon","coordinates":[[[0,0],[1,0],[2,0],[0,0]]]}"#;
+    let e = parse_geojson(only_bad, o).unwrap_err();
+    assert!(matches!(e, ParseError::NoFootprints { skipped: 1, .. }), "{e}");
+    // Self-touching rings (a figure 8; a hole touching its exterior) come out valid.
+    let eight = br#"{"type":"Polygon","coordinates":[[[0,0],[2,2],[2,0],[0,2],[0,0]]]}"#;
+    let fp = &parse_geojson(eight, o).unwrap().footprints[0];
+    assert!((fp.area() - 2.0).abs() < 1e-9, "area {}", fp.area());
+    let touching = br#"{"type":"Polygon","coordinates":[
+        [[0,0],[4,0],[4,4],[0,4],[0,0]],[[0,0],[2,1],[1,2],[0,0]]]}"#;
+    let fp = &parse_geojson(touching, o).unwrap().footprints[0];
+    assert!((fp.area() - 14.5).abs() < 1e-9, "area {}", fp.area());
+    // Files: missing, unknown extension, empty, wrong JSON, name in the message.
+    let missing = load_footprints(Path::new("/nonexistent/fp.geojson"), o).unwrap_err();
+    assert!(matches!(missing, FootprintError::Io { .. }));
+    let csv = temp("fp.csv", b"x,y\n");
+    assert!(matches!(
+        load_footprints(&csv, o),
+        Err(FootprintError::UnknownFormat { .. })
+    ));
+    let empty = temp("empty.geojson", b"");
+    let e = load_footprints(&empty, o).unwrap_err();
+    assert!(e.to_string().contains("empty.geojson") && e.to_string().contains("empty"), "{e}");
+    let wrong = temp("wrong.json", b"{\"type\": 5}");
+    assert!(matches!(
+        load_footprints(&wrong, o),
+        Err(FootprintError::Parse {
+            source: ParseError::Shape { .. },
+            ..
+        })
+    ));
+    // Degenerate inputs to the algorithms: empty results, no panics.
+    assert!(derive(&[], &DeriveParams::default()).unwrap().is_empty());
+    assert!(
+        derive(&[[f32::NAN, 0.0, 0.0]], &DeriveParams::default())
+            .unwrap()
+            .is_empty()
+    );
+    assert_eq!(
+        split(&[[0.0, 0.0, 0.0]], &[], &SplitParams::default()).unwrap(),
+        vec![0]
+    );
+    assert!(
+        derive(
+            &[[0.0; 3]],
+            &DeriveParams {
+                cell_m: -1.0,
+                ..DeriveParams::default()
+            }
+        )
+        .is_err()
+    );
+    assert!(
+        split(
+            &[],
+            &[],
+            &SplitParams {
+                tolerance_m: f64::NAN,
+                ..SplitParams::default()
+            }
+        )
+        .is_err()
+    );
+    assert_eq!(iou(&geo::MultiPolygon::new(vec![]), &geo::MultiPolygon::new(vec![])), 0.0);
+    let _ = Area::unsigned_area(&geo::MultiPolygon::<f64>::new(vec![]));
+}
