@@ -6,7 +6,8 @@ use geo::MultiPolygon;
 use rayon::prelude::*;
 use thiserror::Error;
 
-use super::building::detect_building;
+use super::building::detect_building_on;
+use super::ground::GroundGrid;
 use super::detection::{BuildingDetection, Detection, SkipReason};
 use super::params::{DetectParams, DetectParamsError};
 
@@ -36,6 +37,18 @@ pub fn detect_all(
     footprints: Option<&[(u32, MultiPolygon<f64>)]>,
     params: &DetectParams,
 ) -> Result<Detection, DetectError> {
+    detect_all_on(xyz, building, footprints, None, params)
+}
+
+/// [`detect_all`] with the terrain (e.g. from the cloud's ground points), so
+/// walls on sloped ground are tested only above their foot.
+pub fn detect_all_on(
+    xyz: &[[f32; 3]],
+    building: &[u32],
+    footprints: Option<&[(u32, MultiPolygon<f64>)]>,
+    terrain: Option<&GroundGrid>,
+    params: &DetectParams,
+) -> Result<Detection, DetectError> {
     params.validate()?;
     if xyz.len() != building.len() {
         return Err(DetectError::IdLength {
@@ -60,7 +73,7 @@ pub fn detect_all(
     let mut buildings = jobs
         .par_iter()
         .map(|(id, pts)| {
-            detect_building(*id, pts, fp.get(id).copied(), None, params).unwrap_or_else(|_| {
+            detect_building_on(*id, pts, fp.get(id).copied(), None, terrain, params).unwrap_or_else(|_| {
                 // validate() passed above, so this is unreachable in practice.
                 BuildingDetection::skipped(*id, pts.len(), SkipReason::TooFewPoints { points: pts.len(), min: params.min_points })
             })

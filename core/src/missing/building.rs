@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use super::band::BandIndex;
 use super::boundary::sample_contour;
 use super::coverage::{Strip, strip_coverage};
+use super::ground::GroundGrid;
 use super::detection::{
     BoundaryPoint, BuildingDetection, MissingPoint, SkipReason, SliceReport, Strategy,
     StructureReport,
@@ -20,6 +21,8 @@ const INDEX_CELL: f64 = 1.0;
 const MIN_SEGMENT: f64 = 0.5;
 /// A tested wall part shorter than this (in z) is not tested.
 const MIN_WALL_Z: f32 = 0.1;
+/// Wall parts this close above the terrain are not tested (the ground hides them).
+const GROUND_CLEARANCE: f32 = 0.1;
 
 /// Finds the missing boundary points of building `id` from its `points`.
 /// `footprint` (local frame), when given, is C_building and replaces the
@@ -31,6 +34,19 @@ pub fn detect_building(
     points: &[[f32; 3]],
     footprint: Option<&MultiPolygon<f64>>,
     ground_z: Option<f32>,
+    params: &DetectParams,
+) -> Result<BuildingDetection, DetectParamsError> {
+    detect_building_on(id, points, footprint, ground_z, None, params)
+}
+
+/// [`detect_building`] with the terrain around the building: walls are
+/// tested only above the local ground outside them.
+pub fn detect_building_on(
+    id: u32,
+    points: &[[f32; 3]],
+    footprint: Option<&MultiPolygon<f64>>,
+    ground_z: Option<f32>,
+    terrain: Option<&GroundGrid>,
     params: &DetectParams,
 ) -> Result<BuildingDetection, DetectParamsError> {
     params.validate()?;
@@ -65,7 +81,7 @@ pub fn detect_building(
         };
         return Ok(BuildingDetection::skipped(id, n, reason));
     }
-    Ok(analyse(id, n, points, footprint, &sliced, global, params))
+    Ok(analyse(id, n, points, footprint, &sliced, global, terrain, params))
 }
 
 fn analyse(
@@ -75,6 +91,7 @@ fn analyse(
     footprint: Option<&MultiPolygon<f64>>,
     sliced: &Sliced,
     global: MultiPolygon<f64>,
+    terrain: Option<&GroundGrid>,
     params: &DetectParams,
 ) -> BuildingDetection {
     let levels = &sliced.levels;
@@ -128,7 +145,11 @@ fn analyse(
                     let q = sample.xy;
                     let (s, dir) = segment(&skeletons[*sid], q, sample.normal);
                     let top = local_top(sliced, q, params.near);
-                    let z = [level.band[0], level.band[1].min(top)];
+                    // Terrain just outside the wall: the wall's foot.
+                    let foot = terrain
+                        .and_then(|t| t.at(q[0] + sample.normal[0], q[1] + sample.normal[1]))
+                        .unwrap_or(f32::NEG_INFINITY);
+                    let z = [level.band[0].max(foot + GROUND_CLEARANCE), level.band[1].min(top)];
                     if z[1] - z[0] < MIN_WALL_Z {
                         continue;
                     }
@@ -142,9 +163,15 @@ fn analyse(
                         z,
                         radius: params.coverage_radius,
                     };
-                    let coverage = strip_coverage(&index, &strip);
+                    let cover = strip_coverage(&index, &strip);
+                    let coverage = cover.share;
+                    // Report the point on the wall: where the strip's points
+                    // put it, else half a raster cell in (the outline lies
+                    // up to a cell outside the wall).
+                    let off = cover.wall_offset.unwrap_or(-0.5 * params.slice.cell);
+                    let at = [q[0] + dir[0] * off, q[1] + dir[1] * off];
                     boundary.push(BoundaryPoint {
-                        xyz: [q[0] as f32, q[1] as f32, 0.5 * (z[0] + z[1])],
+                        xyz: [at[0] as f32, at[1] as f32, 0.5 * (z[0] + z[1])],
                         normal: [dir[0] as f32, dir[1] as f32],
                         skeleton: [s[0] as f32, s[1] as f32],
                         coverage,

@@ -30,8 +30,19 @@ pub struct Strip {
     pub radius: f32,
 }
 
-/// Covered share of the strip's sample nodes (0 when it has none).
-pub fn strip_coverage(index: &BandIndex, s: &Strip) -> f32 {
+/// What the strip holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripCoverage {
+    /// Covered share of the strip's sample nodes.
+    pub share: f32,
+    /// Mean offset of the strip's points along s→q from q_n (negative:
+    /// inside), where the wall actually is; None without points.
+    pub wall_offset: Option<f64>,
+}
+
+/// Covered share of the strip's sample nodes (0 when it has none) and where
+/// its points put the wall.
+pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
     let step = s.radius.max(0.05);
     let nu = ((2.0 * s.half_width) as f32 / step).round().max(1.0) as usize;
     let nz = ((s.z[1] - s.z[0]) / step).round().max(1.0) as usize;
@@ -41,6 +52,7 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> f32 {
     let reach = s.near.max(s.outside).hypot(s.half_width) + s.radius as f64;
     let du = 2.0 * s.half_width as f32 / nu as f32;
     let dz = (s.z[1] - s.z[0]) / nz as f32;
+    let (mut v_sum, mut v_n) = (0.0, 0usize);
     index.for_each_near(s.band, s.q, reach, |p| {
         let rel = [p[0] as f64 - s.q[0], p[1] as f64 - s.q[1]];
         let v = rel[0] * s.dir[0] + rel[1] * s.dir[1];
@@ -49,6 +61,11 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> f32 {
         }
         let u = (rel[0] * t[0] + rel[1] * t[1]) as f32 + s.half_width as f32;
         let z = p[2] - s.z[0];
+        if !(0.0..=2.0 * s.half_width as f32).contains(&u) || !(0.0..=s.z[1] - s.z[0]).contains(&z) {
+            return;
+        }
+        v_sum += v;
+        v_n += 1;
         for a in 0..nu {
             let cu = (a as f32 + 0.5) * du - u;
             if cu.abs() > s.radius {
@@ -62,7 +79,10 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> f32 {
             }
         }
     });
-    covered.iter().filter(|&&c| c).count() as f32 / covered.len() as f32
+    StripCoverage {
+        share: covered.iter().filter(|&&c| c).count() as f32 / covered.len() as f32,
+        wall_offset: (v_n > 0).then(|| v_sum / v_n as f64),
+    }
 }
 
 #[cfg(test)]
@@ -102,10 +122,12 @@ mod tests {
     fn dense_wall_is_covered_gap_is_not() {
         let pts = wall(5.0, 1.0);
         let idx = BandIndex::new(&pts, 0.0, 1.0, 2, [0.0, 0.0], 1.0, [20, 20]);
-        assert!(strip_coverage(&idx, &strip(0)) > 0.9);
-        assert_eq!(strip_coverage(&idx, &strip(1)), 0.0);
+        assert!(strip_coverage(&idx, &strip(0)).share > 0.9);
+        assert_eq!(strip_coverage(&idx, &strip(1)).share, 0.0);
+        let off = strip_coverage(&idx, &strip(0)).wall_offset.unwrap();
+        assert!((off + 0.3).abs() < 1e-3, "{off}");
         // one stray point covers little
         let idx = BandIndex::new(&[[10.0, 5.0, 0.5]], 0.0, 1.0, 2, [0.0, 0.0], 1.0, [20, 20]);
-        assert!(strip_coverage(&idx, &strip(0)) < 0.3);
+        assert!(strip_coverage(&idx, &strip(0)).share < 0.3);
     }
 }

@@ -44,7 +44,7 @@ pub enum SkipReason {
 /// A sampled contour point at one slice height.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BoundaryPoint {
-    /// q_n in xy with z = slice height.
+    /// q_n moved onto the wall (along s→q) in xy; z = middle of the wall part tested.
     pub xyz: [f32; 3],
     /// Unit direction s_m → q_n (outward).
     pub normal: [f32; 2],

@@ -9,6 +9,11 @@
 //! of truly missing cells with a missing point within `match_dist` of one of
 //! their samples; precision the share of missing points within `match_dist`
 //! of a sample of a truly missing cell.
+//!
+//! Undersides (Wall samples facing down, n_z ≤ −0.5: the slab over a hollow
+//! base) have no wall plane to cut in along-wall × z cells; they are cut in
+//! 1 m xy cells and reported apart (`underside_*`), outside recall, since
+//! slice contours cannot see under a slab: region targets must.
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -65,7 +70,13 @@ pub struct DetectionScore {
     pub recall: f64,
     /// correct_points / missing_points (1 when none were reported).
     pub precision: f64,
-    /// Per building, ascending id.
+    /// Underside cells evaluated.
+    pub underside_cells: usize,
+    /// Of which truly missing.
+    pub underside_truly_missing: usize,
+    /// Truly missing underside cells with a missing point within reach.
+    pub underside_found: usize,
+    /// Per building (facades), ascending id.
     pub per_building: Vec<BuildingScore>,
 }
 
@@ -85,6 +96,7 @@ pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint
 
     // Cell key per wall sample.
     let mut cell_of_key: HashMap<(u32, i32, i64, i64, i64), usize> = HashMap::new();
+    let mut underside: Vec<bool> = Vec::new();
     let mut cell_samples: Vec<Vec<usize>> = Vec::new();
     let mut cell_building: Vec<u32> = Vec::new();
     for (w, &i) in walls.iter().enumerate() {
@@ -97,8 +109,15 @@ pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint
         let offset = ((c * x + s * y) / 0.5).round() as i64;
         let along = ((-s * x + c * y) / CELL).floor() as i64;
         let up = (z / CELL).floor() as i64;
-        let key = (gt.building[i], az, offset, along, up);
+        let down = gt.normal[i][2] <= -0.5;
+        let key = if down {
+            let f = |v: f32| (v / CELL).floor() as i64;
+            (gt.building[i], -1, f(x), f(y), up)
+        } else {
+            (gt.building[i], az, offset, along, up)
+        };
         let k = *cell_of_key.entry(key).or_insert_with(|| {
+            underside.push(down);
             cell_samples.push(Vec::new());
             cell_building.push(gt.building[i]);
             cell_samples.len() - 1
@@ -139,7 +158,7 @@ pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint
             })
             .building
     };
-    for &k in &evaluated {
+    for &k in evaluated.iter().filter(|&&k| !underside[k]) {
         let b = cell_building[k];
         entry(&mut per, b);
         let Some(s) = per.get_mut(&b) else { continue };
@@ -159,7 +178,20 @@ pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint
             s.correct_points += 1;
         }
     }
+    let mut under = [0usize; 3];
+    for &k in evaluated.iter().filter(|&&k| underside[k]) {
+        under[0] += 1;
+        if truly[k] {
+            under[1] += 1;
+            if cell_samples[k].iter().any(|&w| to_missing[w] <= MATCH_DIST) {
+                under[2] += 1;
+            }
+        }
+    }
     let mut total = DetectionScore {
+        underside_cells: under[0],
+        underside_truly_missing: under[1],
+        underside_found: under[2],
         cells: 0,
         truly_missing: 0,
         found: 0,

@@ -8,6 +8,7 @@
 //! - [`building`]: [`detect_building`]; [`all`]: [`detect_all`] (rayon).
 //! - [`boundary`]: contour sampling; [`band`]: point index by band and cell;
 //!   [`coverage`]: the strip test.
+//! - [`ground`]: terrain grid, so sloped ground is not taken for missing wall.
 //! - [`eval`]: recall / precision against ground-truth wall cells.
 
 pub mod all;
@@ -17,10 +18,12 @@ pub mod building;
 pub mod coverage;
 pub mod detection;
 pub mod eval;
+pub mod ground;
 pub mod params;
 
-pub use all::{DetectError, detect_all};
-pub use building::detect_building;
+pub use all::{DetectError, detect_all, detect_all_on};
+pub use building::{detect_building, detect_building_on};
+pub use ground::GroundGrid;
 pub use detection::{
     BoundaryPoint, BuildingDetection, Detection, MissingPoint, SkipReason, SliceReport, Strategy,
     StructureReport,
