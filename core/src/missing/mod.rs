@@ -1,1 +1,32 @@
-//! (being written)
+//! Missing-region detection (DESIGN.md step 3, and the choice of step 4):
+//! per building, the boundary points q_n of each slice contour are tested
+//! against the slice's points along the segment from the nearest skeleton
+//! point s_m; those without enough points near the wall are missing.
+//!
+//! - [`params`]: [`DetectParams`].
+//! - [`detection`]: results ([`BuildingDetection`], [`Detection`], [`MissingPoint`]).
+//! - [`building`]: [`detect_building`]; [`all`]: [`detect_all`] (rayon).
+//! - [`boundary`]: contour sampling; [`band`]: point index by band and cell;
+//!   [`coverage`]: the strip test.
+//! - [`ground`]: terrain grid, so sloped ground is not taken for missing wall.
+//! - [`eval`]: recall / precision against ground-truth wall cells.
+
+pub mod all;
+pub mod band;
+pub mod boundary;
+pub mod building;
+pub mod coverage;
+pub mod detection;
+pub mod eval;
+pub mod ground;
+pub mod params;
+
+pub use all::{DetectError, detect_all, detect_all_on};
+pub use building::{detect_building, detect_building_on};
+pub use ground::GroundGrid;
+pub use detection::{
+    BoundaryPoint, BuildingDetection, Detection, MissingPoint, SkipReason, SliceReport, Strategy,
+    StructureReport,
+};
+pub use eval::{BuildingScore, DetectionScore, evaluate};
+pub use params::{DetectParams, DetectParamsError};

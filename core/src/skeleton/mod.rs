@@ -1,1 +1,12 @@
-//! (being written)
+//! Medial-axis skeleton of a structure's outline (DESIGN.md step 3): a
+//! constrained Delaunay triangulation of the sampled contour, circumcentres
+//! of its inner triangles joined across non-constraint edges, short spurs
+//! pruned.
+//!
+//! - [`medial`]: [`medial_axis`] → [`Skeleton`].
+//! - [`prune`]: removal of short leaf branches.
+
+pub mod medial;
+pub mod prune;
+
+pub use medial::{Skeleton, SkeletonParams, SkeletonParamsError, medial_axis};

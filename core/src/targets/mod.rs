@@ -1,7 +1,17 @@
 //! Targets for the ground robot (DESIGN.md step 4): points to stand at and
 //! regions to explore. The plain types here are what the detector hands the
 //! planner; how they are generated lives beside them.
+//!
+//! - [`types`]: [`TargetPoint`], [`Region`], [`TargetSet`].
+//! - [`params`]: [`TargetParams`]; [`site`]: [`Site`], the grid of where a robot may stand.
+//! - [`generate`](mod@generate): [`generate()`] → targets and [`Dropped`] counts.
 
+pub mod generate;
+pub mod params;
+pub mod site;
 mod types;
 
+pub use generate::{Dropped, generate};
+pub use params::{TargetParams, TargetParamsError};
+pub use site::{Site, SiteError};
 pub use types::{Region, TargetPoint, TargetSet};

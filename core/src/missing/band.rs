@@ -1,0 +1,96 @@
+//! Building points bucketed by slice band and 1 m xy cell, for the strip
+//! queries of the boundary test.
+
+/// Points of one building sorted by (band, cell).
+#[derive(Debug, Clone)]
+pub struct BandIndex {
+    origin: [f64; 2],
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    keys: Vec<u64>,
+    points: Vec<[f32; 3]>,
+}
+
+impl BandIndex {
+    /// Buckets `points` into bands of thickness `spacing` starting at `base`
+    /// (`bands` of them) and xy cells of `cell` metres from `origin`
+    /// covering `nx` × `ny` cells; points outside are left out.
+    pub fn new(
+        points: &[[f32; 3]],
+        base: f32,
+        spacing: f32,
+        bands: usize,
+        origin: [f64; 2],
+        cell: f64,
+        size: [usize; 2],
+    ) -> Self {
+        let [nx, ny] = size;
+        let mut keyed: Vec<(u64, [f32; 3])> = points
+            .iter()
+            .filter_map(|p| {
+                let k = ((p[2] - base) / spacing).floor();
+                let i = ((p[0] as f64 - origin[0]) / cell).floor();
+                let j = ((p[1] as f64 - origin[1]) / cell).floor();
+                let inside = k >= 0.0
+                    && (k as usize) < bands
+                    && i >= 0.0
+                    && j >= 0.0
+                    && (i as usize) < nx
+                    && (j as usize) < ny;
+                inside.then(|| {
+                    let key = ((k as u64 * ny as u64) + j as u64) * nx as u64 + i as u64;
+                    (key, *p)
+                })
+            })
+            .collect();
+        keyed.sort_unstable_by_key(|(k, _)| *k);
+        BandIndex {
+            origin,
+            cell,
+            nx,
+            ny,
+            keys: keyed.iter().map(|(k, _)| *k).collect(),
+            points: keyed.into_iter().map(|(_, p)| p).collect(),
+        }
+    }
+
+    /// Calls `f` on every point of band `band` in the cells overlapping the
+    /// square of half-side `r` around `q`.
+    pub fn for_each_near(&self, band: usize, q: [f64; 2], r: f64, mut f: impl FnMut(&[f32; 3])) {
+        let lo_i = ((q[0] - r - self.origin[0]) / self.cell).floor().max(0.0) as usize;
+        let lo_j = ((q[1] - r - self.origin[1]) / self.cell).floor().max(0.0) as usize;
+        let hi_i = ((q[0] + r - self.origin[0]) / self.cell).floor();
+        let hi_j = ((q[1] + r - self.origin[1]) / self.cell).floor();
+        if hi_i < 0.0 || hi_j < 0.0 {
+            return;
+        }
+        let hi_i = (hi_i as usize).min(self.nx.saturating_sub(1));
+        let hi_j = (hi_j as usize).min(self.ny.saturating_sub(1));
+        for j in lo_j..=hi_j {
+            let row = (band as u64 * self.ny as u64 + j as u64) * self.nx as u64;
+            let (a, b) = (row + lo_i as u64, row + hi_i as u64);
+            let start = self.keys.partition_point(|&k| k < a);
+            let end = self.keys.partition_point(|&k| k <= b);
+            self.points[start..end.max(start)].iter().for_each(&mut f);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_points_of_the_right_band_and_place() {
+        let pts = vec![[1.5, 1.5, 0.5], [1.5, 1.5, 1.5], [8.5, 1.5, 0.5], [2.2, 0.9, 0.2]];
+        let idx = BandIndex::new(&pts, 0.0, 1.0, 2, [0.0, 0.0], 1.0, [10, 10]);
+        let mut got = Vec::new();
+        idx.for_each_near(0, [1.5, 1.5], 1.0, |p| got.push(*p));
+        got.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        assert_eq!(got, vec![[1.5, 1.5, 0.5], [2.2, 0.9, 0.2]]);
+        let mut n = 0;
+        idx.for_each_near(1, [1.5, 1.5], 1.0, |_| n += 1);
+        assert_eq!(n, 1);
+    }
+}

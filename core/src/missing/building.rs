@@ -1,0 +1,275 @@
+//! Missing-region detection of one building (DESIGN.md step 3).
+
+use geo::{Area, CoordsIter, MultiPolygon};
+use rayon::prelude::*;
+
+use super::band::BandIndex;
+use super::boundary::sample_contour;
+use super::coverage::{Strip, strip_coverage};
+use super::ground::GroundGrid;
+use super::detection::{
+    BoundaryPoint, BuildingDetection, MissingPoint, SkipReason, SliceReport, Strategy,
+    StructureReport,
+};
+use super::params::{DetectParams, DetectParamsError};
+use crate::skeleton::{Skeleton, medial_axis};
+use crate::slice::{Sliced, cluster_structures, slice_building};
+
+/// Cell of the band index, metres (strips are ~1–2 m across).
+const INDEX_CELL: f64 = 1.0;
+/// Below this skeleton–contour distance the segment has no usable direction.
+const MIN_SEGMENT: f64 = 0.5;
+/// A tested wall part shorter than this (in z) is not tested.
+const MIN_WALL_Z: f32 = 0.1;
+/// Wall parts this close above the terrain are not tested (the ground hides them).
+const GROUND_CLEARANCE: f32 = 0.1;
+
+/// Finds the missing boundary points of building `id` from its `points`.
+/// `footprint` (local frame), when given, is C_building and replaces the
+/// derived outline of the lowest structure; `ground_z` defaults to the
+/// lowest point. Too few points or a degenerate footprint give a building
+/// marked `skipped`, not an error.
+pub fn detect_building(
+    id: u32,
+    points: &[[f32; 3]],
+    footprint: Option<&MultiPolygon<f64>>,
+    ground_z: Option<f32>,
+    params: &DetectParams,
+) -> Result<BuildingDetection, DetectParamsError> {
+    detect_building_on(id, points, footprint, ground_z, None, params)
+}
+
+/// [`detect_building`] with the terrain around the building: walls are
+/// tested only above the local ground outside them.
+pub fn detect_building_on(
+    id: u32,
+    points: &[[f32; 3]],
+    footprint: Option<&MultiPolygon<f64>>,
+    ground_z: Option<f32>,
+    terrain: Option<&GroundGrid>,
+    params: &DetectParams,
+) -> Result<BuildingDetection, DetectParamsError> {
+    params.validate()?;
+    let n = points.iter().filter(|p| p.iter().all(|v| v.is_finite())).count();
+    if n < params.min_points.max(1) {
+        let reason = SkipReason::TooFewPoints {
+            points: n,
+            min: params.min_points.max(1),
+        };
+        return Ok(BuildingDetection::skipped(id, n, reason));
+    }
+    if let Some(fp) = footprint {
+        let area = fp.unsigned_area();
+        let finite = fp.coords_iter().all(|c| c.x.is_finite() && c.y.is_finite());
+        if !finite || !(area >= params.slice.min_area) {
+            let reason = SkipReason::DegenerateFootprint { area };
+            return Ok(BuildingDetection::skipped(id, n, reason));
+        }
+    }
+    let Some(sliced) = slice_building(points, ground_z, &params.slice) else {
+        let reason = SkipReason::TooFewPoints {
+            points: 0,
+            min: params.min_points,
+        };
+        return Ok(BuildingDetection::skipped(id, n, reason));
+    };
+    let global = footprint.cloned().unwrap_or_else(|| sliced.global.clone());
+    if sliced.levels.iter().all(|l| l.parts.is_empty()) || global.0.is_empty() {
+        let reason = SkipReason::NoContour {
+            height: sliced.top_z - sliced.ground_z,
+            area: sliced.global.unsigned_area(),
+        };
+        return Ok(BuildingDetection::skipped(id, n, reason));
+    }
+    Ok(analyse(id, n, points, footprint, &sliced, global, terrain, params))
+}
+
+fn analyse(
+    id: u32,
+    n: usize,
+    points: &[[f32; 3]],
+    footprint: Option<&MultiPolygon<f64>>,
+    sliced: &Sliced,
+    global: MultiPolygon<f64>,
+    terrain: Option<&GroundGrid>,
+    params: &DetectParams,
+) -> BuildingDetection {
+    let levels = &sliced.levels;
+    let (mut structures, assign) = cluster_structures(levels, params.structure_keep);
+    if let Some(fp) = footprint {
+        for s in structures.iter_mut().filter(|s| s.base_level == 0) {
+            s.contour = fp.clone();
+        }
+    }
+    let skeletons: Vec<Skeleton> = structures
+        .par_iter()
+        .map(|s| medial_axis(&s.contour, &params.skeleton))
+        .collect();
+
+    let grid = &sliced.grid;
+    let size = [
+        (grid.nx as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
+        (grid.ny as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
+    ];
+    let base = levels.first().map_or(0.0, |l| l.band[0]);
+    let index = BandIndex::new(
+        points,
+        base,
+        params.slice.spacing,
+        levels.len(),
+        grid.origin,
+        INDEX_CELL,
+        size,
+    );
+
+    let per_level: Vec<(SliceReport, Vec<BoundaryPoint>)> = levels
+        .par_iter()
+        .enumerate()
+        .map(|(k, level)| {
+            let mut tested: Vec<(MultiPolygon<f64>, usize)> = Vec::new();
+            let mut footprint_done = false;
+            for (p, (_, contour)) in level.parts.iter().enumerate() {
+                let sid = assign[k][p];
+                if footprint.is_some() && structures[sid].base_level == 0 {
+                    if !footprint_done {
+                        tested.push((structures[sid].contour.clone(), sid));
+                        footprint_done = true;
+                    }
+                } else {
+                    tested.push((contour.clone(), sid));
+                }
+            }
+            let mut boundary = Vec::new();
+            for (contour, sid) in &tested {
+                for sample in sample_contour(contour, params.boundary_spacing) {
+                    let q = sample.xy;
+                    let (s, dir) = segment(&skeletons[*sid], q, sample.normal);
+                    let top = local_top(sliced, q, params.near);
+                    // Terrain just outside the wall: the wall's foot.
+                    let foot = terrain
+                        .and_then(|t| t.at(q[0] + sample.normal[0], q[1] + sample.normal[1]))
+                        .unwrap_or(f32::NEG_INFINITY);
+                    let z = [level.band[0].max(foot + GROUND_CLEARANCE), level.band[1].min(top)];
+                    if z[1] - z[0] < MIN_WALL_Z {
+                        continue;
+                    }
+                    let strip = Strip {
+                        q,
+                        dir,
+                        half_width: params.delta,
+                        near: params.near,
+                        outside: params.outside,
+                        band: k,
+                        z,
+                        radius: params.coverage_radius,
+                    };
+                    let cover = strip_coverage(&index, &strip);
+                    let coverage = cover.share;
+                    // Report the point on the wall: where the strip's points
+                    // put it, else half a raster cell in (the outline lies
+                    // up to a cell outside the wall).
+                    let off = cover.wall_offset.unwrap_or(-0.5 * params.slice.cell);
+                    let at = [q[0] + dir[0] * off, q[1] + dir[1] * off];
+                    boundary.push(BoundaryPoint {
+                        xyz: [at[0] as f32, at[1] as f32, 0.5 * (z[0] + z[1])],
+                        normal: [dir[0] as f32, dir[1] as f32],
+                        skeleton: [s[0] as f32, s[1] as f32],
+                        coverage,
+                        collected: coverage >= params.min_coverage,
+                        slice: k as u32,
+                    });
+                }
+            }
+            let missing = boundary.iter().filter(|b| !b.collected).count();
+            let report = SliceReport {
+                height: level.height,
+                points: level.points,
+                contour: MultiPolygon(tested.iter().flat_map(|(c, _)| c.0.clone()).collect()),
+                structures: tested.iter().map(|(_, s)| *s).collect(),
+                boundary: boundary.len(),
+                missing,
+            };
+            (report, boundary)
+        })
+        .collect();
+
+    let mut slices = Vec::with_capacity(per_level.len());
+    let mut boundary = Vec::new();
+    for (report, b) in per_level {
+        slices.push(report);
+        boundary.extend(b);
+    }
+    let missing: Vec<MissingPoint> = boundary
+        .iter()
+        .filter(|b| !b.collected)
+        .map(|b| MissingPoint {
+            xyz: b.xyz,
+            building: id,
+            normal: b.normal,
+            skeleton: b.skeleton,
+        })
+        .collect();
+    let r_missing = if boundary.is_empty() {
+        0.0
+    } else {
+        missing.len() as f32 / boundary.len() as f32
+    };
+    let height_of = |k: usize| levels.get(k).map_or(0.0, |l| l.height);
+    BuildingDetection {
+        building: id,
+        points: n,
+        skipped: None,
+        ground_z: sliced.ground_z,
+        top_z: sliced.top_z,
+        global_contour: global,
+        slices,
+        structures: structures
+            .into_iter()
+            .zip(skeletons)
+            .map(|(s, skeleton)| StructureReport {
+                heights: [height_of(s.base_level), height_of(s.top_level)],
+                contour: s.contour,
+                skeleton,
+            })
+            .collect(),
+        boundary,
+        missing,
+        r_missing,
+        strategy: if r_missing < params.theta {
+            Strategy::PointBased
+        } else {
+            Strategy::RegionBased
+        },
+    }
+}
+
+/// s_m and the unit direction s_m → q_n; the contour normal stands in when
+/// the skeleton is missing, too close to q_n, or points along the wall.
+fn segment(skeleton: &Skeleton, q: [f64; 2], normal: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+    if let Some(s) = skeleton.nearest(q) {
+        let d = [q[0] - s[0], q[1] - s[1]];
+        let len = d[0].hypot(d[1]);
+        if len >= MIN_SEGMENT {
+            let dir = [d[0] / len, d[1] / len];
+            if dir[0] * normal[0] + dir[1] * normal[1] > 0.2 {
+                return (s, dir);
+            }
+        }
+    }
+    let s = [q[0] - normal[0] * MIN_SEGMENT, q[1] - normal[1] * MIN_SEGMENT];
+    (s, normal)
+}
+
+/// Highest building point within `r` (square) of `q`: where the wall ends.
+fn local_top(sliced: &Sliced, q: [f64; 2], r: f64) -> f32 {
+    let g = &sliced.grid;
+    let lo = |v: f64, o: f64| ((v - r - o) / g.cell).floor().max(0.0) as usize;
+    let hi = |v: f64, o: f64, n: usize| (((v + r - o) / g.cell).floor().max(0.0) as usize).min(n - 1);
+    let mut top = f32::NEG_INFINITY;
+    for j in lo(q[1], g.origin[1])..=hi(q[1], g.origin[1], g.ny) {
+        for i in lo(q[0], g.origin[0])..=hi(q[0], g.origin[0], g.nx) {
+            top = top.max(sliced.top[j * g.nx + i]);
+        }
+    }
+    top
+}

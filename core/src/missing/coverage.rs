@@ -1,0 +1,133 @@
+//! The collected/missing test of one boundary point: how much of the wall
+//! strip near q_n, around segment s_m → q_n, the slice's points cover.
+//!
+//! The strip is |u| ≤ δ across the segment and from `near` inside to
+//! `outside` beyond q_n along it; it is sampled on a grid of (u, z) nodes
+//! spaced like the ground-truth samples, and a node is covered when a point
+//! lies within the coverage radius of it in the wall plane. This mirrors the
+//! completeness metric, so "collected" means what the evaluation means.
+
+use super::band::BandIndex;
+
+/// The strip of one test.
+#[derive(Debug, Clone, Copy)]
+pub struct Strip {
+    /// q_n.
+    pub q: [f64; 2],
+    /// Unit direction s_m → q_n.
+    pub dir: [f64; 2],
+    /// δ.
+    pub half_width: f64,
+    /// Depth inside q_n searched.
+    pub near: f64,
+    /// Depth outside q_n searched.
+    pub outside: f64,
+    /// Band index and its z range to cover.
+    pub band: usize,
+    /// Lower and upper z of the wall part tested.
+    pub z: [f32; 2],
+    /// Coverage radius.
+    pub radius: f32,
+}
+
+/// What the strip holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripCoverage {
+    /// Covered share of the strip's sample nodes.
+    pub share: f32,
+    /// Mean offset of the strip's points along s→q from q_n (negative:
+    /// inside), where the wall actually is; None without points.
+    pub wall_offset: Option<f64>,
+}
+
+/// Covered share of the strip's sample nodes (0 when it has none) and where
+/// its points put the wall.
+pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
+    let step = s.radius.max(0.05);
+    let nu = ((2.0 * s.half_width) as f32 / step).round().max(1.0) as usize;
+    let nz = ((s.z[1] - s.z[0]) / step).round().max(1.0) as usize;
+    let mut covered = vec![false; nu * nz];
+    let t = [-s.dir[1], s.dir[0]];
+    let r2 = s.radius * s.radius;
+    let reach = s.near.max(s.outside).hypot(s.half_width) + s.radius as f64;
+    let du = 2.0 * s.half_width as f32 / nu as f32;
+    let dz = (s.z[1] - s.z[0]) / nz as f32;
+    let (mut v_sum, mut v_n) = (0.0, 0usize);
+    index.for_each_near(s.band, s.q, reach, |p| {
+        let rel = [p[0] as f64 - s.q[0], p[1] as f64 - s.q[1]];
+        let v = rel[0] * s.dir[0] + rel[1] * s.dir[1];
+        if v < -s.near || v > s.outside {
+            return;
+        }
+        let u = (rel[0] * t[0] + rel[1] * t[1]) as f32 + s.half_width as f32;
+        let z = p[2] - s.z[0];
+        if !(0.0..=2.0 * s.half_width as f32).contains(&u) || !(0.0..=s.z[1] - s.z[0]).contains(&z) {
+            return;
+        }
+        v_sum += v;
+        v_n += 1;
+        for a in 0..nu {
+            let cu = (a as f32 + 0.5) * du - u;
+            if cu.abs() > s.radius {
+                continue;
+            }
+            for b in 0..nz {
+                let cz = (b as f32 + 0.5) * dz - z;
+                if cu * cu + cz * cz <= r2 {
+                    covered[b * nu + a] = true;
+                }
+            }
+        }
+    });
+    StripCoverage {
+        share: covered.iter().filter(|&&c| c).count() as f32 / covered.len() as f32,
+        wall_offset: (v_n > 0).then(|| v_sum / v_n as f64),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wall(density: f32, z_to: f32) -> Vec<[f32; 3]> {
+        // a wall on x = 10 from y = 0..10, points every 1/density metres
+        let step = 1.0 / density;
+        let mut pts = Vec::new();
+        let mut y = 0.0;
+        while y < 10.0 {
+            let mut z = 0.0;
+            while z < z_to {
+                pts.push([10.0, y, z]);
+                z += step;
+            }
+            y += step;
+        }
+        pts
+    }
+
+    fn strip(band: usize) -> Strip {
+        Strip {
+            q: [10.3, 5.0],
+            dir: [1.0, 0.0],
+            half_width: 0.5,
+            near: 1.25,
+            outside: 0.5,
+            band,
+            z: [band as f32, band as f32 + 1.0],
+            radius: 0.25,
+        }
+    }
+
+    #[test]
+    fn dense_wall_is_covered_gap_is_not() {
+        let pts = wall(5.0, 1.0);
+        let idx = BandIndex::new(&pts, 0.0, 1.0, 2, [0.0, 0.0], 1.0, [20, 20]);
+        assert!(strip_coverage(&idx, &strip(0)).share > 0.9);
+        assert_eq!(strip_coverage(&idx, &strip(1)).share, 0.0);
+        let off = strip_coverage(&idx, &strip(0)).wall_offset.unwrap();
+        assert!((off + 0.3).abs() < 1e-3, "{off}");
+        // one stray point covers little
+        let idx = BandIndex::new(&[[10.0, 5.0, 0.5]], 0.0, 1.0, 2, [0.0, 0.0], 1.0, [20, 20]);
+        assert!(strip_coverage(&idx, &strip(0)).share < 0.3);
+    }
+}

@@ -1,0 +1,217 @@
+//! Detection scored against ground truth (the acceptance metric of the
+//! detection issue).
+//!
+//! Every building's walls (GT samples of kind Wall) are cut into 1 m × 1 m
+//! cells on the wall plane: samples are grouped by building and wall plane
+//! (normal azimuth in 5° bins, plane offset to 0.5 m) and binned by the
+//! along-wall coordinate and z. A cell is *truly missing* when fewer than
+//! half of its samples have an aerial point within τ. Recall is the share
+//! of truly missing cells with a missing point within `match_dist` of one of
+//! their samples; precision the share of missing points within `match_dist`
+//! of a sample of a truly missing cell.
+//!
+//! Undersides (Wall samples facing down, n_z ≤ −0.5: the slab over a hollow
+//! base) have no wall plane to cut in along-wall × z cells; they are cut in
+//! 1 m xy cells and reported apart (`underside_*`), outside recall, since
+//! slice contours cannot see under a slab: region targets must.
+
+use std::collections::{BTreeMap, HashMap};
+
+use serde::{Deserialize, Serialize};
+
+use super::detection::MissingPoint;
+use crate::metrics::{GtSamples, SurfaceKind, nearest_distances};
+
+/// τ, the completeness radius, metres.
+pub const TAU: f32 = 0.25;
+/// Wall cell edge, metres.
+pub const CELL: f32 = 1.0;
+/// A missing point this close to a truly missing cell finds it, metres.
+pub const MATCH_DIST: f32 = 1.0;
+/// Cells with fewer samples (wall edges) are left out: 1/4 of a full cell at 0.25 m spacing.
+pub const MIN_CELL_SAMPLES: usize = 4;
+const AZIMUTH_BINS: f32 = 72.0;
+
+/// Score of one building.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BuildingScore {
+    /// Building id.
+    pub building: u32,
+    /// Wall cells evaluated.
+    pub cells: usize,
+    /// Of which truly missing.
+    pub truly_missing: usize,
+    /// Truly missing cells found.
+    pub found: usize,
+    /// Missing points reported for it.
+    pub missing_points: usize,
+    /// Of which near a truly missing cell.
+    pub correct_points: usize,
+    /// found / truly_missing (1 when none are missing).
+    pub recall: f64,
+    /// correct_points / missing_points (1 when none were reported).
+    pub precision: f64,
+}
+
+/// Score of a detection over a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DetectionScore {
+    /// Wall cells evaluated.
+    pub cells: usize,
+    /// Of which truly missing.
+    pub truly_missing: usize,
+    /// Truly missing cells found.
+    pub found: usize,
+    /// Missing points reported.
+    pub missing_points: usize,
+    /// Of which near a truly missing cell.
+    pub correct_points: usize,
+    /// found / truly_missing (1 when none are missing).
+    pub recall: f64,
+    /// correct_points / missing_points (1 when none were reported).
+    pub precision: f64,
+    /// Underside cells evaluated.
+    pub underside_cells: usize,
+    /// Of which truly missing.
+    pub underside_truly_missing: usize,
+    /// Truly missing underside cells with a missing point within reach.
+    pub underside_found: usize,
+    /// Per building (facades), ascending id.
+    pub per_building: Vec<BuildingScore>,
+}
+
+fn share(a: usize, b: usize) -> f64 {
+    if b == 0 { 1.0 } else { a as f64 / b as f64 }
+}
+
+/// Scores `missing` against the wall cells of `gt`, covered by `aerial_xyz`
+/// (both in the same local frame as `gt`).
+pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint]) -> DetectionScore {
+    let walls: Vec<usize> = (0..gt.len()).filter(|&i| gt.kind[i] == SurfaceKind::Wall).collect();
+    let wall_xyz: Vec<[f32; 3]> = walls.iter().map(|&i| gt.xyz[i]).collect();
+    let covered: Vec<bool> = nearest_distances(&wall_xyz, aerial_xyz)
+        .into_iter()
+        .map(|d| d <= TAU)
+        .collect();
+
+    // Cell key per wall sample.
+    let mut cell_of_key: HashMap<(u32, i32, i64, i64, i64), usize> = HashMap::new();
+    let mut underside: Vec<bool> = Vec::new();
+    let mut cell_samples: Vec<Vec<usize>> = Vec::new();
+    let mut cell_building: Vec<u32> = Vec::new();
+    for (w, &i) in walls.iter().enumerate() {
+        let [x, y, z] = gt.xyz[i];
+        let [nx, ny, _] = gt.normal[i];
+        let bins = AZIMUTH_BINS as i32;
+        let az = ((ny.atan2(nx) / std::f32::consts::TAU * AZIMUTH_BINS).round() as i32).rem_euclid(bins);
+        let a = az as f32 / AZIMUTH_BINS * std::f32::consts::TAU;
+        let (c, s) = (a.cos(), a.sin());
+        let offset = ((c * x + s * y) / 0.5).round() as i64;
+        let along = ((-s * x + c * y) / CELL).floor() as i64;
+        let up = (z / CELL).floor() as i64;
+        let down = gt.normal[i][2] <= -0.5;
+        let key = if down {
+            let f = |v: f32| (v / CELL).floor() as i64;
+            (gt.building[i], -1, f(x), f(y), up)
+        } else {
+            (gt.building[i], az, offset, along, up)
+        };
+        let k = *cell_of_key.entry(key).or_insert_with(|| {
+            underside.push(down);
+            cell_samples.push(Vec::new());
+            cell_building.push(gt.building[i]);
+            cell_samples.len() - 1
+        });
+        cell_samples[k].push(w);
+    }
+    let evaluated: Vec<usize> = (0..cell_samples.len())
+        .filter(|&k| cell_samples[k].len() >= MIN_CELL_SAMPLES)
+        .collect();
+    let truly: Vec<bool> = (0..cell_samples.len())
+        .map(|k| {
+            let n = cell_samples[k].len();
+            let c = cell_samples[k].iter().filter(|&&w| covered[w]).count();
+            n >= MIN_CELL_SAMPLES && (c as f64) < 0.5 * n as f64
+        })
+        .collect();
+
+    let missing_xyz: Vec<[f32; 3]> = missing.iter().map(|m| m.xyz).collect();
+    let to_missing = nearest_distances(&wall_xyz, &missing_xyz);
+    let truly_xyz: Vec<[f32; 3]> = (0..cell_samples.len())
+        .filter(|&k| truly[k])
+        .flat_map(|k| cell_samples[k].iter().map(|&w| wall_xyz[w]))
+        .collect();
+    let to_truly = nearest_distances(&missing_xyz, &truly_xyz);
+
+    let mut per: BTreeMap<u32, BuildingScore> = BTreeMap::new();
+    let entry = |per: &mut BTreeMap<u32, BuildingScore>, b: u32| {
+        per.entry(b)
+            .or_insert_with(|| BuildingScore {
+                building: b,
+                cells: 0,
+                truly_missing: 0,
+                found: 0,
+                missing_points: 0,
+                correct_points: 0,
+                recall: 1.0,
+                precision: 1.0,
+            })
+            .building
+    };
+    for &k in evaluated.iter().filter(|&&k| !underside[k]) {
+        let b = cell_building[k];
+        entry(&mut per, b);
+        let Some(s) = per.get_mut(&b) else { continue };
+        s.cells += 1;
+        if truly[k] {
+            s.truly_missing += 1;
+            if cell_samples[k].iter().any(|&w| to_missing[w] <= MATCH_DIST) {
+                s.found += 1;
+            }
+        }
+    }
+    for (m, d) in missing.iter().zip(&to_truly) {
+        entry(&mut per, m.building);
+        let Some(s) = per.get_mut(&m.building) else { continue };
+        s.missing_points += 1;
+        if *d <= MATCH_DIST {
+            s.correct_points += 1;
+        }
+    }
+    let mut under = [0usize; 3];
+    for &k in evaluated.iter().filter(|&&k| underside[k]) {
+        under[0] += 1;
+        if truly[k] {
+            under[1] += 1;
+            if cell_samples[k].iter().any(|&w| to_missing[w] <= MATCH_DIST) {
+                under[2] += 1;
+            }
+        }
+    }
+    let mut total = DetectionScore {
+        underside_cells: under[0],
+        underside_truly_missing: under[1],
+        underside_found: under[2],
+        cells: 0,
+        truly_missing: 0,
+        found: 0,
+        missing_points: 0,
+        correct_points: 0,
+        recall: 1.0,
+        precision: 1.0,
+        per_building: Vec::new(),
+    };
+    for (_, mut s) in per {
+        s.recall = share(s.found, s.truly_missing);
+        s.precision = share(s.correct_points, s.missing_points);
+        total.cells += s.cells;
+        total.truly_missing += s.truly_missing;
+        total.found += s.found;
+        total.missing_points += s.missing_points;
+        total.correct_points += s.correct_points;
+        total.per_building.push(s);
+    }
+    total.recall = share(total.found, total.truly_missing);
+    total.precision = share(total.correct_points, total.missing_points);
+    total
+}

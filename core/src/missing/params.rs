@@ -1,0 +1,116 @@
+//! Parameters of missing-region detection (DESIGN.md steps 3–4).
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::skeleton::{SkeletonParams, SkeletonParamsError};
+use crate::slice::{SliceParams, SliceParamsError};
+
+/// How missing wall parts are found.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DetectParams {
+    /// Slicing and outlining.
+    pub slice: SliceParams,
+    /// Medial-axis skeleton.
+    pub skeleton: SkeletonParams,
+    /// δ: half-width of the strip around segment s→q searched for points, metres.
+    pub delta: f64,
+    /// Spacing of the boundary points q_n along each contour, metres.
+    pub boundary_spacing: f64,
+    /// How far inside the contour (from q_n along s→q) points count as "near the boundary", metres.
+    pub near: f64,
+    /// How far outside the contour points still count, metres.
+    pub outside: f64,
+    /// A point covers the wall within this radius (the completeness τ), metres.
+    pub coverage_radius: f32,
+    /// Least covered share of the strip for a boundary point to be collected.
+    pub min_coverage: f32,
+    /// θ: R_missing below this → point-based targets, else region-based.
+    pub theta: f32,
+    /// Buildings with fewer points are skipped (reported, not an error).
+    pub min_points: usize,
+    /// Least share of its base size a slice part keeps and stays in its structure.
+    pub structure_keep: f64,
+}
+
+impl Default for DetectParams {
+    fn default() -> Self {
+        DetectParams {
+            slice: SliceParams::default(),
+            skeleton: SkeletonParams::default(),
+            delta: 0.5,
+            boundary_spacing: 1.0,
+            near: 1.25,
+            outside: 0.5,
+            coverage_radius: 0.25,
+            min_coverage: 0.5,
+            theta: 0.3,
+            min_points: 50,
+            structure_keep: 0.7,
+        }
+    }
+}
+
+/// A detection parameter out of range.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum DetectParamsError {
+    /// Slicing parameters are invalid.
+    #[error(transparent)]
+    Slice(#[from] SliceParamsError),
+    /// Skeleton parameters are invalid.
+    #[error(transparent)]
+    Skeleton(#[from] SkeletonParamsError),
+    /// A length that must be positive and finite is not.
+    #[error("detection parameter `{name}` must be a positive finite number, got {value}")]
+    NotPositive {
+        /// Parameter name.
+        name: &'static str,
+        /// Given value.
+        value: f64,
+    },
+    /// A share that must lie in [0, 1] does not.
+    #[error("detection parameter `{name}` must lie in [0, 1], got {value}")]
+    NotShare {
+        /// Parameter name.
+        name: &'static str,
+        /// Given value.
+        value: f64,
+    },
+}
+
+impl DetectParams {
+    /// Checks every field is usable.
+    pub fn validate(&self) -> Result<(), DetectParamsError> {
+        self.slice.validate()?;
+        self.skeleton.validate()?;
+        let positive = [
+            ("delta", self.delta),
+            ("boundary_spacing", self.boundary_spacing),
+            ("near", self.near),
+            ("coverage_radius", self.coverage_radius as f64),
+        ];
+        for (name, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(DetectParamsError::NotPositive { name, value });
+            }
+        }
+        if !(self.outside.is_finite() && self.outside >= 0.0) {
+            return Err(DetectParamsError::NotPositive {
+                name: "outside",
+                value: self.outside,
+            });
+        }
+        let shares = [
+            ("min_coverage", self.min_coverage as f64),
+            ("theta", self.theta as f64),
+            ("structure_keep", self.structure_keep),
+        ];
+        for (name, value) in shares {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(DetectParamsError::NotShare { name, value });
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,242 @@
+//! The medial axis from a constrained Delaunay triangulation of the outline.
+
+use geo::{Contains, Coord, LineString, MultiPolygon, Point};
+use serde::{Deserialize, Serialize};
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use thiserror::Error;
+
+use super::prune::prune_spurs;
+
+/// How the skeleton is built.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SkeletonParams {
+    /// Spacing at which the contour is sampled for the triangulation, metres.
+    pub sample: f64,
+    /// Leaf branches shorter than this are pruned, metres.
+    pub min_branch: f64,
+}
+
+impl Default for SkeletonParams {
+    fn default() -> Self {
+        SkeletonParams {
+            sample: 1.0,
+            min_branch: 3.0,
+        }
+    }
+}
+
+/// A skeleton parameter out of range.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SkeletonParamsError {
+    /// A length that must be positive and finite is not.
+    #[error("skeleton parameter `{name}` must be a positive finite number, got {value}")]
+    NotPositive {
+        /// Parameter name.
+        name: &'static str,
+        /// Given value.
+        value: f64,
+    },
+}
+
+impl SkeletonParams {
+    /// Checks every field is usable.
+    pub fn validate(&self) -> Result<(), SkeletonParamsError> {
+        for (name, value) in [("sample", self.sample), ("min_branch", self.min_branch)] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(SkeletonParamsError::NotPositive { name, value });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A skeleton as a graph in xy.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Skeleton {
+    /// Node positions.
+    pub nodes: Vec<[f64; 2]>,
+    /// Edges between node indices.
+    pub edges: Vec<[usize; 2]>,
+}
+
+impl Skeleton {
+    /// The skeleton point nearest `q` (nodes and points along edges); None
+    /// when the skeleton is empty.
+    pub fn nearest(&self, q: [f64; 2]) -> Option<[f64; 2]> {
+        let mut best: Option<([f64; 2], f64)> = None;
+        let mut offer = |p: [f64; 2]| {
+            let d = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+            if best.is_none_or(|(_, b)| d < b) {
+                best = Some((p, d));
+            }
+        };
+        for &[a, b] in &self.edges {
+            let (pa, pb) = (self.nodes[a], self.nodes[b]);
+            let d = [pb[0] - pa[0], pb[1] - pa[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let t = if len2 > 0.0 {
+                (((q[0] - pa[0]) * d[0] + (q[1] - pa[1]) * d[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            offer([pa[0] + t * d[0], pa[1] + t * d[1]]);
+        }
+        if self.edges.is_empty() {
+            self.nodes.iter().for_each(|&p| offer(p));
+        }
+        best.map(|(p, _)| p)
+    }
+
+    /// Total edge length, metres.
+    pub fn length(&self) -> f64 {
+        self.edges
+            .iter()
+            .map(|&[a, b]| {
+                let (p, q) = (self.nodes[a], self.nodes[b]);
+                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
+            })
+            .sum()
+    }
+}
+
+/// Resamples a closed ring so no edge is longer than `spacing`.
+fn densify(ring: &LineString<f64>, spacing: f64) -> Vec<Coord<f64>> {
+    let mut out = Vec::new();
+    for w in ring.0.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let len = ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
+        let n = (len / spacing).ceil().max(1.0) as usize;
+        for k in 0..n {
+            let t = k as f64 / n as f64;
+            out.push(Coord {
+                x: a.x + t * (b.x - a.x),
+                y: a.y + t * (b.y - a.y),
+            });
+        }
+    }
+    out
+}
+
+/// Medial axis of `outline` (outer rings and holes); empty for an empty or
+/// degenerate outline.
+pub fn medial_axis(outline: &MultiPolygon<f64>, params: &SkeletonParams) -> Skeleton {
+    let spacing = if params.sample.is_finite() && params.sample > 0.0 {
+        params.sample
+    } else {
+        1.0
+    };
+    let mut vertices = Vec::new();
+    let mut edges = Vec::new();
+    for poly in &outline.0 {
+        for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+            let pts = densify(ring, spacing);
+            if pts.len() < 3 || pts.iter().any(|c| !(c.x.is_finite() && c.y.is_finite())) {
+                continue;
+            }
+            let first = vertices.len();
+            for (k, c) in pts.iter().enumerate() {
+                vertices.push(Point2::new(c.x, c.y));
+                let next = if k + 1 == pts.len() { first } else { first + k + 1 };
+                edges.push([first + k, next]);
+            }
+        }
+    }
+    if vertices.len() < 3 {
+        return Skeleton::default();
+    }
+    // Self-touching outlines can give crossing constraints: skip those
+    // edges rather than fail the building.
+    let Ok(cdt) = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
+        vertices,
+        edges,
+        |_| {},
+    ) else {
+        return Skeleton::default();
+    };
+    let faces = cdt.num_all_faces();
+    let mut node_of = vec![usize::MAX; faces];
+    let mut nodes = Vec::new();
+    for face in cdt.inner_faces() {
+        let [a, b, c] = face.positions();
+        let centroid = Point::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
+        if !outline.contains(&centroid) {
+            continue;
+        }
+        let cc = face.circumcenter();
+        // Obtuse triangles put their circumcentre outside the triangle,
+        // sometimes outside the outline: fall back to the centroid there.
+        let p = if cc.x.is_finite() && cc.y.is_finite() && outline.contains(&Point::new(cc.x, cc.y)) {
+            [cc.x, cc.y]
+        } else {
+            [centroid.x(), centroid.y()]
+        };
+        node_of[face.fix().index()] = nodes.len();
+        nodes.push(p);
+    }
+    let mut sk_edges = Vec::new();
+    for face in cdt.inner_faces() {
+        let me = node_of[face.fix().index()];
+        if me == usize::MAX {
+            continue;
+        }
+        for e in face.adjacent_edges() {
+            if e.as_undirected().is_constraint_edge() {
+                continue;
+            }
+            let other = node_of[e.rev().face().fix().index()];
+            if other != usize::MAX && me < other {
+                sk_edges.push([me, other]);
+            }
+        }
+    }
+    prune_spurs(
+        Skeleton {
+            nodes,
+            edges: sk_edges,
+        },
+        params.min_branch,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::{Polygon, polygon};
+
+    fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
+        ((p[0] - a[0] - t * d[0]).powi(2) + (p[1] - a[1] - t * d[1]).powi(2)).sqrt()
+    }
+
+    #[test]
+    fn rectangle_axis_runs_along_its_middle() {
+        let rect: Polygon<f64> = polygon![(x: 0.0, y: 0.0), (x: 40.0, y: 0.0), (x: 40.0, y: 10.0), (x: 0.0, y: 10.0)];
+        let sk = medial_axis(&MultiPolygon(vec![rect]), &SkeletonParams::default());
+        assert!(!sk.edges.is_empty());
+        // interior nodes of the medial axis lie on y = 5 (ends fan to corners)
+        let central: Vec<_> = sk.nodes.iter().filter(|p| (8.0..32.0).contains(&p[0])).collect();
+        assert!(!central.is_empty());
+        for p in central {
+            assert!((p[1] - 5.0).abs() < 0.6, "{p:?}");
+        }
+        assert!(sk.length() > 25.0);
+    }
+
+    #[test]
+    fn l_shape_axis_follows_both_arms() {
+        let l: Polygon<f64> = polygon![(x: 0.0, y: 0.0), (x: 30.0, y: 0.0), (x: 30.0, y: 10.0), (x: 10.0, y: 10.0), (x: 10.0, y: 30.0), (x: 0.0, y: 30.0)];
+        let sk = medial_axis(&MultiPolygon(vec![l]), &SkeletonParams::default());
+        let arm_x = sk.nearest([20.0, 5.0]).unwrap();
+        let arm_y = sk.nearest([5.0, 20.0]).unwrap();
+        assert!(dist_to_segment(arm_x, [5.0, 5.0], [25.0, 5.0]) < 0.8, "{arm_x:?}");
+        assert!(dist_to_segment(arm_y, [5.0, 5.0], [5.0, 25.0]) < 0.8, "{arm_y:?}");
+    }
+
+    #[test]
+    fn empty_outline_gives_empty_skeleton() {
+        let sk = medial_axis(&MultiPolygon(vec![]), &SkeletonParams::default());
+        assert!(sk.nodes.is_empty() && sk.nearest([0.0, 0.0]).is_none());
+    }
+}

@@ -1,0 +1,237 @@
+//! Targets from a detection (DESIGN.md step 4): point targets on rays from
+//! the skeleton through each missing point, region targets around clusters
+//! of missing boundary.
+
+use std::collections::HashSet;
+
+use geo::{ConvexHull, MultiPoint, Orient, Point, orient::Direction};
+use serde::{Deserialize, Serialize};
+
+use super::params::{TargetParams, TargetParamsError};
+use super::site::Site;
+use super::types::{Region, TargetPoint, TargetSet};
+use crate::missing::{Detection, MissingPoint, Strategy};
+
+/// Candidate targets dropped, by reason.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Dropped {
+    /// Inside (or within clearance of) a building.
+    pub inside_building: usize,
+    /// Inside (or within clearance of) vegetation.
+    pub inside_vegetation: usize,
+    /// Off the known ground (outside the site or no ground height).
+    pub off_ground: usize,
+    /// A building stands between the candidate and its wall.
+    pub occluded: usize,
+    /// Merged into a nearby target by downsampling.
+    pub merged: usize,
+    /// Missing points for which no standoff was usable.
+    pub unserved: usize,
+}
+
+/// Missing points closer to their skeleton point than this are rayed along
+/// the stored normal only (no usable skeleton direction).
+const STEP: f32 = 0.5;
+/// The first metres of a ray may cross the building's own (grown) cells.
+const OWN_WALL: f32 = 2.0;
+
+/// Targets for every analysed building of `detection` on `site`.
+/// Point-based buildings get point targets, region-based ones regions
+/// (clusters too small for a hull fall back to point targets).
+pub fn generate(
+    detection: &Detection,
+    site: &Site,
+    params: &TargetParams,
+) -> Result<(TargetSet, Dropped), TargetParamsError> {
+    params.validate()?;
+    let mut set = TargetSet::default();
+    let mut dropped = Dropped::default();
+    for b in detection.buildings.iter().filter(|b| b.skipped.is_none()) {
+        let for_points: Vec<MissingPoint> = match b.strategy {
+            Strategy::PointBased => b.missing.clone(),
+            Strategy::RegionBased => {
+                let (regions, rest) = regions(&b.missing, site, b.ground_z, params);
+                set.regions.extend(regions);
+                rest
+            }
+        };
+        let mut seen: HashSet<(i64, i64)> = HashSet::new();
+        for m in &for_points {
+            let mut served = false;
+            let candidates = standoff_candidates(m, site, params, &mut dropped);
+            for p in candidates {
+                let key = (
+                    (p[0] / params.downsample).floor() as i64,
+                    (p[1] / params.downsample).floor() as i64,
+                );
+                served = true;
+                if seen.insert(key) {
+                    set.points.push(TargetPoint {
+                        xyz: p,
+                        building: b.building,
+                    });
+                } else {
+                    dropped.merged += 1;
+                }
+            }
+            if !served {
+                dropped.unserved += 1;
+            }
+        }
+    }
+    Ok((set, dropped))
+}
+
+/// Open-ground positions on the ray from the skeleton through `m`, at the
+/// standoffs from which the sensor's vertical field of view reaches `m`'s
+/// height (the farthest open one when none does).
+fn standoff_candidates(m: &MissingPoint, site: &Site, params: &TargetParams, dropped: &mut Dropped) -> Vec<[f32; 3]> {
+    let n = m.normal;
+    let len = n[0].hypot(n[1]);
+    if !(len.is_finite() && len > 0.0) {
+        return Vec::new();
+    }
+    let dir = [n[0] / len, n[1] / len];
+    let tan_fov = params.half_fov_deg.to_radians().tan();
+    let mut open = Vec::new();
+    for &d in &params.standoffs {
+        let p = [m.xyz[0] + dir[0] * d, m.xyz[1] + dir[1] * d];
+        let Some(k) = site.index(p[0], p[1]) else {
+            dropped.off_ground += 1;
+            continue;
+        };
+        if site.building[k] {
+            dropped.inside_building += 1;
+            continue;
+        }
+        if site.vegetation[k] {
+            dropped.inside_vegetation += 1;
+            continue;
+        }
+        let g = site.ground[k];
+        if !g.is_finite() {
+            dropped.off_ground += 1;
+            continue;
+        }
+        if occluded(site, m.xyz, dir, d) {
+            dropped.occluded += 1;
+            continue;
+        }
+        let sees = (m.xyz[2] - (g + params.sensor_height)).abs() <= d * tan_fov;
+        open.push(([p[0], p[1], g], sees));
+    }
+    let seeing: Vec<[f32; 3]> = open.iter().filter(|(_, s)| *s).map(|(p, _)| *p).collect();
+    if seeing.is_empty() {
+        open.last().map(|(p, _)| vec![*p]).unwrap_or_default()
+    } else {
+        seeing
+    }
+}
+
+/// Whether building cells lie on the ray beyond the building's own wall.
+fn occluded(site: &Site, from: [f32; 3], dir: [f32; 2], d: f32) -> bool {
+    let mut t = OWN_WALL;
+    while t < d {
+        let k = site.index(from[0] + dir[0] * t, from[1] + dir[1] * t);
+        if k.is_some_and(|k| site.building[k]) {
+            return true;
+        }
+        t += STEP;
+    }
+    false
+}
+
+/// Missing points pushed out by the buffer, linked into clusters; each
+/// cluster of ≥ 3 distinct points becomes a convex region, the rest go back
+/// as point targets.
+fn regions(
+    missing: &[MissingPoint],
+    site: &Site,
+    ground_z: f32,
+    params: &TargetParams,
+) -> (Vec<Region>, Vec<MissingPoint>) {
+    let pushed: Vec<[f64; 2]> = missing
+        .iter()
+        .map(|m| {
+            [
+                (m.xyz[0] + m.normal[0] * params.region_buffer) as f64,
+                (m.xyz[1] + m.normal[1] * params.region_buffer) as f64,
+            ]
+        })
+        .collect();
+    let clusters = link_clusters(&pushed, params.region_link as f64);
+    let mut regions = Vec::new();
+    let mut rest = Vec::new();
+    for members in clusters {
+        let hull = MultiPoint(members.iter().map(|&k| Point::new(pushed[k][0], pushed[k][1])).collect())
+            .convex_hull()
+            .orient(Direction::Default);
+        let mut ring: Vec<[f64; 2]> = hull.exterior().0.iter().map(|c| [c.x, c.y]).collect();
+        if ring.len() > 1 && ring.first() == ring.last() {
+            ring.pop();
+        }
+        if ring.len() < 3 {
+            rest.extend(members.iter().map(|&k| missing[k]));
+            continue;
+        }
+        let (cx, cy) = ring.iter().fold((0.0, 0.0), |(x, y), p| (x + p[0], y + p[1]));
+        let c = [(cx / ring.len() as f64) as f32, (cy / ring.len() as f64) as f32];
+        regions.push(Region {
+            building: missing[members[0]].building,
+            polygon: ring,
+            z: site.ground_at(c[0], c[1]).unwrap_or(ground_z),
+        });
+    }
+    (regions, rest)
+}
+
+/// Single-linkage clusters of `pts` at distance `link` (grid-bucketed union-find).
+fn link_clusters(pts: &[[f64; 2]], link: f64) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..pts.len()).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    let key = |p: &[f64; 2]| ((p[0] / link).floor() as i64, (p[1] / link).floor() as i64);
+    let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+    for (k, p) in pts.iter().enumerate() {
+        buckets.entry(key(p)).or_default().push(k);
+    }
+    for (k, p) in pts.iter().enumerate() {
+        let (i, j) = key(p);
+        for di in -1..=1 {
+            for dj in -1..=1 {
+                let Some(others) = buckets.get(&(i + di, j + dj)) else { continue };
+                for &o in others {
+                    let q = pts[o];
+                    if o > k && (p[0] - q[0]).hypot(p[1] - q[1]) <= link {
+                        let (a, b) = (root(&mut parent, k), root(&mut parent, o));
+                        parent[a] = b;
+                    }
+                }
+            }
+        }
+    }
+    let mut groups: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
+    for k in 0..pts.len() {
+        let r = root(&mut parent, k);
+        groups.entry(r).or_default().push(k);
+    }
+    groups.into_values().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clusters_split_at_the_link_distance() {
+        let pts = vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [10.0, 0.0], [11.0, 0.5]];
+        let mut c = link_clusters(&pts, 1.5);
+        c.sort();
+        assert_eq!(c, vec![vec![0, 1, 2], vec![3, 4]]);
+    }
+}
