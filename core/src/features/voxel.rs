@@ -34,8 +34,8 @@ pub fn thin(xyz: &[[f32; 3]], edge: f32) -> Voxels {
             sums.push(([0.0; 3], 0));
         }
         let s = &mut sums[id as usize];
-        for k in 0..3 {
-            s.0[k] += f64::from(p[k]);
+        for (acc, v) in s.0.iter_mut().zip(p) {
+            *acc += f64::from(*v);
         }
         s.1 += 1;
         of_point.push(id);

@@ -139,7 +139,7 @@ impl RandomForest {
 
     /// Share of trees voting for each class, `rows × classes().len()`.
     pub fn predict_proba(&self, rows: &[f32]) -> Result<Vec<f32>, ForestError> {
-        if rows.len() % self.dims != 0 {
+        if !rows.len().is_multiple_of(self.dims) {
             return Err(ForestError::Dims {
                 expected: self.dims,
                 got: rows.len(),
@@ -187,7 +187,7 @@ impl RandomForest {
 }
 
 fn check_rows(x: &[f32], dims: usize) -> Result<usize, ForestError> {
-    if dims == 0 || x.len() % dims != 0 {
+    if dims == 0 || !x.len().is_multiple_of(dims) {
         return Err(ForestError::Shape {
             values: x.len(),
             dims,
