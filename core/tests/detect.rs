@@ -14,7 +14,8 @@ use skyground_core::cloud::{class, read_cloud};
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::sample_building_surfaces;
 use skyground_core::missing::{
-    DetectParams, Detection, GroundGrid, SkipReason, Strategy, detect_all, detect_all_on, detect_building, evaluate,
+    DetectParams, Detection, GroundGrid, SkipReason, Strategy, detect_all, detect_all_on,
+    detect_building, evaluate,
 };
 use skyground_core::scene::{Scene, load_scene};
 
@@ -24,7 +25,10 @@ fn real_file(name: &str) -> Option<PathBuf> {
         PathBuf::from,
     );
     if !dir.is_dir() {
-        eprintln!("SKIPPED: ../shared/data/real not found (looked in {})", dir.display());
+        eprintln!(
+            "SKIPPED: ../shared/data/real not found (looked in {})",
+            dir.display()
+        );
         return None;
     }
     Some(dir.join(name))
@@ -76,11 +80,17 @@ fn reference_prior_recall_and_precision() {
     let scene = load_scene("reference").unwrap();
     let (xyz, ids, all, terrain) = prior_buildings(&scene);
     // Tuning aid: SKYGROUND_DETECT_PARAMS='{"min_coverage": 0.6}' overrides defaults.
-    let params: DetectParams = std::env::var("SKYGROUND_DETECT_PARAMS")
-        .map_or_else(|_| DetectParams::default(), |j| serde_json::from_str(&j).unwrap());
+    let params: DetectParams = std::env::var("SKYGROUND_DETECT_PARAMS").map_or_else(
+        |_| DetectParams::default(),
+        |j| serde_json::from_str(&j).unwrap(),
+    );
     let t = Instant::now();
     let det = detect_all_on(&xyz, &ids, None, Some(&terrain), &params).unwrap();
-    println!("detection: {} building points in {:.2?}", xyz.len(), t.elapsed());
+    println!(
+        "detection: {} building points in {:.2?}",
+        xyz.len(),
+        t.elapsed()
+    );
     print_detection(&det);
     let gt = sample_building_surfaces(&scene, 0.25);
     let score = evaluate(&gt, &all, &det.missing_points());
@@ -88,7 +98,14 @@ fn reference_prior_recall_and_precision() {
     for s in &score.per_building {
         println!(
             "{:>8} {:>5} {:>13} {:>5} {:>6.3} {:>11} {:>7} {:>9.3}",
-            s.building, s.cells, s.truly_missing, s.found, s.recall, s.missing_points, s.correct_points, s.precision
+            s.building,
+            s.cells,
+            s.truly_missing,
+            s.found,
+            s.recall,
+            s.missing_points,
+            s.correct_points,
+            s.precision
         );
     }
     println!(
@@ -104,7 +121,10 @@ fn reference_prior_recall_and_precision() {
         "undersides (apart): cells {} truly missing {} found {}",
         score.underside_cells, score.underside_truly_missing, score.underside_found
     );
-    assert!(score.truly_missing > 100, "the prior should leave walls missing");
+    assert!(
+        score.truly_missing > 100,
+        "the prior should leave walls missing"
+    );
     assert!(score.recall >= 0.90, "recall {:.3}", score.recall);
     assert!(score.precision >= 0.85, "precision {:.3}", score.precision);
 }
@@ -117,19 +137,29 @@ fn diagnose_reference() {
     let (xyz, ids, all, terrain) = prior_buildings(&scene);
     let det = detect_all_on(&xyz, &ids, None, Some(&terrain), &DetectParams::default()).unwrap();
     let gt = sample_building_surfaces(&scene, 0.25);
-    let walls: Vec<usize> = (0..gt.len()).filter(|&i| gt.kind[i] == SurfaceKind::Wall).collect();
+    let walls: Vec<usize> = (0..gt.len())
+        .filter(|&i| gt.kind[i] == SurfaceKind::Wall)
+        .collect();
     let wxyz: Vec<[f32; 3]> = walls.iter().map(|&i| gt.xyz[i]).collect();
     let cov = nearest_distances(&wxyz, &all);
     let miss = det.missing_xyz();
     let to_miss = nearest_distances(&wxyz, &miss);
-    let bxyz: Vec<[f32; 3]> = det.buildings.iter().flat_map(|b| b.boundary.iter().map(|p| p.xyz)).collect();
+    let bxyz: Vec<[f32; 3]> = det
+        .buildings
+        .iter()
+        .flat_map(|b| b.boundary.iter().map(|p| p.xyz))
+        .collect();
     let to_bound = nearest_distances(&wxyz, &bxyz);
     // uncovered wall samples not near a missing point: by building, height above ground, distance to any boundary point
     let mut hist = std::collections::BTreeMap::new();
     for (k, &i) in walls.iter().enumerate() {
         if cov[k] > 0.25 && to_miss[k] > 1.0 {
             let b = gt.building[i];
-            let g = det.buildings.iter().find(|d| d.building == b).map_or(0.0, |d| d.ground_z);
+            let g = det
+                .buildings
+                .iter()
+                .find(|d| d.building == b)
+                .map_or(0.0, |d| d.ground_z);
             let zb = ((gt.xyz[i][2] - g) / 2.0).floor() as i32 * 2;
             let db = (to_bound[k].min(9.0)).floor() as i32;
             *hist.entry((b, zb, db)).or_insert(0) += 1;
@@ -138,7 +168,12 @@ fn diagnose_reference() {
     for ((b, z, d), n) in hist.iter().filter(|(_, n)| **n > 100) {
         println!("unfound b{b} z{z} dist_to_boundary {d}: {n}");
     }
-    let to_wall_uncov: Vec<[f32; 3]> = walls.iter().enumerate().filter(|(k, _)| cov[*k] > 0.25).map(|(_, &i)| gt.xyz[i]).collect();
+    let to_wall_uncov: Vec<[f32; 3]> = walls
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| cov[*k] > 0.25)
+        .map(|(_, &i)| gt.xyz[i])
+        .collect();
     let to_any = nearest_distances(&miss, &wxyz);
     let to_unc = nearest_distances(&miss, &to_wall_uncov);
     let mut fh = std::collections::BTreeMap::new();

@@ -74,7 +74,10 @@ fn reference_scene_derived_footprints_match_the_truth() {
         derived.len(),
         pts.len()
     );
-    println!("{:>5} {:<22} {:>9} {:>8} {:>6}", "truth", "name", "area m²", "derived", "IoU");
+    println!(
+        "{:>5} {:<22} {:>9} {:>8} {:>6}",
+        "truth", "name", "area m²", "derived", "IoU"
+    );
     for (m, t) in matches.iter().zip(&truth) {
         println!(
             "{:>5} {:<22} {:>9.1} {:>8} {:>6.3}",
@@ -230,7 +233,11 @@ fn zurich_cityjson_footprints_split_the_simulated_prior() {
     let by_id: BTreeMap<u32, &Footprint> = scene_fps.iter().map(|f| (f.id, f)).collect();
     let ious: Vec<f64> = fps
         .iter()
-        .map(|f| by_id.get(&f.id).map_or(0.0, |s| iou(&f.polygon, &s.polygon)))
+        .map(|f| {
+            by_id
+                .get(&f.id)
+                .map_or(0.0, |s| iou(&f.polygon, &s.polygon))
+        })
         .collect();
     let worst = ious.iter().copied().fold(1.0, f64::min);
     let mean = ious.iter().sum::<f64>() / ious.len() as f64;
@@ -328,10 +335,18 @@ fn geojson_polygons_holes_ids_and_origin() {
     assert_eq!(loaded.footprints[0].name, "court");
     assert!((loaded.footprints[1].area() - 200.0).abs() < 1e-6);
     assert_eq!(loaded.skipped.len(), 1);
-    assert!(matches!(loaded.skipped[0].problem, RingProblem::NotPolygon(_)));
+    assert!(matches!(
+        loaded.skipped[0].problem,
+        RingProblem::NotPolygon(_)
+    ));
     // The courtyard is outside, the wing inside, in the local frame.
     let ids = split(
-        &[[15.0, 15.0, 0.0], [5.0, 5.0, 0.0], [105.0, 5.0, 0.0], [-3.0, 5.0, 0.0]],
+        &[
+            [15.0, 15.0, 0.0],
+            [5.0, 5.0, 0.0],
+            [105.0, 5.0, 0.0],
+            [-3.0, 5.0, 0.0],
+        ],
         &loaded.footprints,
         &SplitParams::default(),
     )
@@ -351,7 +366,10 @@ fn bad_inputs_give_typed_errors_or_skips() {
         parse_geojson(b"{\"type\": \"Feature\",", o),
         Err(ParseError::Json { .. })
     ));
-    assert!(matches!(parse_geojson(b"[1,2,3]", o), Err(ParseError::Shape { .. })));
+    assert!(matches!(
+        parse_geojson(b"[1,2,3]", o),
+        Err(ParseError::Shape { .. })
+    ));
     assert!(matches!(
         parse_geojson(br#"{"type":"LineString","coordinates":[[0,0],[1,1]]}"#, o),
         Err(ParseError::Shape { .. })
@@ -386,7 +404,10 @@ fn bad_inputs_give_typed_errors_or_skips() {
     // Nothing usable at all is an error that says why.
     let only_bad = br#"{"type":"Polygon","coordinates":[[[0,0],[1,0],[2,0],[0,0]]]}"#;
     let e = parse_geojson(only_bad, o).unwrap_err();
-    assert!(matches!(e, ParseError::NoFootprints { skipped: 1, .. }), "{e}");
+    assert!(
+        matches!(e, ParseError::NoFootprints { skipped: 1, .. }),
+        "{e}"
+    );
     // Self-touching rings (a figure 8; a hole touching its exterior) come out valid.
     let eight = br#"{"type":"Polygon","coordinates":[[[0,0],[2,2],[2,0],[0,2],[0,0]]]}"#;
     let fp = &parse_geojson(eight, o).unwrap().footprints[0];
@@ -405,7 +426,10 @@ fn bad_inputs_give_typed_errors_or_skips() {
     ));
     let empty = temp("empty.geojson", b"");
     let e = load_footprints(&empty, o).unwrap_err();
-    assert!(e.to_string().contains("empty.geojson") && e.to_string().contains("empty"), "{e}");
+    assert!(
+        e.to_string().contains("empty.geojson") && e.to_string().contains("empty"),
+        "{e}"
+    );
     let wrong = temp("wrong.json", b"{\"type\": 5}");
     assert!(matches!(
         load_footprints(&wrong, o),
@@ -446,6 +470,12 @@ fn bad_inputs_give_typed_errors_or_skips() {
         )
         .is_err()
     );
-    assert_eq!(iou(&geo::MultiPolygon::new(vec![]), &geo::MultiPolygon::new(vec![])), 0.0);
+    assert_eq!(
+        iou(
+            &geo::MultiPolygon::new(vec![]),
+            &geo::MultiPolygon::new(vec![])
+        ),
+        0.0
+    );
     let _ = Area::unsigned_area(&geo::MultiPolygon::<f64>::new(vec![]));
 }

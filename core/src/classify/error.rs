@@ -6,6 +6,9 @@ use crate::forest::ForestError;
 /// Errors of the classification pipeline.
 #[derive(Debug, thiserror::Error)]
 pub enum ClassifyError {
+    /// The ground filter failed (bad parameters, no usable points).
+    #[error(transparent)]
+    Ground(#[from] crate::ground::CsfError),
     /// Bad cloud or feature parameters.
     #[error(transparent)]
     Features(#[from] FeatureError),

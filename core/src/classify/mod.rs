@@ -6,6 +6,7 @@
 //!   ground model until the CSF's own surface is used).
 //! - [`model`]: [`Model`] (feature params + forest), one JSON file.
 //! - [`pipeline`]: [`classify`] → LAS codes.
+//! - [`scene`]: [`SceneClassifier`]: CSF ground + forest on a raw cloud; [`GroundReport`].
 //! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
 //! - [`training`]: [`TrainingCloud`], [`TrainParams`], [`train`],
 //!   [`default_training_set`] (simulated airborne scans of several seeds).
@@ -15,6 +16,7 @@ pub mod hag;
 pub mod model;
 pub mod pipeline;
 pub mod report;
+pub mod scene;
 pub mod training;
 
 pub use error::ClassifyError;
@@ -22,6 +24,7 @@ pub use hag::hag_from_ground_points;
 pub use model::Model;
 pub use pipeline::classify;
 pub use report::{ClassMetrics, ClassReport};
+pub use scene::{Classified, GroundReport, SceneClassifier};
 pub use training::{
     TrainParams, TrainingCloud, default_training_set, simulated_cloud, train, training_surveys,
 };

@@ -57,6 +57,16 @@ impl Model {
         w.flush().map_err(|e| err(e.to_string()))
     }
 
+    /// Reads and checks a model from the bytes of a file written by [`Self::save`].
+    pub fn from_slice(bytes: &[u8]) -> Result<Self, ClassifyError> {
+        let m: Self = serde_json::from_slice(bytes).map_err(|e| ClassifyError::File {
+            path: "(built-in model)".into(),
+            message: e.to_string(),
+        })?;
+        m.check()?;
+        Ok(m)
+    }
+
     /// Reads and checks a model written by [`Self::save`].
     pub fn load(path: &Path) -> Result<Self, ClassifyError> {
         let err = |m: String| ClassifyError::File {

@@ -4,6 +4,8 @@
 
 mod canvas;
 mod color;
+mod scene;
 
 pub use canvas::{Canvas, PlotError};
 pub use color::{Rgb, ramp};
+pub use scene::{BuildingGain, detection_picture, mission_picture};

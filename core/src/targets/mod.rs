@@ -6,11 +6,13 @@
 //! - [`params`]: [`TargetParams`]; [`site`]: [`Site`], the grid of where a robot may stand.
 //! - [`generate`](mod@generate): [`generate()`] → targets and [`Dropped`] counts.
 
+mod from_missing;
 pub mod generate;
 pub mod params;
 pub mod site;
 mod types;
 
+pub use from_missing::{BuildingPlan, generate_from_missing};
 pub use generate::{Dropped, generate};
 pub use params::{TargetParams, TargetParamsError};
 pub use site::{Site, SiteError};

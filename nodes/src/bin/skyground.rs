@@ -3,7 +3,9 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use skyground_nodes::cli::{self, aerial, bench, demo, echo, eval, play, record, sink};
+use skyground_nodes::cli::{
+    self, aerial, bench, classify, demo, detect, echo, eval, plan, play, record, sink,
+};
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
 
@@ -19,13 +21,21 @@ struct Cli {
 enum Cmd {
     /// Run the default mission (re-runs itself inside a loopback-only network namespace).
     Demo(demo::DemoArgs),
-    /// Run a node: skyground node NAME [--ros-args ...] (NAME: cloud_publisher, cloud_inspector).
+    /// Run a node: skyground node NAME [--ros-args ...] (see `skyground node --help`; e.g. scene_classifier).
     Node {
         /// The node's name.
         name: String,
     },
     /// Simulate the airborne LiDAR survey of a scene; print its completeness.
     Aerial(aerial::AerialArgs),
+    /// Classify a cloud: ground (CSF), vegetation and buildings (Random Forest); scores against its own labels.
+    Classify(classify::ClassifyArgs),
+    /// Train the classifier's model on simulated scenes.
+    Train(classify::TrainArgs),
+    /// Find where buildings' walls are missing and make ground targets (with a PNG).
+    Detect(detect::DetectArgs),
+    /// Build the ground graph and route over the targets of `skyground detect`.
+    Plan(plan::PlanArgs),
     /// Measure an aerial cloud and a merged cloud against a scene's buildings.
     Eval(eval::EvalArgs),
     /// Republish a recorded bag with its timing (like `ros2 bag play`).
@@ -105,6 +115,10 @@ fn main() -> ExitCode {
         }
         Cmd::Aerial(a) => offline("aerial", a.json, true, aerial::run(&a)),
         Cmd::Eval(a) => offline("eval", a.json, false, eval::run(&a)),
+        Cmd::Classify(a) => offline("classify", a.json, false, classify::run(&a)),
+        Cmd::Train(a) => offline("train", a.json, true, classify::run_train(&a)),
+        Cmd::Detect(a) => offline("detect", a.json, false, detect::run(&a)),
+        Cmd::Plan(a) => offline("plan", a.json, false, plan::run(&a)),
         Cmd::Node { name } => skyground_nodes::node::run_by_name(&name, ros).unwrap_or_else(|| {
             eprintln!(
                 "skyground: unknown node `{name}` (nodes: {})",

@@ -1,33 +1,35 @@
-//! `skyground demo`: the default mission, as far as the pipeline exists. Every
-//! node is a process of its own on one DDS domain, and the bag records it.
-//!
-//! Today: the airborne prior of the scene is simulated and published
-//! (cloud_publisher → cloud_inspector); vehicle_sim drives a ring of
-//! way-points around the scene's middle while this process collects its
-//! scans; the merged cloud is measured against ground truth before/after.
-//! Detection, targets and planning (issues 5–7) will replace the ring.
+//! `skyground demo`: the whole sky–ground mission over DDS (DESIGN.md steps
+//! 1–9). Every node is a process of its own on one domain; this process
+//! starts them, watches the mission's topics, closes the loop round by
+//! round, stops everything in order and proves the gain against ground
+//! truth (report.json, report.md, overview.png; the bag is mission.mcap).
 
-use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 use futures::StreamExt;
 use serde_json::json;
-use skyground_core::cloud::write_cloud;
+use skyground_core::cloud::{Cloud, class, write_cloud};
+use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
-use skyground_core::metrics::completeness_of_cloud;
+use skyground_core::metrics::{Evaluation, completeness_of_cloud, evaluate};
+use skyground_core::plot::{BuildingGain, mission_picture};
+use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::geometry_msgs::PointStamped;
 use skyground_msgs::nav_msgs::Odometry;
-use skyground_msgs::pointcloud2::decode;
-use skyground_msgs::sensor_msgs::PointCloud2;
+use skyground_msgs::visualization_msgs::MarkerArray;
 use tokio::process::{Child, Command};
 
 use super::aerial::survey;
-use crate::bag::read_messages;
+use super::eval::{markdown, write_json};
+use crate::bag::read_intact_messages;
+use crate::convert::diagnostics::value;
+use crate::convert::markers::markers_to_regions;
+use crate::convert::path::odom_position;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::transport::{CloudSubscription, Received};
 
 /// Demo options.
 #[derive(Debug, Clone, clap::Args)]
@@ -35,7 +37,7 @@ pub struct DemoArgs {
     /// reference, reference:SEED, or a scene file (.obj, .ply, CityJSON .json).
     #[arg(long, default_value = "reference")]
     pub scene: String,
-    /// Output directory (aerial.las, mission.mcap, report.json, logs).
+    /// Output directory (aerial.las, resampled.las, mission.mcap, report.*, overview.png, logs).
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
     /// Run here even if other network interfaces exist (default: re-run inside
@@ -43,17 +45,20 @@ pub struct DemoArgs {
     #[arg(long)]
     pub no_netns: bool,
     /// Wall seconds before giving up on the mission.
-    #[arg(long, default_value_t = 300.0)]
+    #[arg(long, default_value_t = 600.0)]
     pub timeout: f64,
     /// Simulated seconds per wall second.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 20.0)]
     pub time_factor: f64,
-    /// Way-points on the ring the vehicle drives to (and back from).
-    #[arg(long, default_value_t = 10)]
-    pub way_points: usize,
-    /// Radius of the ring, m.
-    #[arg(long, default_value_t = 45.0)]
-    pub radius: f32,
+    /// Rounds of detect → plan → drive at most.
+    #[arg(long, default_value_t = 3)]
+    pub max_rounds: u32,
+    /// A round whose detected completeness gain is below this ends the loop.
+    #[arg(long, default_value_t = 0.01)]
+    pub min_round_gain: f64,
+    /// Give footprints to the detector: for a CityJSON scene, its own buildings.
+    #[arg(long)]
+    pub footprints: Option<PathBuf>,
 }
 
 struct Proc {
@@ -76,7 +81,6 @@ fn start(
         .kill_on_drop(true)
         .spawn()
         .map_err(|e| RuntimeError::Node(format!("cannot start {name}: {e}")))?;
-    eprintln!("  started {name}");
     Ok(Proc { name, child })
 }
 
@@ -108,20 +112,59 @@ fn node_args(name: &str, params: &[String]) -> Vec<String> {
     v
 }
 
-/// Keeps one point per 5 cm voxel.
+/// Every topic of the mission, as the recorder takes them.
+const TOPICS: &[&str] = &[
+    "/aerial_cloud:sensor_msgs/msg/PointCloud2",
+    "/classified_cloud:sensor_msgs/msg/PointCloud2",
+    "/missing_points:sensor_msgs/msg/PointCloud2",
+    "/completeness:diagnostic_msgs/msg/DiagnosticArray",
+    "/detection_markers:visualization_msgs/msg/MarkerArray",
+    "/target_points:sensor_msgs/msg/PointCloud2",
+    "/target_regions:visualization_msgs/msg/MarkerArray",
+    "/global_path:nav_msgs/msg/Path",
+    "/local_path:nav_msgs/msg/Path",
+    "/active_region:visualization_msgs/msg/MarkerArray",
+    "/planner_status:diagnostic_msgs/msg/DiagnosticArray",
+    "/explorer_status:diagnostic_msgs/msg/DiagnosticArray",
+    "/state_estimation:nav_msgs/msg/Odometry",
+    "/vehicle_status:diagnostic_msgs/msg/DiagnosticArray",
+    "/registered_scan:sensor_msgs/msg/PointCloud2",
+    "/resampled_cloud:sensor_msgs/msg/PointCloud2",
+    "/clock:rosgraph_msgs/msg/Clock",
+];
+
+/// What the demo learns from the topics as the mission runs.
 #[derive(Default)]
-struct Voxels {
-    seen: HashSet<[i32; 3]>,
-    xyz: Vec<[f32; 3]>,
+struct Watch {
+    /// Detection rounds: (round, mean completeness over analysed buildings).
+    detected: Vec<(u32, f64)>,
+    /// Planner: round, phase, stops, points and regions done, unreachable.
+    planner_round: u32,
+    planner_phase: String,
+    stops: usize,
+    done: (usize, usize),
+    unreachable: (usize, usize),
+    /// Targets reached / unreachable summed over finished rounds.
+    reached_total: usize,
+    unreachable_total: usize,
+    rounds_finished: Vec<u32>,
+    greedy_m: f64,
+    tsp_m: f64,
+    resampled: Option<Cloud>,
+    route: Vec<[f32; 3]>,
+    odometer: f64,
+    sim_s: f64,
+    targets: TargetSet,
 }
 
-impl Voxels {
-    fn add(&mut self, p: [f32; 3]) {
-        let key = p.map(|v| (v / 0.05).floor() as i32);
-        if self.seen.insert(key) {
-            self.xyz.push(p);
-        }
-    }
+fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
+    let vals: Vec<f64> = arr
+        .status
+        .iter()
+        .filter_map(|s| value::<f64>(s, "completeness"))
+        .collect();
+    let round = arr.status.iter().find_map(|s| value::<u32>(s, "round"))?;
+    (!vals.is_empty()).then(|| (round, vals.iter().sum::<f64>() / vals.len() as f64))
 }
 
 /// Runs the demo mission.
@@ -132,7 +175,6 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
     let bag = a.out.join("mission.mcap");
     let _ = std::fs::remove_file(&bag);
-
     eprintln!(
         "skyground demo: scene {}, output {}",
         a.scene,
@@ -141,7 +183,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let prior = survey(&a.scene, None)?;
     let before = completeness_of_cloud(&prior.gt, &prior.cloud, prior.tau);
     let aerial_path = a.out.join("aerial.las");
-    write_cloud(&aerial_path, &prior.cloud).map_err(|e| err(e.to_string()))?;
+    // The classifier labels the prior itself: publish it without the simulator's labels.
+    let mut unlabelled = prior.cloud.clone();
+    unlabelled.label = None;
+    unlabelled.building = None;
+    write_cloud(&aerial_path, &unlabelled).map_err(|e| err(e.to_string()))?;
     eprintln!(
         "  airborne prior: {} points, building completeness {:.2} % ({:.1} s)",
         prior.cloud.len(),
@@ -153,228 +199,279 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
     let start_xy = free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
         .ok_or_else(|| err("no free spot to start the vehicle".into()))?;
-    // Without a planner yet, the vehicle drives straight lines: spokes out to
-    // the ring and back to the start, so a blocked spoke costs only itself.
-    let ring: Vec<[f32; 2]> = (0..a.way_points)
-        .filter_map(|k| {
-            let ang = k as f32 * std::f32::consts::TAU / a.way_points.max(1) as f32;
-            let (x, y) = (
-                centre[0] + a.radius * ang.cos(),
-                centre[1] + a.radius * ang.sin(),
-            );
-            free_spot(&caster, x, y, 1.5, 15.0)
-        })
-        .flat_map(|p| [p, start_xy])
-        .collect();
 
-    let mut procs = [
-        start(
-            "recorder",
-            &exe,
-            &[
-                "record".into(),
-                "-o".into(),
-                bag.display().to_string(),
-                "/aerial_cloud:sensor_msgs/msg/PointCloud2".into(),
-                "/cloud_stats:diagnostic_msgs/msg/DiagnosticArray".into(),
-                "/state_estimation:nav_msgs/msg/Odometry".into(),
-                "/vehicle_status:diagnostic_msgs/msg/DiagnosticArray".into(),
-                "/way_point:geometry_msgs/msg/PointStamped".into(),
-            ],
-            &a.out,
-        )?,
-        start(
-            "cloud_inspector",
-            &exe,
-            &node_args("cloud_inspector", &["max_clouds:=1".into()]),
-            &a.out,
-        )?,
-        start(
-            "cloud_publisher",
-            &exe,
-            &node_args(
-                "cloud_publisher",
-                &[
-                    format!("file:={}", aerial_path.display()),
-                    "wait_for_subscribers:=2".into(),
-                ],
-            ),
-            &a.out,
-        )?,
-        start(
-            "vehicle_sim",
-            &exe,
-            &node_args(
-                "vehicle_sim",
-                &[
-                    format!("scene:={}", a.scene),
-                    format!("start:=[{}, {}]", start_xy[0], start_xy[1]),
-                    format!("time_factor:={}", a.time_factor),
-                ],
-            ),
-            &a.out,
-        )?,
+    let mut record_args = vec![
+        "record".to_string(),
+        "-o".to_string(),
+        bag.display().to_string(),
     ];
+    record_args.extend(TOPICS.iter().map(|t| (*t).to_string()));
+    let mut detector_params = vec![];
+    if let Some(f) = &a.footprints {
+        detector_params.push(format!("footprints:={}", f.display()));
+        detector_params.push(format!(
+            "origin:=[{}, {}, {}]",
+            prior.scene.origin[0], prior.scene.origin[1], prior.scene.origin[2]
+        ));
+    }
+    let mut procs = vec![start("recorder", &exe, &record_args, &a.out)?];
+    for (name, params) in [
+        ("scene_classifier", vec![]),
+        ("completeness_detector", detector_params),
+        ("target_generator", vec![]),
+        ("global_planner", vec![]),
+        ("local_explorer", vec![]),
+        (
+            "vehicle_sim",
+            vec![
+                format!("scene:={}", a.scene),
+                format!("start:=[{}, {}]", start_xy[0], start_xy[1]),
+                format!("time_factor:={}", a.time_factor),
+            ],
+        ),
+        (
+            "cloud_publisher",
+            vec![format!("file:={}", aerial_path.display())],
+        ),
+    ] {
+        procs.push(start(name, &exe, &node_args(name, &params), &a.out)?);
+    }
+    eprintln!(
+        "  started {} processes: {}",
+        procs.len(),
+        procs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+    );
 
-    let scans = rt.subscription::<PointCloud2>("/registered_scan", qos::sensor(50))?;
-    let status = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
-    let odom = rt.subscription::<Odometry>("/state_estimation", qos::sensor(1))?;
-    let way = rt.publisher::<PointStamped>("/way_point", qos::reliable(10))?;
-    let scan_stream = scans.async_stream();
-    let status_stream = status.async_stream();
-    let odom_stream = odom.async_stream();
-    futures::pin_mut!(scan_stream, status_stream, odom_stream);
+    let mut resampled_sub =
+        CloudSubscription::new(rt, "/resampled_cloud", qos::latched(256), 65536)?;
+    let mut targets_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), 65536)?;
+    let completeness = rt.subscription::<DiagnosticArray>("/completeness", qos::latched(1))?;
+    let planner = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;
+    let vstatus = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
+    let regions = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
+    let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let (c_s, p_s, v_s, r_s, o_s) = (
+        completeness.async_stream(),
+        planner.async_stream(),
+        vstatus.async_stream(),
+        regions.async_stream(),
+        odom.async_stream(),
+    );
+    futures::pin_mut!(c_s, p_s, v_s, r_s, o_s);
     let deadline = tokio::time::Instant::now() + Duration::from_secs_f64(a.timeout);
-    let mut merged = Voxels::default();
-    let mut n_scans = 0u64;
-    let mut reached = 0usize;
-    let mut blocked = 0usize;
-    let mut driven = 0.0f64;
-    let mut sim_s = 0.0f64;
-    let mut vehicle_up = false;
-    let mut k = 0usize;
-    let mut sent = false;
-    let mut resend = tokio::time::interval(Duration::from_secs(2));
-    let mut ok = false;
+    let mut progress = tokio::time::interval(Duration::from_secs(5));
+    let mut w = Watch::default();
+    let mut coverage_now = before.overall.ratio.unwrap_or(0.0);
+    let mut finished = false;
+    let mut why = String::from("interrupted");
     loop {
-        if k >= ring.len() {
-            ok = true;
-            break;
-        }
         tokio::select! {
-            _ = tokio::time::sleep_until(deadline) => break,
+            _ = tokio::time::sleep_until(deadline) => { why = format!("timed out after {} s", a.timeout); break }
             _ = rt.shutdown.wait() => break,
-            Some(Ok((m, _))) = scan_stream.next() => {
-                n_scans += 1;
-                sim_s = f64::from(m.header.stamp.sec) + f64::from(m.header.stamp.nanosec) * 1e-9;
-                if let Ok(d) = decode(&m)
-                    && let Some(labels) = d.cloud.label.as_ref()
+            r = resampled_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
+                let mut merged = prior.cloud.clone();
+                merged.label = None;
+                merged.xyz.extend_from_slice(&decoded.cloud.xyz);
+                let (gt, tau) = (prior.gt.clone(), prior.tau);
+                coverage_now = tokio::task::spawn_blocking(move || completeness_of_cloud(&gt, &merged, tau).overall.ratio.unwrap_or(0.0))
+                    .await
+                    .unwrap_or(coverage_now);
+                w.resampled = Some(decoded.cloud);
+            },
+            r = targets_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
+                let ids = decoded.cloud.building.clone().unwrap_or_default();
+                w.targets.points = decoded.cloud.xyz.iter().enumerate().map(|(i, p)| TargetPoint { xyz: *p, building: ids.get(i).copied().unwrap_or(0) }).collect();
+            },
+            Some(Ok((arr, _))) = r_s.next() => { w.targets.regions = markers_to_regions(&arr).0; }
+            Some(Ok((arr, _))) = c_s.next() => if let Some((round, mean)) = mean_completeness(&arr) {
+                if w.detected.last().is_none_or(|(r, _)| *r != round) {
+                    eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
+                    w.detected.push((round, mean));
+                }
+            },
+            Some(Ok((arr, _))) = p_s.next() => if let Some(s) = arr.status.first() {
+                w.planner_round = value(s, "round").unwrap_or(0);
+                w.planner_phase = s.message.clone();
+                w.stops = value(s, "stops").unwrap_or(0);
+                w.done = (value(s, "points_done").unwrap_or(0), value(s, "regions_done").unwrap_or(0));
+                w.unreachable = (value(s, "unreachable_points").unwrap_or(0), value(s, "unreachable_regions").unwrap_or(0));
+                w.greedy_m = value(s, "greedy_m").unwrap_or(w.greedy_m);
+                w.tsp_m = value(s, "tsp_m").unwrap_or(w.tsp_m);
+                if s.message == "done" && !w.rounds_finished.contains(&w.planner_round) {
+                    w.rounds_finished.push(w.planner_round);
+                    w.reached_total += w.done.0 + w.done.1;
+                    w.unreachable_total += w.unreachable.0 + w.unreachable.1;
+                    eprintln!("  route of round {} done: {} points, {} regions; {} unreachable", w.planner_round, w.done.0, w.done.1, w.unreachable.0 + w.unreachable.1);
+                }
+            },
+            Some(Ok((arr, _))) = v_s.next() => if let Some(s) = arr.status.first() {
+                w.odometer = value(s, "odometer_m").unwrap_or(w.odometer);
+            },
+            Some(Ok((o, h))) = o_s.next() => {
+                let _ = h;
+                w.sim_s = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                if let Some(p) = odom_position(&o)
+                    && w.route.last().is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) > 1.0)
                 {
-                    for (p, l) in d.cloud.xyz.iter().zip(labels) {
-                        if *l == 6 {
-                            merged.add(*p);
-                        }
-                    }
+                    w.route.push(p);
                 }
+            },
+            _ = progress.tick() => {
+                eprintln!(
+                    "  [{:>5.0} s] round {} {}: stops {}/{} | coverage {:.2} % | {:.0} m driven, {:.0} sim s",
+                    t0.elapsed().as_secs_f64(), w.planner_round, if w.planner_phase.is_empty() { "starting" } else { &w.planner_phase },
+                    w.done.0 + w.done.1, w.stops, coverage_now * 100.0, w.odometer, w.sim_s
+                );
             }
-            Some(Ok((_, _))) = odom_stream.next() => {
-                vehicle_up = true;
-            }
-            Some(Ok((s, _))) = status_stream.next() => {
-                for st in &s.status {
-                    let value = |key: &str| st.values.iter().find(|v| v.key == key).and_then(|v| v.value.parse::<f64>().ok());
-                    let goal = ring.get(k).copied().unwrap_or_default();
-                    let is_ours = matches!((value("goal_x"), value("goal_y")), (Some(x), Some(y))
-                        if (x as f32 - goal[0]).abs() < 1e-3 && (y as f32 - goal[1]).abs() < 1e-3);
-                    if !is_ours {
-                        continue;
-                    }
-                    driven = value("odometer_m").unwrap_or(driven);
-                    if st.message == "arrived" { reached += 1 } else { blocked += 1 }
-                    eprintln!(
-                        "  way-point {}/{} {} — {:.0} m driven, {:.0} sim s, {} scans, {} new building points",
-                        k + 1, ring.len(), st.message, driven, sim_s, n_scans, merged.xyz.len()
-                    );
-                    k += 1;
-                    sent = false;
-                }
-            }
-            _ = resend.tick() => {}
         }
-        if vehicle_up
-            && !sent
-            && let Some(g) = ring.get(k)
-        {
-            let mut m = PointStamped::default();
-            m.header.frame_id = "map".into();
-            m.point.x = f64::from(g[0]);
-            m.point.y = f64::from(g[1]);
-            let _ = way.async_publish(m).await;
-            sent = true;
+        // The closed loop: a round ends when its route is done and the detector
+        // has looked again at aerial + resampled points.
+        let finished_round = w.rounds_finished.last().copied();
+        if let Some(r) = finished_round {
+            let after = w.detected.iter().find(|(d, _)| *d == r).map(|(_, m)| *m);
+            let prev = w
+                .detected
+                .iter()
+                .find(|(d, _)| *d + 1 == r)
+                .map(|(_, m)| *m);
+            if let (Some(after), Some(prev)) = (after, prev) {
+                let gain = after - prev;
+                if gain < a.min_round_gain || r >= a.max_rounds {
+                    why = format!(
+                        "round {r} gained {:.2} % detected completeness (stop under {:.2} % or after {} rounds)",
+                        gain * 100.0,
+                        a.min_round_gain * 100.0,
+                        a.max_rounds
+                    );
+                    finished = true;
+                    break;
+                }
+            }
+            if w.stops == 0 && w.planner_phase == "done" && w.planner_round == r && r > 1 {
+                why = "nothing reachable left".into();
+                finished = true;
+                break;
+            }
         }
     }
+    eprintln!("  {why}; stopping the nodes");
     for p in procs.iter_mut().rev() {
         stop(p).await;
-        eprintln!("  stopped {}", p.name);
     }
+    report(&a, &prior, &w, finished, &why, t0).map(|_| ())?;
+    if finished {
+        Ok(())
+    } else {
+        Err(err(format!(
+            "the mission did not finish ({why}): see the logs in {}",
+            a.out.display()
+        )))
+    }
+}
 
-    let mut after_cloud = prior.cloud.clone();
-    let n_ground = merged.xyz.len();
-    after_cloud.xyz.extend(merged.xyz.iter().copied());
-    if let Some(l) = after_cloud.label.as_mut() {
-        l.extend(std::iter::repeat_n(6u8, n_ground));
+/// Measures, writes report.json / report.md / overview.png and resampled.las.
+fn report(
+    a: &DemoArgs,
+    prior: &super::aerial::Survey,
+    w: &Watch,
+    finished: bool,
+    why: &str,
+    t0: Instant,
+) -> Result<Evaluation, RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let mut merged = prior.cloud.clone();
+    let scans = w.resampled.as_ref().map_or(0, Cloud::len);
+    if let Some(r) = &w.resampled {
+        merged.xyz.extend_from_slice(&r.xyz);
+        if let Some(l) = merged.label.as_mut() {
+            l.extend(std::iter::repeat_n(class::BUILDING, r.len()));
+        }
+        if let Some(b) = merged.building.as_mut() {
+            b.extend(std::iter::repeat_n(0, r.len()));
+        }
+        if let Some(i) = merged.intensity.as_mut() {
+            i.extend(std::iter::repeat_n(0.0, r.len()));
+        }
     }
-    if let Some(b) = after_cloud.building.as_mut() {
-        b.extend(std::iter::repeat_n(0u32, n_ground));
-    }
-    if let Some(i) = after_cloud.intensity.as_mut() {
-        i.extend(std::iter::repeat_n(0.0f32, n_ground));
-    }
-    let after = completeness_of_cloud(&prior.gt, &after_cloud, prior.tau);
-    write_cloud(&a.out.join("resampled.las"), &after_cloud).map_err(|e| err(e.to_string()))?;
-    let messages = read_messages(&bag).map_err(|e| err(e.to_string()))?;
-    let count = |t: &str| messages.iter().filter(|m| m.topic == t).count();
+    write_cloud(&a.out.join("resampled.las"), &merged).map_err(|e| err(e.to_string()))?;
+    let e = evaluate(&prior.scene, &prior.gt, &prior.cloud, &merged, prior.tau);
+    let messages = read_intact_messages(a.out.join("mission.mcap"))
+        .map(|m| m.len())
+        .unwrap_or(0);
     let wall = t0.elapsed().as_secs_f64();
-    let report = json!({
+    let value = json!({
         "scene": a.scene,
-        "coverage_before": before.overall.ratio,
-        "coverage_after": after.overall.ratio,
-        "walls_before": before.walls.ratio,
-        "walls_after": after.walls.ratio,
-        "mean_gt_dist_before": before.mean_gt_distance,
-        "mean_gt_dist_after": after.mean_gt_distance,
-        "path_length_m": driven,
-        "sim_time_s": sim_s,
+        "finished": finished,
+        "ended_because": why,
+        "coverage_before": e.before.completeness.overall.ratio,
+        "coverage_after": e.after.completeness.overall.ratio,
+        "walls_before": e.before.completeness.walls.ratio,
+        "walls_after": e.after.completeness.walls.ratio,
+        "roofs_before": e.before.completeness.roofs.ratio,
+        "roofs_after": e.after.completeness.roofs.ratio,
+        "mean_gt_dist_before": e.before.completeness.mean_gt_distance,
+        "mean_gt_dist_after": e.after.completeness.mean_gt_distance,
+        "mean_cloud_to_mesh_before": e.before.mean_cloud_to_mesh,
+        "mean_cloud_to_mesh_after": e.after.mean_cloud_to_mesh,
+        "path_length_m": w.odometer,
+        "sim_time_s": w.sim_s,
         "wall_time_s": wall,
-        "way_points": ring.len(),
-        "reached": reached,
-        "blocked": blocked,
-        "scans": n_scans,
-        "ground_points_added": n_ground,
-        "bag_messages": messages.len(),
+        "rounds": w.rounds_finished.len(),
+        "detected_completeness_by_round": w.detected,
+        "targets_reached": w.reached_total,
+        "targets_unreachable": w.unreachable_total,
+        "last_route": {"greedy_m": w.greedy_m, "tsp_m": w.tsp_m},
+        "ground_points_added": scans,
+        "bag_messages": messages,
+        "buildings": e.buildings,
     });
-    std::fs::write(a.out.join("report.json"), format!("{report:#}"))
-        .map_err(|e| err(e.to_string()))?;
+    write_json(&a.out.join("report.json"), &value)?;
+    let mut md = markdown(&e, &format!("skyground demo: {}", a.scene));
+    md.push_str(&format!(
+        "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| simulated seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        w.rounds_finished.len(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
+    ));
+    std::fs::write(a.out.join("report.md"), md).map_err(|e| err(e.to_string()))?;
+    let outlines = footprints_of_scene(&prior.scene);
+    let gains: Vec<BuildingGain> = outlines
+        .iter()
+        .map(|f| {
+            let row = e.buildings.iter().find(|r| r.building == f.id);
+            let gain = row.map_or(0.0, |r| {
+                r.coverage_after.unwrap_or(0.0) - r.coverage_before.unwrap_or(0.0)
+            });
+            BuildingGain {
+                outline: f.polygon.clone(),
+                gain,
+            }
+        })
+        .collect();
+    let bounds = prior.cloud.bounds().map(|(lo, hi)| {
+        (
+            [f64::from(lo[0]), f64::from(lo[1])],
+            [f64::from(hi[0]), f64::from(hi[1])],
+        )
+    });
+    if let Some(b) = bounds {
+        mission_picture(b, &gains, 0.25, &w.route, &w.targets, 2000)
+            .and_then(|c| c.save(&a.out.join("overview.png")))
+            .map_err(|e| err(e.to_string()))?;
+    }
     let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.2} %", v * 100.0));
-    let m = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3} m"));
     eprintln!(
-        "\n| building completeness (τ = {} m) | before | after |\n|---|---|---|",
-        prior.tau
-    );
-    eprintln!(
-        "| all surfaces | {} | {} |",
-        pct(before.overall.ratio),
-        pct(after.overall.ratio)
-    );
-    eprintln!(
-        "| walls | {} | {} |",
-        pct(before.walls.ratio),
-        pct(after.walls.ratio)
-    );
-    eprintln!(
-        "| mean GT→cloud distance | {} | {} |",
-        m(before.mean_gt_distance),
-        m(after.mean_gt_distance)
-    );
-    eprintln!(
-        "\nskyground demo: {} in {wall:.1} s: {reached} way-points reached, {blocked} blocked, {driven:.0} m in {sim_s:.0} sim s, {n_scans} scans; bag {} ({} messages: /aerial_cloud {}, /state_estimation {}); report {}",
-        if ok {
+        "\nskyground demo: {} in {wall:.1} s — coverage {} → {}, mean GT distance {:.3} → {:.3} m, {} rounds, {:.0} m driven; report {}",
+        if finished {
             "mission finished"
         } else {
             "mission NOT finished"
         },
-        bag.display(),
-        messages.len(),
-        count("/aerial_cloud"),
-        count("/state_estimation"),
+        pct(e.before.completeness.overall.ratio),
+        pct(e.after.completeness.overall.ratio),
+        e.before.completeness.mean_gt_distance.unwrap_or(f64::NAN),
+        e.after.completeness.mean_gt_distance.unwrap_or(f64::NAN),
+        w.rounds_finished.len(),
+        w.odometer,
         a.out.join("report.json").display()
     );
-    if ok && count("/aerial_cloud") > 0 && n_scans > 0 {
-        Ok(())
-    } else {
-        Err(err(format!(
-            "the mission did not finish: see the logs in {}",
-            a.out.display()
-        )))
-    }
+    Ok(e)
 }

@@ -3,9 +3,12 @@
 
 pub mod aerial;
 pub mod bench;
+pub mod classify;
 pub mod demo;
+pub mod detect;
 pub mod echo;
 pub mod eval;
+pub mod plan;
 pub mod play;
 pub mod record;
 pub mod sink;

@@ -1,5 +1,7 @@
 //! Library values ↔ standard ROS messages, in one place so every node
 //! speaks the same dialect (frames, namespaces, colours).
 
+pub mod detection;
 pub mod diagnostics;
 pub mod markers;
+pub mod path;

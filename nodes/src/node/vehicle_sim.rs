@@ -1,4 +1,4 @@
-//! vehicle_sim: /way_point, /global_path, /local_path → a simulated ground
+//! vehicle_sim: /way_point and paths (/local_path by default) → a simulated ground
 //! vehicle with a spinning LiDAR → /state_estimation, /registered_scan, /clock,
 //! /vehicle_status. Simulated time runs `time_factor` times faster than wall time.
 
@@ -33,6 +33,7 @@ struct Params {
     clock_rate_hz: f64,
     frame_id: String,
     child_frame_id: String,
+    path_topics: Vec<String>,
     vehicle: VehicleConfig,
     lidar: LidarConfig,
 }
@@ -109,8 +110,16 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
     let (tx, mut rx) = mpsc::channel::<Command>(16);
     let way = rt.subscription::<PointStamped>("/way_point", qos::reliable(10))?;
-    let global = rt.subscription::<Path>("/global_path", qos::latched(1))?;
-    let local = rt.subscription::<Path>("/local_path", qos::reliable(10))?;
+    let mut paths = Vec::new();
+    for topic in &p.path_topics {
+        // A latched route (/global_path) is read as latched; legs as they come.
+        let q = if topic == "/global_path" {
+            qos::latched(1)
+        } else {
+            qos::reliable(10)
+        };
+        paths.push((rt.subscription::<Path>(topic, q)?, topic.clone()));
+    }
     let log = rt.log.clone();
     let t = tx.clone();
     let l = log.clone();
@@ -128,7 +137,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             }
         }
     });
-    for (sub, name) in [(global, "/global_path"), (local, "/local_path")] {
+    for (sub, name) in paths {
         let t = tx.clone();
         let l = log.clone();
         tokio::spawn(async move {

@@ -1,0 +1,172 @@
+//! Step 1 end to end: the Cloth Simulation Filter finds the ground and the
+//! height above it, the forest tells vegetation from buildings.
+
+use std::time::Instant;
+
+use super::error::ClassifyError;
+use super::model::Model;
+use super::pipeline::classify;
+use crate::cloud::class;
+use crate::ground::{CsfParams, Dtm, csf};
+
+/// A ground filter and a trained model, ready for clouds.
+#[derive(Debug, Clone)]
+pub struct SceneClassifier {
+    csf: CsfParams,
+    model: Model,
+}
+
+/// One classified cloud.
+#[derive(Debug, Clone)]
+pub struct Classified {
+    /// LAS class per point (2 ground, 5 vegetation, 6 building, 1 other).
+    pub labels: Vec<u8>,
+    /// The ground filter's verdict per point.
+    pub is_ground: Vec<bool>,
+    /// Height above the terrain model per point, metres.
+    pub hag: Vec<f32>,
+    /// The terrain model.
+    pub dtm: Dtm,
+    /// Seconds in the ground filter.
+    pub seconds_csf: f64,
+    /// Seconds in features and forest.
+    pub seconds_classify: f64,
+}
+
+impl Classified {
+    /// Both stages' seconds.
+    pub fn seconds_total(&self) -> f64 {
+        self.seconds_csf + self.seconds_classify
+    }
+
+    /// Points per class, by class name.
+    pub fn counts(&self) -> std::collections::BTreeMap<&'static str, usize> {
+        let mut out = std::collections::BTreeMap::new();
+        for &l in &self.labels {
+            let name = match l {
+                class::GROUND => "ground",
+                class::VEGETATION => "vegetation",
+                class::BUILDING => "building",
+                _ => "other",
+            };
+            *out.entry(name).or_insert(0) += 1;
+        }
+        out
+    }
+
+    /// The counts as one line.
+    pub fn summary(&self) -> String {
+        self.counts()
+            .iter()
+            .map(|(k, v)| format!("{k} {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+impl SceneClassifier {
+    /// Checks both halves before any cloud arrives.
+    pub fn new(csf: CsfParams, model: Model) -> Result<Self, ClassifyError> {
+        csf.validate()?;
+        model.check()?;
+        Ok(Self { csf, model })
+    }
+
+    /// The model in use.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// Classifies `xyz` (local frame).
+    pub fn classify(&self, xyz: &[[f32; 3]]) -> Result<Classified, ClassifyError> {
+        let t0 = Instant::now();
+        let split = csf(xyz, &self.csf)?;
+        let seconds_csf = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        // Points the filter skipped (non-finite) have a NaN height: keep them out of the features.
+        if let Some(index) = split.hag.iter().position(|h| !h.is_finite()) {
+            return Err(ClassifyError::NonFinite { index });
+        }
+        let labels = classify(xyz, &split.hag, &split.is_ground, &self.model)?;
+        Ok(Classified {
+            labels,
+            is_ground: split.is_ground,
+            hag: split.hag,
+            dtm: split.dtm,
+            seconds_csf,
+            seconds_classify: t1.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+/// Ground vs non-ground against reference labels (the CSF paper's measures).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct GroundReport {
+    /// Points compared.
+    pub points: usize,
+    /// Misclassified / all.
+    pub total_error: f64,
+    /// Type I: ground called non-ground / reference ground.
+    pub type_i: f64,
+    /// Type II: non-ground called ground / reference non-ground.
+    pub type_ii: f64,
+    /// Cohen's kappa of the two-class agreement.
+    pub kappa: f64,
+}
+
+impl GroundReport {
+    /// Compares the filter's ground flags with LAS labels (class 2 = ground).
+    pub fn new(truth: &[u8], is_ground: &[bool]) -> Result<Self, ClassifyError> {
+        if truth.len() != is_ground.len() {
+            return Err(ClassifyError::LengthMismatch {
+                what: "ground flags",
+                expected: truth.len(),
+                got: is_ground.len(),
+            });
+        }
+        if truth.is_empty() {
+            return Err(ClassifyError::Empty);
+        }
+        let (mut a, mut b, mut c, mut d) = (0f64, 0f64, 0f64, 0f64);
+        for (&t, &g) in truth.iter().zip(is_ground) {
+            match (t == class::GROUND, g) {
+                (true, true) => a += 1.0,
+                (true, false) => b += 1.0,
+                (false, true) => c += 1.0,
+                (false, false) => d += 1.0,
+            }
+        }
+        let n = a + b + c + d;
+        let ratio = |x: f64, y: f64| if y > 0.0 { x / y } else { 0.0 };
+        let po = (a + d) / n;
+        let pe = ((a + b) * (a + c) + (c + d) * (b + d)) / (n * n);
+        Ok(Self {
+            points: truth.len(),
+            total_error: (b + c) / n,
+            type_i: ratio(b, a + b),
+            type_ii: ratio(c, c + d),
+            kappa: if pe < 1.0 {
+                (po - pe) / (1.0 - pe)
+            } else {
+                1.0
+            },
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ground_report_counts_both_error_types() {
+        let truth = [2, 2, 2, 2, 6, 6, 6, 6];
+        let flags = [true, true, true, false, true, false, false, false];
+        let r = GroundReport::new(&truth, &flags).unwrap();
+        assert_eq!(r.total_error, 0.25);
+        assert_eq!(r.type_i, 0.25);
+        assert_eq!(r.type_ii, 0.25);
+        assert!((r.kappa - 0.5).abs() < 1e-12);
+        assert!(GroundReport::new(&truth, &flags[..3]).is_err());
+    }
+}

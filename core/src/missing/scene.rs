@@ -1,0 +1,84 @@
+//! Steps 2–3 on a whole classified cloud: buildings by footprints (given or
+//! derived), then where each one's walls are missing.
+
+use super::all::{DetectError, detect_all};
+use super::detection::{Detection, MissingPoint};
+use super::params::DetectParams;
+use crate::cloud::{Cloud, class};
+use crate::footprint::{DeriveParams, Footprint, ParamsError, SplitParams, derive, split};
+
+/// Why a scene could not be analysed.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneDetectError {
+    /// The cloud has no `label` column.
+    #[error("the cloud has no classification: classify it first (label 6 = building)")]
+    Unclassified,
+    /// Footprint parameters are out of range.
+    #[error("footprint params: {0}")]
+    Footprint(#[from] ParamsError),
+    /// Detection failed.
+    #[error(transparent)]
+    Detect(#[from] DetectError),
+}
+
+fn building_xyz(
+    cloud: &Cloud,
+    origin: [f64; 3],
+    require_labels: bool,
+) -> Result<Vec<[f32; 3]>, SceneDetectError> {
+    let labels = match (&cloud.label, require_labels) {
+        (Some(l), _) => Some(l),
+        (None, true) => return Err(SceneDetectError::Unclassified),
+        (None, false) => None,
+    };
+    let shift = [0, 1, 2].map(|k| cloud.origin[k] - origin[k]);
+    Ok(cloud
+        .xyz
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| labels.is_none_or(|l| l.get(*i) == Some(&class::BUILDING)))
+        .map(|(_, p)| [0, 1, 2].map(|k| (f64::from(p[k]) + shift[k]) as f32))
+        .collect())
+}
+
+/// Detects on the building points of `aerial` (label 6) plus those of
+/// `extra` (ground scans merged so far; unlabelled means all building),
+/// split by `footprints`, or by footprints derived from the aerial building
+/// points (so ids stay the same from round to round). Returns the detection
+/// (frame of `aerial`) and the footprints used.
+pub fn detect_scene(
+    aerial: &Cloud,
+    extra: Option<&Cloud>,
+    footprints: Option<&[Footprint]>,
+    split_params: &SplitParams,
+    derive_params: &DeriveParams,
+    params: &DetectParams,
+) -> Result<(Detection, Vec<Footprint>), SceneDetectError> {
+    let mut pts = building_xyz(aerial, aerial.origin, true)?;
+    let used: Vec<Footprint> = match footprints {
+        Some(f) => f.to_vec(),
+        None => derive(&pts, derive_params)?,
+    };
+    if let Some(e) = extra {
+        pts.extend(building_xyz(e, aerial.origin, false)?);
+    }
+    let ids = split(&pts, &used, split_params)?;
+    let given: Option<Vec<(u32, geo::MultiPolygon<f64>)>> =
+        footprints.map(|f| f.iter().map(|f| (f.id, f.polygon.clone())).collect());
+    let detection = detect_all(&pts, &ids, given.as_deref(), params)?;
+    Ok((detection, used))
+}
+
+/// Missing points moved from the frame of `from` to that of `to`.
+pub fn shift_missing(points: &[MissingPoint], from: [f64; 3], to: [f64; 3]) -> Vec<MissingPoint> {
+    let d = [0, 1, 2].map(|k| from[k] - to[k]);
+    points
+        .iter()
+        .map(|m| {
+            let mut m = *m;
+            m.xyz = [0, 1, 2].map(|k| (f64::from(m.xyz[k]) + d[k]) as f32);
+            m.skeleton = [0, 1].map(|k| (f64::from(m.skeleton[k]) + d[k]) as f32);
+            m
+        })
+        .collect()
+}

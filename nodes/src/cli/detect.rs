@@ -1,0 +1,261 @@
+//! `skyground detect`: steps 2–4 of the method offline — buildings, where
+//! their walls are missing, and the targets that would fill the gaps — with
+//! a top-down PNG, and recall/precision against ground truth with `--gt`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::Deserialize;
+use serde_json::json;
+use skyground_core::classify::SceneClassifier;
+use skyground_core::cloud::{Cloud, class, read_cloud, write_cloud};
+use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints};
+use skyground_core::metrics::{building_points, sample_building_surfaces};
+use skyground_core::missing::{DetectParams, detect_scene, evaluate, shift_missing};
+use skyground_core::plot::detection_picture;
+use skyground_core::scene::load_scene;
+use skyground_core::targets::{Site, TargetParams, generate};
+
+use crate::convert::detection::strategy_name;
+use crate::node::scene_classifier::load_model;
+use crate::runtime::{RuntimeError, params::ParamSet};
+
+/// Options of `skyground detect`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DetectArgs {
+    /// A classified cloud (LAS/LAZ/PLY with labels); unlabelled clouds are classified first.
+    #[arg(long = "in")]
+    pub input: PathBuf,
+    /// Footprints (GeoJSON, CityJSON, OBJ) in the cloud's source frame (default: derived).
+    #[arg(long)]
+    pub footprints: Option<PathBuf>,
+    /// Output directory: classified.las, missing.las, targets.json, detection.json, detection.png.
+    #[arg(long, default_value = "out/detect")]
+    pub out: PathBuf,
+    /// Ground truth for recall/precision: a scene (reference, reference:SEED, file) or a
+    /// `skyground aerial` output directory (its summary.json names the scene).
+    #[arg(long)]
+    pub gt: Option<String>,
+    /// Classify even when the cloud has labels.
+    #[arg(long)]
+    pub classify: bool,
+    /// A params file (sections completeness_detector and target_generator).
+    #[arg(long)]
+    pub params_file: Option<PathBuf>,
+    /// Print the summary as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Deserialize, Default)]
+struct DetectorParams {
+    #[serde(default)]
+    detect: DetectParams,
+    #[serde(default)]
+    split: SplitParams,
+    #[serde(default)]
+    derive: DeriveParams,
+}
+
+#[derive(Debug, Deserialize, Default)]
+struct GeneratorParams {
+    #[serde(default)]
+    targets: TargetParams,
+}
+
+fn err(e: impl std::fmt::Display) -> RuntimeError {
+    RuntimeError::Node(e.to_string())
+}
+
+/// A node's params section as `T`, from its config/ defaults and an optional file
+/// (keys of the node this command does not use are ignored).
+pub fn section<T: serde::de::DeserializeOwned>(
+    node: &str,
+    defaults: &str,
+    file: Option<&Path>,
+    keys: &[&str],
+) -> Result<T, RuntimeError> {
+    let mut params = ParamSet::default();
+    params.merge_yaml(defaults, node, &format!("config/{node}.yaml"))?;
+    if let Some(f) = file {
+        params.merge_file(f, node)?;
+    }
+    let v: serde_json::Value = params.parse(node)?;
+    let picked: serde_json::Map<String, serde_json::Value> = keys
+        .iter()
+        .filter_map(|k| v.get(*k).map(|x| ((*k).to_string(), x.clone())))
+        .collect();
+    serde_json::from_value(serde_json::Value::Object(picked))
+        .map_err(|e| err(format!("{node} params: {e}")))
+}
+
+/// The scene named by `--gt`.
+fn gt_scene(spec: &str) -> Result<String, RuntimeError> {
+    let summary = Path::new(spec).join("summary.json");
+    if summary.is_file() {
+        let text = std::fs::read_to_string(&summary)
+            .map_err(|e| err(format!("{}: {e}", summary.display())))?;
+        let v: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| err(format!("{}: {e}", summary.display())))?;
+        return v
+            .get("scene")
+            .and_then(|s| s.as_str())
+            .map(str::to_string)
+            .ok_or_else(|| err(format!("{} names no scene", summary.display())));
+    }
+    Ok(spec.to_string())
+}
+
+/// Runs detection (and targets) on a file.
+pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
+    use crate::node::{completeness_detector, target_generator};
+    let pd: DetectorParams = section(
+        "completeness_detector",
+        completeness_detector::SPEC.default_params,
+        a.params_file.as_deref(),
+        &["detect", "split", "derive"],
+    )?;
+    let pg: GeneratorParams = section(
+        "target_generator",
+        target_generator::SPEC.default_params,
+        a.params_file.as_deref(),
+        &["targets"],
+    )?;
+    std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+    let t0 = Instant::now();
+    let mut cloud: Cloud = read_cloud(&a.input).map_err(err)?;
+    let labelled = cloud
+        .label
+        .as_ref()
+        .is_some_and(|l| l.iter().any(|&c| c == class::BUILDING));
+    let mut classify_s = 0.0;
+    if a.classify || !labelled {
+        let t = Instant::now();
+        let c = SceneClassifier::new(Default::default(), load_model("")?).map_err(err)?;
+        cloud.label = Some(c.classify(&cloud.xyz).map_err(err)?.labels);
+        classify_s = t.elapsed().as_secs_f64();
+    }
+    let footprints = match &a.footprints {
+        Some(f) => {
+            let l = load_footprints(f, cloud.origin).map_err(err)?;
+            for s in &l.skipped {
+                eprintln!("footprints {}: {s}", f.display());
+            }
+            Some(l.footprints)
+        }
+        None => None,
+    };
+    let t1 = Instant::now();
+    let (detection, used) = detect_scene(
+        &cloud,
+        None,
+        footprints.as_deref(),
+        &pd.split,
+        &pd.derive,
+        &pd.detect,
+    )
+    .map_err(err)?;
+    let detect_s = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let labels = cloud.label.as_deref().unwrap_or_default();
+    let site =
+        Site::from_cloud(&cloud.xyz, labels, pg.targets.cell, pg.targets.clearance).map_err(err)?;
+    let (targets, dropped) = generate(&detection, &site, &pg.targets).map_err(err)?;
+    let targets_s = t2.elapsed().as_secs_f64();
+
+    let bpts: Vec<[f32; 3]> = cloud
+        .xyz
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| **l == class::BUILDING)
+        .map(|(p, _)| *p)
+        .collect();
+    let mut missing = Cloud::from_xyz(detection.missing_xyz());
+    missing.building = Some(
+        detection
+            .missing_points()
+            .iter()
+            .map(|m| m.building)
+            .collect(),
+    );
+    missing.origin = cloud.origin;
+    write_cloud(&a.out.join("classified.las"), &cloud).map_err(err)?;
+    write_cloud(&a.out.join("missing.las"), &missing).map_err(err)?;
+    let targets_json = json!({"origin": cloud.origin, "targets": targets});
+    std::fs::write(a.out.join("targets.json"), format!("{targets_json:#}\n")).map_err(err)?;
+    let png = a.out.join("detection.png");
+    detection_picture(&bpts, &detection, Some(&targets), 2400)
+        .and_then(|c| c.save(&png))
+        .map_err(err)?;
+
+    let per_building: Vec<serde_json::Value> = detection
+        .buildings
+        .iter()
+        .map(|b| {
+            json!({
+                "building": b.building,
+                "points": b.points,
+                "skipped": b.skipped.as_ref().map(ToString::to_string),
+                "slices": b.slices.len(),
+                "structures": b.structures.len(),
+                "boundary_points": b.boundary.len(),
+                "missing_points": b.missing.len(),
+                "r_missing": b.r_missing,
+                "strategy": strategy_name(b.strategy),
+            })
+        })
+        .collect();
+    std::fs::write(
+        a.out.join("detection.json"),
+        format!("{:#}\n", json!(per_building)),
+    )
+    .map_err(err)?;
+    let analysed = detection
+        .buildings
+        .iter()
+        .filter(|b| b.skipped.is_none())
+        .count();
+    let mut out = json!({
+        "input": a.input,
+        "points": cloud.len(),
+        "building_points": bpts.len(),
+        "footprints": if footprints.is_some() { "given" } else { "derived" },
+        "buildings": detection.buildings.len(),
+        "analysed": analysed,
+        "skipped": detection.buildings.len() - analysed,
+        "slices": detection.buildings.iter().map(|b| b.slices.len()).sum::<usize>(),
+        "boundary_points": detection.buildings.iter().map(|b| b.boundary.len()).sum::<usize>(),
+        "missing_points": missing.len(),
+        "r_missing": detection.r_missing(),
+        "point_based": detection.buildings.iter().filter(|b| b.skipped.is_none() && b.strategy == skyground_core::missing::Strategy::PointBased).count(),
+        "region_based": detection.buildings.iter().filter(|b| b.skipped.is_none() && b.strategy == skyground_core::missing::Strategy::RegionBased).count(),
+        "target_points": targets.points.len(),
+        "target_regions": targets.regions.len(),
+        "dropped": dropped,
+        "footprints_used": used.len(),
+        "seconds": {"read": t1.duration_since(t0).as_secs_f64() - classify_s, "classify": classify_s, "detect": detect_s, "targets": targets_s},
+        "outputs": {"dir": a.out, "png": png},
+        "per_building": per_building,
+    });
+    if let Some(spec) = &a.gt {
+        let scene_spec = gt_scene(spec)?;
+        let scene = load_scene(&scene_spec).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
+        let gt = sample_building_surfaces(&scene, 0.25);
+        let aerial = building_points(&cloud, gt.origin);
+        let moved = shift_missing(&detection.missing_points(), cloud.origin, gt.origin);
+        let score = evaluate(&gt, &aerial, &moved);
+        if !a.json {
+            eprintln!(
+                "detection vs ground truth ({scene_spec}): recall {:.3} ({} of {} truly missing 1 m wall cells), precision {:.3} ({} of {} missing points)",
+                score.recall,
+                score.found,
+                score.truly_missing,
+                score.precision,
+                score.correct_points,
+                score.missing_points
+            );
+        }
+        out["gt"] = json!({"scene": scene_spec, "recall": score.recall, "precision": score.precision, "score": score});
+    }
+    Ok(out)
+}

@@ -1,0 +1,133 @@
+//! `skyground plan`: steps 5–6 offline — the ground graph and the route
+//! over the targets `skyground detect` wrote — with both tour builders.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use serde::Deserialize;
+use serde_json::json;
+use skyground_core::cloud::read_cloud;
+use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::route::{RouteParams, plan};
+use skyground_core::targets::TargetSet;
+
+use super::detect::section;
+use crate::runtime::RuntimeError;
+
+/// Options of `skyground plan`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PlanArgs {
+    /// A `skyground detect` output directory (classified.las, targets.json).
+    #[arg(long = "in")]
+    pub input: PathBuf,
+    /// Start position x,y in the cloud's local frame (default: the ground
+    /// point nearest the middle of the cloud).
+    #[arg(long, value_delimiter = ',', num_args = 2)]
+    pub start: Option<Vec<f32>>,
+    /// A params file (section global_planner: graph, route).
+    #[arg(long)]
+    pub params_file: Option<PathBuf>,
+    /// Print the summary as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Deserialize, Default)]
+struct PlannerParams {
+    #[serde(default)]
+    graph: GraphParams,
+    #[serde(default)]
+    route: RouteParams,
+}
+
+#[derive(Debug, Deserialize)]
+struct TargetsFile {
+    targets: TargetSet,
+}
+
+fn err(e: impl std::fmt::Display) -> RuntimeError {
+    RuntimeError::Node(e.to_string())
+}
+
+/// Builds the graph and the route; writes DIR/route.json.
+pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
+    let p: PlannerParams = section(
+        "global_planner",
+        crate::node::global_planner::SPEC.default_params,
+        a.params_file.as_deref(),
+        &["graph", "route"],
+    )?;
+    let cloud = read_cloud(&a.input.join("classified.las")).map_err(err)?;
+    let labels = cloud
+        .label
+        .clone()
+        .ok_or_else(|| err("classified.las has no classification"))?;
+    let tpath = a.input.join("targets.json");
+    let text =
+        std::fs::read_to_string(&tpath).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
+    let targets: TargetsFile =
+        serde_json::from_str(&text).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
+    let targets = targets.targets;
+    let start = match &a.start {
+        Some(s) => [s[0], s[1], 0.0],
+        None => {
+            let (lo, hi) = cloud.bounds().ok_or_else(|| err("empty cloud"))?;
+            let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+            cloud
+                .xyz
+                .iter()
+                .zip(&labels)
+                .filter(|(_, l)| **l == skyground_core::cloud::class::GROUND)
+                .map(|(q, _)| *q)
+                .min_by(|a, b| {
+                    let d = |q: &[f32; 3]| (q[0] - mid[0]).powi(2) + (q[1] - mid[1]).powi(2);
+                    d(a).total_cmp(&d(b))
+                })
+                .ok_or_else(|| err("no ground points"))?
+        }
+    };
+    let t0 = Instant::now();
+    let graph = GroundGraph::build(&cloud.xyz, &labels, start, &p.graph).map_err(err)?;
+    let graph_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let route = plan(&graph, &targets, start, &p.route).map_err(err)?;
+    let route_s = t1.elapsed().as_secs_f64();
+    let out = json!({
+        "input": a.input,
+        "start": start,
+        "graph": graph.report(),
+        "nodes": graph.len(),
+        "edges": graph.edges().len(),
+        "target_points": targets.points.len(),
+        "target_regions": targets.regions.len(),
+        "reachable_points": targets.points.len() - route.unreachable_points.len(),
+        "reachable_regions": targets.regions.len() - route.unreachable_regions.len(),
+        "unreachable_points": route.unreachable_points,
+        "unreachable_regions": route.unreachable_regions,
+        "greedy_length_m": route.greedy_length_m,
+        "tsp_length_m": route.tsp_length_m,
+        "tsp_over_greedy": route.tsp_length_m / route.greedy_length_m.max(1e-6),
+        "route_length_m": route.length_m,
+        "stops": route.order.len(),
+        "seconds": {"graph": graph_s, "matrix_and_tours": route_s, "total": graph_s + route_s},
+    });
+    let file = json!({"summary": out, "route": route});
+    std::fs::write(a.input.join("route.json"), format!("{file:#}\n")).map_err(err)?;
+    if !a.json {
+        eprintln!(
+            "graph: {} nodes, {} edges ({:.2} s); targets reachable: {} of {} points, {} of {} regions; tours: greedy {:.0} m, TSP {:.0} m ({:.2}×) ({:.2} s)",
+            graph.len(),
+            graph.edges().len(),
+            graph_s,
+            targets.points.len() - route.unreachable_points.len(),
+            targets.points.len(),
+            targets.regions.len() - route.unreachable_regions.len(),
+            targets.regions.len(),
+            route.greedy_length_m,
+            route.tsp_length_m,
+            route.tsp_length_m / route.greedy_length_m.max(1e-6),
+            route_s
+        );
+    }
+    Ok(out)
+}

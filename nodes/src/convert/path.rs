@@ -1,0 +1,57 @@
+//! nav_msgs/Path and odometry helpers.
+
+use skyground_msgs::geometry_msgs::PoseStamped;
+use skyground_msgs::nav_msgs::{Odometry, Path};
+use skyground_msgs::std_msgs::Header;
+
+/// A Path through `pts` (orientation identity), every pose with `header`.
+pub fn path(header: &Header, pts: &[[f32; 3]]) -> Path {
+    Path {
+        header: header.clone(),
+        poses: pts
+            .iter()
+            .map(|p| {
+                let mut ps = PoseStamped {
+                    header: header.clone(),
+                    ..PoseStamped::default()
+                };
+                ps.pose.position.x = f64::from(p[0]);
+                ps.pose.position.y = f64::from(p[1]);
+                ps.pose.position.z = f64::from(p[2]);
+                ps.pose.orientation.w = 1.0;
+                ps
+            })
+            .collect(),
+    }
+}
+
+/// The positions of a Path.
+pub fn path_points(p: &Path) -> Vec<[f32; 3]> {
+    p.poses
+        .iter()
+        .map(|ps| {
+            let q = &ps.pose.position;
+            [q.x as f32, q.y as f32, q.z as f32]
+        })
+        .collect()
+}
+
+/// The position of an odometry message, when finite.
+pub fn odom_position(o: &Odometry) -> Option<[f32; 3]> {
+    let q = &o.pose.pose.position;
+    let p = [q.x as f32, q.y as f32, q.z as f32];
+    p.iter().all(|v| v.is_finite()).then_some(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_round_trip() {
+        let pts = vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]];
+        let p = path(&Header::default(), &pts);
+        assert_eq!(p.poses[1].pose.orientation.w, 1.0);
+        assert_eq!(path_points(&p), pts);
+    }
+}

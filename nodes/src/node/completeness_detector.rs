@@ -1,0 +1,197 @@
+//! completeness_detector: /classified_cloud (+ footprints, + /resampled_cloud
+//! in later rounds) → per building, where the walls are missing (DESIGN.md
+//! steps 2–3) → /missing_points, /completeness, /detection_markers.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use serde::Deserialize;
+use skyground_core::cloud::Cloud;
+use skyground_core::footprint::{DeriveParams, Footprint, SplitParams, load_footprints};
+use skyground_core::missing::{DetectParams, Detection, detect_scene};
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
+use skyground_msgs::pointcloud2::{EncodeOptions, encode};
+use skyground_msgs::std_msgs::Header;
+use skyground_msgs::visualization_msgs::MarkerArray;
+
+use crate::convert::detection::{completeness_array, detection_markers, missing_cloud};
+use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    input_topic: String,
+    resampled_topic: String,
+    footprints: String,
+    origin: Vec<f64>,
+    #[serde(default)]
+    detect: DetectParams,
+    #[serde(default)]
+    split: SplitParams,
+    #[serde(default)]
+    derive: DeriveParams,
+    transport: TransportConfig,
+}
+
+/// Name and default params.
+pub const SPEC: NodeSpec = NodeSpec {
+    name: "completeness_detector",
+    default_params: include_str!("../../../config/completeness_detector.yaml"),
+};
+
+#[derive(Clone)]
+struct Setup {
+    footprints: Option<Vec<Footprint>>,
+    detect: DetectParams,
+    split: SplitParams,
+    derive: DeriveParams,
+}
+
+fn run_detection(
+    setup: &Setup,
+    aerial: &Cloud,
+    extra: Option<&Cloud>,
+) -> Result<(Detection, Vec<Footprint>), String> {
+    detect_scene(
+        aerial,
+        extra,
+        setup.footprints.as_deref(),
+        &setup.split,
+        &setup.derive,
+        &setup.detect,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// Runs the node until asked to stop.
+pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
+    let p: Params = rt.params()?;
+    p.detect
+        .validate()
+        .map_err(|e| RuntimeError::Node(format!("detect params: {e}")))?;
+    let mut aerial_sub = CloudSubscription::new(
+        rt,
+        &p.input_topic,
+        qos::latched(256),
+        p.transport.tile_points,
+    )?;
+    let mut resampled_sub = if p.resampled_topic.is_empty() {
+        None
+    } else {
+        Some(CloudSubscription::new(
+            rt,
+            &p.resampled_topic,
+            qos::latched(256),
+            p.transport.tile_points,
+        )?)
+    };
+    let missing_pub = CloudPublisher::new(rt, "/missing_points", qos::latched(1), p.transport)?;
+    let status_pub = rt.publisher::<DiagnosticArray>("/completeness", qos::latched(1))?;
+    let marker_pub = rt.publisher::<MarkerArray>("/detection_markers", qos::latched(1))?;
+    let mut setup = Arc::new(Setup {
+        footprints: None,
+        detect: p.detect,
+        split: p.split,
+        derive: p.derive,
+    });
+    rt.log.info(&format!("waiting for {}", p.input_topic));
+    let mut aerial: Option<(Cloud, Header)> = None;
+    let mut resampled: Option<Cloud> = None;
+    let mut round = 0u32;
+    loop {
+        let changed = tokio::select! {
+            r = aerial_sub.next() => match r {
+                Some(Received::Cloud { msg, decoded }) => {
+                    let cloud = decoded.cloud;
+                    if cloud.label.is_none() {
+                        rt.log.error(&format!("cloud on {} has no `label` field: run scene_classifier first", p.input_topic));
+                        false
+                    } else {
+                        if !p.footprints.is_empty() && setup.footprints.is_none() {
+                            let origin = [0, 1, 2].map(|k| p.origin.get(k).copied().unwrap_or(0.0));
+                            match load_footprints(Path::new(&p.footprints), origin) {
+                                Ok(l) => {
+                                    for s in &l.skipped {
+                                        rt.log.warn(&format!("footprints {}: {s}", p.footprints));
+                                    }
+                                    rt.log.info(&format!("{} footprints from {}", l.footprints.len(), p.footprints));
+                                    Arc::make_mut(&mut setup).footprints = Some(l.footprints);
+                                }
+                                Err(e) => rt.log.error(&format!("footprints {}: {e}; deriving them instead", p.footprints)),
+                            }
+                        }
+                        aerial = Some((cloud, msg.header));
+                        true
+                    }
+                }
+                Some(Received::Bad(reason)) => {
+                    rt.log.error(&format!("rejected cloud on {}: {reason}", p.input_topic));
+                    false
+                }
+                None => break,
+            },
+            r = async { match resampled_sub.as_mut() { Some(s) => s.next().await, None => std::future::pending().await } } => match r {
+                Some(Received::Cloud { decoded, .. }) => {
+                    resampled = Some(decoded.cloud);
+                    aerial.is_some()
+                }
+                Some(Received::Bad(reason)) => {
+                    rt.log.error(&format!("rejected cloud on {}: {reason}", p.resampled_topic));
+                    false
+                }
+                None => break,
+            },
+            _ = rt.shutdown.wait() => break,
+        };
+        let Some((cloud, header)) = aerial.as_ref().filter(|_| changed) else {
+            continue;
+        };
+        let t0 = std::time::Instant::now();
+        let (job_setup, job_cloud, job_extra) = (setup.clone(), cloud.clone(), resampled.clone());
+        let result = tokio::task::spawn_blocking(move || {
+            run_detection(&job_setup, &job_cloud, job_extra.as_ref())
+        })
+        .await
+        .map_err(|e| RuntimeError::Node(format!("detection task: {e}")))?;
+        let (detection, _footprints) = match result {
+            Ok(v) => v,
+            Err(e) => {
+                rt.log.error(&format!("detection failed: {e}"));
+                continue;
+            }
+        };
+        let mut header = header.clone();
+        header.stamp = rt.now();
+        let missing = missing_cloud(&detection, cloud.origin);
+        rt.log.info(&format!(
+            "round {round}: {} buildings, {} missing boundary points, R_missing {:.3} ({:.2} s)",
+            detection.buildings.len(),
+            missing.len(),
+            detection.r_missing(),
+            t0.elapsed().as_secs_f64()
+        ));
+        missing_pub
+            .publish(encode(
+                &missing,
+                header.clone(),
+                &EncodeOptions { double: false },
+            ))
+            .await?;
+        if let Err(e) = status_pub
+            .async_publish(completeness_array(&header, &detection, round))
+            .await
+        {
+            rt.log.warn(&format!("cannot publish /completeness: {e}"));
+        }
+        if let Err(e) = marker_pub
+            .async_publish(detection_markers(&header, &detection))
+            .await
+        {
+            rt.log
+                .warn(&format!("cannot publish /detection_markers: {e}"));
+        }
+        round += 1;
+    }
+    Ok(())
+}

@@ -1,0 +1,114 @@
+//! scene_classifier: /aerial_cloud → ground by CSF, vegetation vs building by
+//! the Random Forest → /classified_cloud (label field, latched). DESIGN.md step 1.
+
+use std::path::Path;
+
+use serde::Deserialize;
+use skyground_core::classify::{Model, SceneClassifier};
+use skyground_core::ground::CsfParams;
+use skyground_msgs::pointcloud2::{EncodeOptions, encode};
+
+use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    input_topic: String,
+    output_topic: String,
+    model_path: String,
+    csf: CsfParams,
+    transport: TransportConfig,
+    max_clouds: u64,
+}
+
+/// Name and default params.
+pub const SPEC: NodeSpec = NodeSpec {
+    name: "scene_classifier",
+    default_params: include_str!("../../../config/scene_classifier.yaml"),
+};
+
+/// The model shipped with skyground (`skyground train` makes it).
+pub const DEFAULT_MODEL: &[u8] = include_bytes!("../../../config/classifier_model.json");
+
+/// The model at `path`, or the shipped one for an empty path.
+pub fn load_model(path: &str) -> Result<Model, RuntimeError> {
+    let model = if path.is_empty() {
+        Model::from_slice(DEFAULT_MODEL)
+    } else {
+        Model::load(Path::new(path))
+    };
+    model.map_err(|e| RuntimeError::Node(format!("classifier model {path:?}: {e}")))
+}
+
+/// Runs the node until it is done or asked to stop.
+pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
+    let p: Params = rt.params()?;
+    let classifier = SceneClassifier::new(p.csf.clone(), load_model(&p.model_path)?)
+        .map_err(|e| RuntimeError::Node(e.to_string()))?;
+    let classifier = std::sync::Arc::new(classifier);
+    let mut sub = CloudSubscription::new(
+        rt,
+        &p.input_topic,
+        qos::latched(256),
+        p.transport.tile_points,
+    )?;
+    let publisher = CloudPublisher::new(rt, &p.output_topic, qos::latched(1), p.transport)?;
+    rt.log.info(&format!(
+        "classifying clouds from {} onto {}",
+        p.input_topic, p.output_topic
+    ));
+    let mut done = 0u64;
+    loop {
+        let got = tokio::select! {
+            r = sub.next() => r,
+            _ = rt.shutdown.wait() => None,
+        };
+        let Some(got) = got else { break };
+        let (msg, decoded) = match got {
+            Received::Bad(reason) => {
+                rt.log
+                    .error(&format!("rejected cloud on {}: {reason}", p.input_topic));
+                continue;
+            }
+            Received::Cloud { msg, decoded } => (msg, decoded),
+        };
+        let mut cloud = decoded.cloud;
+        let c = classifier.clone();
+        let xyz = std::mem::take(&mut cloud.xyz);
+        let result = tokio::task::spawn_blocking(move || {
+            let r = c.classify(&xyz);
+            (xyz, r)
+        })
+        .await
+        .map_err(|e| RuntimeError::Node(format!("classifier task: {e}")))?;
+        cloud.xyz = result.0;
+        let classified = match result.1 {
+            Ok(c) => c,
+            Err(e) => {
+                rt.log.error(&format!(
+                    "cannot classify the cloud on {}: {e}",
+                    p.input_topic
+                ));
+                continue;
+            }
+        };
+        rt.log.info(&format!(
+            "classified {} points in {:.2} s (CSF {:.2} s): {}",
+            cloud.len(),
+            classified.seconds_total(),
+            classified.seconds_csf,
+            classified.summary()
+        ));
+        cloud.label = Some(classified.labels);
+        let header = msg.header.clone();
+        publisher
+            .publish(encode(&cloud, header, &EncodeOptions { double: false }))
+            .await?;
+        done += 1;
+        if p.max_clouds > 0 && done >= p.max_clouds {
+            break;
+        }
+    }
+    Ok(())
+}
