@@ -7,9 +7,9 @@ use super::error::CsfError;
 /// Cloth Simulation Filter parameters (Zhang et al. 2016); every field has
 /// a default, so a params file names only what differs.
 ///
-/// The defaults suit both sparse rural airborne data (Autzen, ~0.2 pts/m²,
-/// trees) and dense city surveys (~46 pts/m², buildings up to 40 m); see
-/// `core/tests/ground.rs` for the figures they give.
+/// The defaults suit city surveys from ~2 to ~46 pts/m² with roofs up to
+/// 60 m across (sample_c.las, the reference city); see `core/tests/ground.rs`
+/// and `config/scene_classifier.yaml` for the figures they give.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CsfParams {
@@ -36,7 +36,7 @@ pub struct CsfParams {
 impl Default for CsfParams {
     fn default() -> Self {
         Self {
-            cloth_resolution: 2.0,
+            cloth_resolution: 4.0,
             rigidness: 3,
             time_step: 0.65,
             class_threshold: 0.5,
