@@ -24,7 +24,9 @@ const MAX_DEPTH: usize = 32;
 pub fn parse_cityjson_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError> {
     let doc = super::json::parse(data)?;
     if doc.get("type").and_then(Value::as_str) != Some("CityJSON") {
-        return Err(shape("not a CityJSON document (top-level `type` is not `CityJSON`)"));
+        return Err(shape(
+            "not a CityJSON document (top-level `type` is not `CityJSON`)",
+        ));
     }
     let vertices = real_vertices(&doc)?;
     let objects = doc
@@ -222,9 +224,7 @@ fn object_footprint(
         &mut surfaces,
     )
     .map_err(|reason| shape(&format!("city object `{id}`: {reason}")))?;
-    let grounds = surfaces
-        .iter()
-        .any(|s| s.semantic == Some("GroundSurface"));
+    let grounds = surfaces.iter().any(|s| s.semantic == Some("GroundSurface"));
     let mut out = Vec::new();
     for (k, s) in surfaces.iter().enumerate() {
         if grounds && s.semantic != Some("GroundSurface") {

@@ -35,7 +35,9 @@ pub fn match_footprints(derived: &[Footprint], truth: &[Footprint]) -> Vec<Footp
             let best = derived
                 .iter()
                 .filter(|d| match (tb, d.bounds()) {
-                    (Some(a), Some(b)) => a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3],
+                    (Some(a), Some(b)) => {
+                        a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3]
+                    }
                     _ => false,
                 })
                 .map(|d| (t.polygon.intersection(&d.polygon).unsigned_area(), d))

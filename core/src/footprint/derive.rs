@@ -19,8 +19,11 @@ pub fn derive(
     params: &DeriveParams,
 ) -> Result<Vec<Footprint>, ParamsError> {
     params.validate()?;
-    let Some(r) = Raster::new(building_points, params.cell_m, params.closing_cells as usize)
-    else {
+    let Some(r) = Raster::new(
+        building_points,
+        params.cell_m,
+        params.closing_cells as usize,
+    ) else {
         return Ok(Vec::new());
     };
     let (label, n) = r.components(params.height_jump_m, params.min_open_share);

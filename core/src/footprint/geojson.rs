@@ -37,7 +37,10 @@ pub fn parse_geojson(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError
     let mut parts: Vec<(Option<u32>, String, MultiPolygon<f64>)> = Vec::new();
     for (k, f) in features.iter().enumerate() {
         let (geometry, props) = if f.get("type").and_then(Value::as_str) == Some("Feature") {
-            (f.get("geometry").unwrap_or(&Value::Null), f.get("properties"))
+            (
+                f.get("geometry").unwrap_or(&Value::Null),
+                f.get("properties"),
+            )
         } else {
             (*f, None)
         };

@@ -56,8 +56,7 @@ pub fn parse_obj_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded, Par
                     pts.push(*p);
                 }
                 let source = format!("face {faces} (line {})", n + 1);
-                let made = ring(&pts, false)
-                    .and_then(|r| union_valid(&[Polygon::new(r, vec![])]));
+                let made = ring(&pts, false).and_then(|r| union_valid(&[Polygon::new(r, vec![])]));
                 match made {
                     Ok(polygon) => {
                         let id = u32::try_from(footprints.len() + 1).unwrap_or(u32::MAX);

@@ -25,8 +25,20 @@ impl Default for SplitParams {
 impl SplitParams {
     /// Checks ranges.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        check("tolerance_m", self.tolerance_m, 0.0, 100.0, "0 ≤ value ≤ 100 m")?;
-        check("index_cell_m", self.index_cell_m, 0.1, 1000.0, "0.1 ≤ value ≤ 1000 m")
+        check(
+            "tolerance_m",
+            self.tolerance_m,
+            0.0,
+            100.0,
+            "0 ≤ value ≤ 100 m",
+        )?;
+        check(
+            "index_cell_m",
+            self.index_cell_m,
+            0.1,
+            1000.0,
+            "0.1 ≤ value ≤ 1000 m",
+        )
     }
 }
 
@@ -80,9 +92,27 @@ impl DeriveParams {
             "0 ≤ value ≤ 10 cells",
         )?;
         check("min_area_m2", self.min_area_m2, 0.0, 1e9, "value ≥ 0 m²")?;
-        check("height_jump_m", self.height_jump_m, 0.0, 1e4, "value ≥ 0 m (0 = off)")?;
-        check("min_open_share", self.min_open_share, 0.0, 1.0, "0 ≤ value ≤ 1")?;
-        check("simplify_m", self.simplify_m, 0.0, 100.0, "0 ≤ value ≤ 100 m")
+        check(
+            "height_jump_m",
+            self.height_jump_m,
+            0.0,
+            1e4,
+            "value ≥ 0 m (0 = off)",
+        )?;
+        check(
+            "min_open_share",
+            self.min_open_share,
+            0.0,
+            1.0,
+            "0 ≤ value ≤ 1",
+        )?;
+        check(
+            "simplify_m",
+            self.simplify_m,
+            0.0,
+            100.0,
+            "0 ≤ value ≤ 100 m",
+        )
     }
 }
 

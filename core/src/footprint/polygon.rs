@@ -1,8 +1,8 @@
 //! Turning raw rings from files into valid polygons: checks per ring, then one
 //! boolean union so self-touching or overlapping input comes out valid.
 
-use geo::orient::{Direction, Orient};
 use geo::algorithm::bool_ops::FillRule;
+use geo::orient::{Direction, Orient};
 use geo::{Area, BooleanOps, Coord, LineString, MultiPolygon, Polygon};
 
 use super::error::RingProblem;

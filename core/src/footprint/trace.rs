@@ -12,7 +12,14 @@ const STEP: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
 /// The outline of every label `1..=n` of a `nx × ny` grid (index `j * nx + i`),
 /// as polygons in world xy (`lo + cell * vertex`). Labels must not touch the
 /// grid border. Entry `l - 1` holds label `l`.
-pub fn trace(label: &[u32], nx: usize, ny: usize, n: u32, lo: [f64; 2], cell: f64) -> Vec<MultiPolygon<f64>> {
+pub fn trace(
+    label: &[u32],
+    nx: usize,
+    ny: usize,
+    n: u32,
+    lo: [f64; 2],
+    cell: f64,
+) -> Vec<MultiPolygon<f64>> {
     // Directed edges with the component on their left, per label.
     let mut edges: Vec<Vec<((i64, i64), u8)>> = vec![Vec::new(); n as usize];
     for j in 0..ny {
@@ -44,10 +51,7 @@ pub fn trace(label: &[u32], nx: usize, ny: usize, n: u32, lo: [f64; 2], cell: f6
             }
         }
     }
-    edges
-        .iter()
-        .map(|e| polygons(&link(e), lo, cell))
-        .collect()
+    edges.iter().map(|e| polygons(&link(e), lo, cell)).collect()
 }
 
 /// Links directed unit edges into closed vertex rings; at a vertex with two
@@ -132,7 +136,10 @@ fn polygons(rings: &[Vec<(i64, i64)>], lo: [f64; 2], cell: f64) -> MultiPolygon<
         // A point just left of the hole's first edge lies in the component.
         let (a, b) = (h[0], h[1]);
         let (dx, dy) = ((b.0 - a.0).signum() as f64, (b.1 - a.1).signum() as f64);
-        let p = (a.0 as f64 + 0.5 * dx - 0.25 * dy, a.1 as f64 + 0.5 * dy + 0.25 * dx);
+        let p = (
+            a.0 as f64 + 0.5 * dx - 0.25 * dy,
+            a.1 as f64 + 0.5 * dy + 0.25 * dx,
+        );
         let owner = outer
             .iter()
             .enumerate()
