@@ -53,7 +53,7 @@ pub fn derive(
             (mp.unsigned_area() >= params.min_area_m2).then_some((count, mp))
         })
         .collect();
-    kept.sort_by(|a, b| b.0.cmp(&a.0));
+    kept.sort_by_key(|k| std::cmp::Reverse(k.0));
     Ok(kept
         .into_iter()
         .enumerate()

@@ -167,11 +167,11 @@ impl Raster {
         }
         let mut label = vec![0u32; n];
         let mut ids: HashMap<usize, u32> = HashMap::new();
-        for k in 0..n {
+        for (k, slot) in label.iter_mut().enumerate() {
             if self.filled[k] {
                 let root = uf.find(k);
                 let next = u32::try_from(ids.len() + 1).unwrap_or(u32::MAX);
-                label[k] = *ids.entry(root).or_insert(next);
+                *slot = *ids.entry(root).or_insert(next);
             }
         }
         (label, u32::try_from(ids.len()).unwrap_or(u32::MAX))

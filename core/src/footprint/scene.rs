@@ -33,8 +33,9 @@ pub fn footprints_of_scene(scene: &Scene) -> Vec<Footprint> {
             .1
             .push(p);
     }
-    let list: Vec<(u32, (String, Vec<Polygon<f64>>))> = tris.into_iter().collect();
-    list.into_par_iter()
+    tris.into_iter()
+        .collect::<Vec<_>>()
+        .into_par_iter()
         .filter_map(|(id, (name, polys))| {
             Some(Footprint {
                 id,
@@ -56,7 +57,8 @@ fn projected(scene: &Scene, t: &[u32; 3]) -> Option<Polygon<f64>> {
         };
     }
     let cross = (c[1].x - c[0].x) * (c[2].y - c[0].y) - (c[2].x - c[0].x) * (c[1].y - c[0].y);
-    if !(cross.abs() / 2.0 > MIN_PROJECTED_AREA) {
+    // NaN fails this test too.
+    if cross.abs() / 2.0 <= MIN_PROJECTED_AREA || cross.is_nan() {
         return None;
     }
     Some(Polygon::new(LineString::new(c.to_vec()), vec![]))

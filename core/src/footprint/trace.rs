@@ -6,6 +6,9 @@ use std::collections::HashMap;
 
 use geo::{Coord, LineString, MultiPolygon, Polygon};
 
+/// A closed ring of grid vertices (corners only).
+type Ring = Vec<(i64, i64)>;
+
 /// Directions of unit edges, counter-clockwise: +x, +y, −x, −y.
 const STEP: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
 
@@ -128,10 +131,9 @@ fn inside(r: &[(i64, i64)], p: (f64, f64)) -> bool {
 }
 
 /// Exteriors (positive area) with the holes (negative) that lie inside them.
-fn polygons(rings: &[Vec<(i64, i64)>], lo: [f64; 2], cell: f64) -> MultiPolygon<f64> {
-    let (outer, holes): (Vec<&Vec<(i64, i64)>>, Vec<&Vec<(i64, i64)>>) =
-        rings.iter().partition(|r| signed_area2(r) > 0);
-    let mut owned: Vec<Vec<&Vec<(i64, i64)>>> = vec![Vec::new(); outer.len()];
+fn polygons(rings: &[Ring], lo: [f64; 2], cell: f64) -> MultiPolygon<f64> {
+    let (outer, holes): (Vec<&Ring>, Vec<&Ring>) = rings.iter().partition(|r| signed_area2(r) > 0);
+    let mut owned: Vec<Vec<&Ring>> = vec![Vec::new(); outer.len()];
     for h in holes {
         // A point just left of the hole's first edge lies in the component.
         let (a, b) = (h[0], h[1]);
