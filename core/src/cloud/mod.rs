@@ -6,9 +6,9 @@
 //! - [`read_cloud`] / [`write_cloud`]: pick the format by file extension (`io`).
 //! - [`origin`]: how readers choose the local frame's origin.
 
+pub mod class;
 mod data;
 mod io;
-pub mod class;
 pub mod las;
 pub mod origin;
 pub mod ply;

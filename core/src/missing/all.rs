@@ -7,8 +7,8 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 use super::building::detect_building_on;
-use super::ground::GroundGrid;
 use super::detection::{BuildingDetection, Detection, SkipReason};
+use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
 
 /// Why detection over a cloud could not run.
@@ -62,23 +62,34 @@ pub fn detect_all_on(
             groups.entry(id).or_default().push(*p);
         }
     }
-    let fp: BTreeMap<u32, &MultiPolygon<f64>> =
-        footprints.unwrap_or(&[]).iter().map(|(id, m)| (*id, m)).collect();
+    let fp: BTreeMap<u32, &MultiPolygon<f64>> = footprints
+        .unwrap_or(&[])
+        .iter()
+        .map(|(id, m)| (*id, m))
+        .collect();
     for id in fp.keys() {
         groups.entry(*id).or_default();
     }
     // Largest first so one big building does not start last on a busy pool.
     let mut jobs: Vec<(u32, Vec<[f32; 3]>)> = groups.into_iter().collect();
     jobs.sort_by_key(|(_, pts)| std::cmp::Reverse(pts.len()));
-    let mut buildings = jobs
-        .par_iter()
-        .map(|(id, pts)| {
-            detect_building_on(*id, pts, fp.get(id).copied(), None, terrain, params).unwrap_or_else(|_| {
-                // validate() passed above, so this is unreachable in practice.
-                BuildingDetection::skipped(*id, pts.len(), SkipReason::TooFewPoints { points: pts.len(), min: params.min_points })
+    let mut buildings =
+        jobs.par_iter()
+            .map(|(id, pts)| {
+                detect_building_on(*id, pts, fp.get(id).copied(), None, terrain, params)
+                    .unwrap_or_else(|_| {
+                        // validate() passed above, so this is unreachable in practice.
+                        BuildingDetection::skipped(
+                            *id,
+                            pts.len(),
+                            SkipReason::TooFewPoints {
+                                points: pts.len(),
+                                min: params.min_points,
+                            },
+                        )
+                    })
             })
-        })
-        .collect::<Vec<_>>();
+            .collect::<Vec<_>>();
     buildings.sort_by_key(|b| b.building);
     Ok(Detection { buildings })
 }

@@ -83,7 +83,12 @@ mod tests {
 
     #[test]
     fn finds_points_of_the_right_band_and_place() {
-        let pts = vec![[1.5, 1.5, 0.5], [1.5, 1.5, 1.5], [8.5, 1.5, 0.5], [2.2, 0.9, 0.2]];
+        let pts = vec![
+            [1.5, 1.5, 0.5],
+            [1.5, 1.5, 1.5],
+            [8.5, 1.5, 0.5],
+            [2.2, 0.9, 0.2],
+        ];
         let idx = BandIndex::new(&pts, 0.0, 1.0, 2, [0.0, 0.0], 1.0, [10, 10]);
         let mut got = Vec::new();
         idx.for_each_near(0, [1.5, 1.5], 1.0, |p| got.push(*p));

@@ -57,7 +57,8 @@ mod tests {
     #[test]
     fn square_samples_point_outward() {
         // clockwise input: orientation must be fixed before taking normals
-        let sq: Polygon<f64> = polygon![(x: 0.0, y: 0.0), (x: 0.0, y: 10.0), (x: 10.0, y: 10.0), (x: 10.0, y: 0.0)];
+        let sq: Polygon<f64> =
+            polygon![(x: 0.0, y: 0.0), (x: 0.0, y: 10.0), (x: 10.0, y: 10.0), (x: 10.0, y: 0.0)];
         let s = sample_contour(&MultiPolygon(vec![sq]), 1.0);
         assert_eq!(s.len(), 40);
         for c in s {

@@ -6,11 +6,11 @@ use rayon::prelude::*;
 use super::band::BandIndex;
 use super::boundary::sample_contour;
 use super::coverage::{Strip, strip_coverage};
-use super::ground::GroundGrid;
 use super::detection::{
     BoundaryPoint, BuildingDetection, MissingPoint, SkipReason, SliceReport, Strategy,
     StructureReport,
 };
+use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
 use crate::skeleton::{Skeleton, medial_axis};
 use crate::slice::{Sliced, cluster_structures, slice_building};
@@ -50,7 +50,10 @@ pub fn detect_building_on(
     params: &DetectParams,
 ) -> Result<BuildingDetection, DetectParamsError> {
     params.validate()?;
-    let n = points.iter().filter(|p| p.iter().all(|v| v.is_finite())).count();
+    let n = points
+        .iter()
+        .filter(|p| p.iter().all(|v| v.is_finite()))
+        .count();
     if n < params.min_points.max(1) {
         let reason = SkipReason::TooFewPoints {
             points: n,
@@ -81,7 +84,9 @@ pub fn detect_building_on(
         };
         return Ok(BuildingDetection::skipped(id, n, reason));
     }
-    Ok(analyse(id, n, points, footprint, &sliced, global, terrain, params))
+    Ok(analyse(
+        id, n, points, footprint, &sliced, global, terrain, params,
+    ))
 }
 
 fn analyse(
@@ -149,7 +154,10 @@ fn analyse(
                     let foot = terrain
                         .and_then(|t| t.at(q[0] + sample.normal[0], q[1] + sample.normal[1]))
                         .unwrap_or(f32::NEG_INFINITY);
-                    let z = [level.band[0].max(foot + GROUND_CLEARANCE), level.band[1].min(top)];
+                    let z = [
+                        level.band[0].max(foot + GROUND_CLEARANCE),
+                        level.band[1].min(top),
+                    ];
                     if z[1] - z[0] < MIN_WALL_Z {
                         continue;
                     }
@@ -256,7 +264,10 @@ fn segment(skeleton: &Skeleton, q: [f64; 2], normal: [f64; 2]) -> ([f64; 2], [f6
             }
         }
     }
-    let s = [q[0] - normal[0] * MIN_SEGMENT, q[1] - normal[1] * MIN_SEGMENT];
+    let s = [
+        q[0] - normal[0] * MIN_SEGMENT,
+        q[1] - normal[1] * MIN_SEGMENT,
+    ];
     (s, normal)
 }
 
@@ -264,7 +275,8 @@ fn segment(skeleton: &Skeleton, q: [f64; 2], normal: [f64; 2]) -> ([f64; 2], [f6
 fn local_top(sliced: &Sliced, q: [f64; 2], r: f64) -> f32 {
     let g = &sliced.grid;
     let lo = |v: f64, o: f64| ((v - r - o) / g.cell).floor().max(0.0) as usize;
-    let hi = |v: f64, o: f64, n: usize| (((v + r - o) / g.cell).floor().max(0.0) as usize).min(n - 1);
+    let hi =
+        |v: f64, o: f64, n: usize| (((v + r - o) / g.cell).floor().max(0.0) as usize).min(n - 1);
     let mut top = f32::NEG_INFINITY;
     for j in lo(q[1], g.origin[1])..=hi(q[1], g.origin[1], g.ny) {
         for i in lo(q[0], g.origin[0])..=hi(q[0], g.origin[0], g.nx) {

@@ -61,7 +61,8 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
         }
         let u = (rel[0] * t[0] + rel[1] * t[1]) as f32 + s.half_width as f32;
         let z = p[2] - s.z[0];
-        if !(0.0..=2.0 * s.half_width as f32).contains(&u) || !(0.0..=s.z[1] - s.z[0]).contains(&z) {
+        if !(0.0..=2.0 * s.half_width as f32).contains(&u) || !(0.0..=s.z[1] - s.z[0]).contains(&z)
+        {
             return;
         }
         v_sum += v;

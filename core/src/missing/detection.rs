@@ -158,17 +158,25 @@ pub struct Detection {
 impl Detection {
     /// All missing points of all buildings.
     pub fn missing_points(&self) -> Vec<MissingPoint> {
-        self.buildings.iter().flat_map(|b| b.missing.iter().copied()).collect()
+        self.buildings
+            .iter()
+            .flat_map(|b| b.missing.iter().copied())
+            .collect()
     }
 
     /// Their positions only.
     pub fn missing_xyz(&self) -> Vec<[f32; 3]> {
-        self.buildings.iter().flat_map(|b| b.missing.iter().map(|m| m.xyz)).collect()
+        self.buildings
+            .iter()
+            .flat_map(|b| b.missing.iter().map(|m| m.xyz))
+            .collect()
     }
 
     /// Missing over boundary points of all analysed buildings.
     pub fn r_missing(&self) -> f32 {
-        let (m, n) = self.buildings.iter().fold((0, 0), |(m, n), b| (m + b.missing.len(), n + b.boundary.len()));
+        let (m, n) = self.buildings.iter().fold((0, 0), |(m, n), b| {
+            (m + b.missing.len(), n + b.boundary.len())
+        });
         if n == 0 { 0.0 } else { m as f32 / n as f32 }
     }
 }

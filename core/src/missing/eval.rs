@@ -86,8 +86,14 @@ fn share(a: usize, b: usize) -> f64 {
 
 /// Scores `missing` against the wall cells of `gt`, covered by `aerial_xyz`
 /// (both in the same local frame as `gt`).
-pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint]) -> DetectionScore {
-    let walls: Vec<usize> = (0..gt.len()).filter(|&i| gt.kind[i] == SurfaceKind::Wall).collect();
+pub fn evaluate(
+    gt: &GtSamples,
+    aerial_xyz: &[[f32; 3]],
+    missing: &[MissingPoint],
+) -> DetectionScore {
+    let walls: Vec<usize> = (0..gt.len())
+        .filter(|&i| gt.kind[i] == SurfaceKind::Wall)
+        .collect();
     let wall_xyz: Vec<[f32; 3]> = walls.iter().map(|&i| gt.xyz[i]).collect();
     let covered: Vec<bool> = nearest_distances(&wall_xyz, aerial_xyz)
         .into_iter()
@@ -103,7 +109,8 @@ pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint
         let [x, y, z] = gt.xyz[i];
         let [nx, ny, _] = gt.normal[i];
         let bins = AZIMUTH_BINS as i32;
-        let az = ((ny.atan2(nx) / std::f32::consts::TAU * AZIMUTH_BINS).round() as i32).rem_euclid(bins);
+        let az =
+            ((ny.atan2(nx) / std::f32::consts::TAU * AZIMUTH_BINS).round() as i32).rem_euclid(bins);
         let a = az as f32 / AZIMUTH_BINS * std::f32::consts::TAU;
         let (c, s) = (a.cos(), a.sin());
         let offset = ((c * x + s * y) / 0.5).round() as i64;
@@ -172,7 +179,9 @@ pub fn evaluate(gt: &GtSamples, aerial_xyz: &[[f32; 3]], missing: &[MissingPoint
     }
     for (m, d) in missing.iter().zip(&to_truly) {
         entry(&mut per, m.building);
-        let Some(s) = per.get_mut(&m.building) else { continue };
+        let Some(s) = per.get_mut(&m.building) else {
+            continue;
+        };
         s.missing_points += 1;
         if *d <= MATCH_DIST {
             s.correct_points += 1;

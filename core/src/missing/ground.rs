@@ -20,7 +20,10 @@ impl GroundGrid {
         if !(cell.is_finite() && cell > 0.0) {
             return None;
         }
-        let pts: Vec<&[f32; 3]> = ground.iter().filter(|p| p.iter().all(|v| v.is_finite())).collect();
+        let pts: Vec<&[f32; 3]> = ground
+            .iter()
+            .filter(|p| p.iter().all(|v| v.is_finite()))
+            .collect();
         let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
         for p in &pts {
             for k in 0..2 {
@@ -31,7 +34,10 @@ impl GroundGrid {
         if pts.is_empty() {
             return None;
         }
-        let size = [((hi[0] - lo[0]) / cell) as usize + 1, ((hi[1] - lo[1]) / cell) as usize + 1];
+        let size = [
+            ((hi[0] - lo[0]) / cell) as usize + 1,
+            ((hi[1] - lo[1]) / cell) as usize + 1,
+        ];
         let mut sum = vec![0.0f64; size[0] * size[1]];
         let mut n = vec![0u32; size[0] * size[1]];
         for p in &pts {
@@ -43,7 +49,13 @@ impl GroundGrid {
         let mut z: Vec<f32> = sum
             .iter()
             .zip(&n)
-            .map(|(&s, &c)| if c > 0 { (s / c as f64) as f32 } else { f32::NAN })
+            .map(|(&s, &c)| {
+                if c > 0 {
+                    (s / c as f64) as f32
+                } else {
+                    f32::NAN
+                }
+            })
             .collect();
         for _ in 0..fill {
             let prev = z.clone();
@@ -54,7 +66,12 @@ impl GroundGrid {
                         continue;
                     }
                     let (mut s, mut c) = (0.0, 0);
-                    let near = [(i.wrapping_sub(1), j), (i + 1, j), (i, j.wrapping_sub(1)), (i, j + 1)];
+                    let near = [
+                        (i.wrapping_sub(1), j),
+                        (i + 1, j),
+                        (i, j.wrapping_sub(1)),
+                        (i, j + 1),
+                    ];
                     for (a, b) in near {
                         if a < size[0] && b < size[1] && prev[b * size[0] + a].is_finite() {
                             s += prev[b * size[0] + a];
@@ -71,7 +88,12 @@ impl GroundGrid {
                 break;
             }
         }
-        Some(GroundGrid { origin: lo, cell, size, z })
+        Some(GroundGrid {
+            origin: lo,
+            cell,
+            size,
+            z,
+        })
     }
 
     /// Ground height at (x, y), None off the grid or where unknown.

@@ -23,10 +23,10 @@ pub mod params;
 
 pub use all::{DetectError, detect_all, detect_all_on};
 pub use building::{detect_building, detect_building_on};
-pub use ground::GroundGrid;
 pub use detection::{
     BoundaryPoint, BuildingDetection, Detection, MissingPoint, SkipReason, SliceReport, Strategy,
     StructureReport,
 };
 pub use eval::{BuildingScore, DetectionScore, evaluate};
+pub use ground::GroundGrid;
 pub use params::{DetectParams, DetectParamsError};

@@ -137,7 +137,11 @@ pub fn medial_axis(outline: &MultiPolygon<f64>, params: &SkeletonParams) -> Skel
             let first = vertices.len();
             for (k, c) in pts.iter().enumerate() {
                 vertices.push(Point2::new(c.x, c.y));
-                let next = if k + 1 == pts.len() { first } else { first + k + 1 };
+                let next = if k + 1 == pts.len() {
+                    first
+                } else {
+                    first + k + 1
+                };
                 edges.push([first + k, next]);
             }
         }
@@ -147,11 +151,9 @@ pub fn medial_axis(outline: &MultiPolygon<f64>, params: &SkeletonParams) -> Skel
     }
     // Self-touching outlines can give crossing constraints: skip those
     // edges rather than fail the building.
-    let Ok(cdt) = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
-        vertices,
-        edges,
-        |_| {},
-    ) else {
+    let Ok(cdt) =
+        ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(vertices, edges, |_| {})
+    else {
         return Skeleton::default();
     };
     let faces = cdt.num_all_faces();
@@ -166,7 +168,8 @@ pub fn medial_axis(outline: &MultiPolygon<f64>, params: &SkeletonParams) -> Skel
         let cc = face.circumcenter();
         // Obtuse triangles put their circumcentre outside the triangle,
         // sometimes outside the outline: fall back to the centroid there.
-        let p = if cc.x.is_finite() && cc.y.is_finite() && outline.contains(&Point::new(cc.x, cc.y)) {
+        let p = if cc.x.is_finite() && cc.y.is_finite() && outline.contains(&Point::new(cc.x, cc.y))
+        {
             [cc.x, cc.y]
         } else {
             [centroid.x(), centroid.y()]
@@ -206,17 +209,23 @@ mod tests {
 
     fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
         let d = [b[0] - a[0], b[1] - a[1]];
-        let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
+        let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]))
+            .clamp(0.0, 1.0);
         ((p[0] - a[0] - t * d[0]).powi(2) + (p[1] - a[1] - t * d[1]).powi(2)).sqrt()
     }
 
     #[test]
     fn rectangle_axis_runs_along_its_middle() {
-        let rect: Polygon<f64> = polygon![(x: 0.0, y: 0.0), (x: 40.0, y: 0.0), (x: 40.0, y: 10.0), (x: 0.0, y: 10.0)];
+        let rect: Polygon<f64> =
+            polygon![(x: 0.0, y: 0.0), (x: 40.0, y: 0.0), (x: 40.0, y: 10.0), (x: 0.0, y: 10.0)];
         let sk = medial_axis(&MultiPolygon(vec![rect]), &SkeletonParams::default());
         assert!(!sk.edges.is_empty());
         // interior nodes of the medial axis lie on y = 5 (ends fan to corners)
-        let central: Vec<_> = sk.nodes.iter().filter(|p| (8.0..32.0).contains(&p[0])).collect();
+        let central: Vec<_> = sk
+            .nodes
+            .iter()
+            .filter(|p| (8.0..32.0).contains(&p[0]))
+            .collect();
         assert!(!central.is_empty());
         for p in central {
             assert!((p[1] - 5.0).abs() < 0.6, "{p:?}");
@@ -230,8 +239,14 @@ mod tests {
         let sk = medial_axis(&MultiPolygon(vec![l]), &SkeletonParams::default());
         let arm_x = sk.nearest([20.0, 5.0]).unwrap();
         let arm_y = sk.nearest([5.0, 20.0]).unwrap();
-        assert!(dist_to_segment(arm_x, [5.0, 5.0], [25.0, 5.0]) < 0.8, "{arm_x:?}");
-        assert!(dist_to_segment(arm_y, [5.0, 5.0], [5.0, 25.0]) < 0.8, "{arm_y:?}");
+        assert!(
+            dist_to_segment(arm_x, [5.0, 5.0], [25.0, 5.0]) < 0.8,
+            "{arm_x:?}"
+        );
+        assert!(
+            dist_to_segment(arm_y, [5.0, 5.0], [5.0, 25.0]) < 0.8,
+            "{arm_y:?}"
+        );
     }
 
     #[test]

@@ -32,7 +32,11 @@ pub fn prune_spurs(skeleton: Skeleton, min_branch: f64) -> Skeleton {
                 if adj[at].len() != 2 || length >= min_branch {
                     break adj[at].len() >= 3;
                 }
-                via = if adj[at][0] == via { adj[at][1] } else { adj[at][0] };
+                via = if adj[at][0] == via {
+                    adj[at][1]
+                } else {
+                    adj[at][0]
+                };
             };
             if reached_junction && length < min_branch {
                 path.iter().for_each(|&e| drop[e] = true);
@@ -58,10 +62,7 @@ pub fn prune_spurs(skeleton: Skeleton, min_branch: f64) -> Skeleton {
     if edges.is_empty() {
         // No edges left (one triangle, or a tiny outline): keep the nodes so
         // callers still have an interior point.
-        return Skeleton {
-            nodes,
-            edges,
-        };
+        return Skeleton { nodes, edges };
     }
     Skeleton { nodes: kept, edges }
 }
@@ -74,7 +75,14 @@ mod tests {
     fn short_spur_goes_long_branches_stay() {
         // a long line 0-1-2-3 with a 0.5 m spur at node 1 and a 5 m branch at node 2
         let sk = Skeleton {
-            nodes: vec![[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [30.0, 0.0], [10.0, 0.5], [20.0, 5.0]],
+            nodes: vec![
+                [0.0, 0.0],
+                [10.0, 0.0],
+                [20.0, 0.0],
+                [30.0, 0.0],
+                [10.0, 0.5],
+                [20.0, 5.0],
+            ],
             edges: vec![[0, 1], [1, 2], [2, 3], [1, 4], [2, 5]],
         };
         let p = prune_spurs(sk, 2.0);

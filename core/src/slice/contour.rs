@@ -198,7 +198,11 @@ mod tests {
         let mp = occupancy_contour(&r, None, 0.3, 1.0);
         assert_eq!(mp.0.len(), 1);
         assert_eq!(mp.0[0].interiors().len(), 1);
-        assert!((mp.unsigned_area() - 800.0).abs() < 1.0, "{}", mp.unsigned_area());
+        assert!(
+            (mp.unsigned_area() - 800.0).abs() < 1.0,
+            "{}",
+            mp.unsigned_area()
+        );
         // counter-clockwise outer ring
         assert!(Polygon::new(mp.0[0].exterior().clone(), vec![]).signed_area() > 0.0);
     }
@@ -206,7 +210,9 @@ mod tests {
     #[test]
     fn two_blocks_give_two_polygons_and_empty_gives_none() {
         let mut r = Raster::covering([0.0, 0.0], [30.0, 10.0], 1.0, 2);
-        fill(&mut r, |x, y| y < 10.0 && y > 0.0 && ((0.0..10.0).contains(&x) || (20.0..30.0).contains(&x)));
+        fill(&mut r, |x, y| {
+            y < 10.0 && y > 0.0 && ((0.0..10.0).contains(&x) || (20.0..30.0).contains(&x))
+        });
         assert_eq!(occupancy_contour(&r, None, 0.5, 1.0).0.len(), 2);
         fill(&mut r, |_, _| false);
         assert!(occupancy_contour(&r, None, 0.5, 1.0).0.is_empty());

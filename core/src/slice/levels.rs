@@ -155,7 +155,10 @@ pub fn slice_building(
     let r = (params.closing / params.cell).round() as usize;
     let outline = |floor: f32| -> Raster {
         let mut occ = grid.clone();
-        occ.occupied = top.iter().map(|&t| t > f32::NEG_INFINITY && t >= floor).collect();
+        occ.occupied = top
+            .iter()
+            .map(|&t| t > f32::NEG_INFINITY && t >= floor)
+            .collect();
         occ.close(r);
         occ
     };
@@ -244,7 +247,11 @@ mod tests {
         let high = area(&s.levels[10]);
         assert!((low - 400.0).abs() < 30.0, "{low}");
         assert!((high - 64.0).abs() < 12.0, "{high}");
-        assert!((s.global.unsigned_area() - 400.0).abs() < 30.0, "{}", s.global.unsigned_area());
+        assert!(
+            (s.global.unsigned_area() - 400.0).abs() < 30.0,
+            "{}",
+            s.global.unsigned_area()
+        );
     }
 
     #[test]

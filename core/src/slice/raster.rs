@@ -22,7 +22,11 @@ impl Raster {
     /// An empty grid covering `lo..hi` with `pad` free cells on every side
     /// (so boundaries never touch the grid edge).
     pub fn covering(lo: [f64; 2], hi: [f64; 2], cell: f64, pad: usize) -> Self {
-        let cell = if cell.is_finite() && cell > 0.0 { cell } else { 1.0 };
+        let cell = if cell.is_finite() && cell > 0.0 {
+            cell
+        } else {
+            1.0
+        };
         let span = |a: f64, b: f64| (((b - a) / cell).floor().max(0.0) as usize) + 1 + 2 * pad;
         let nx = span(lo[0], hi[0]);
         let ny = span(lo[1], hi[1]);

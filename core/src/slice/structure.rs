@@ -41,7 +41,10 @@ pub fn cluster_structures(levels: &[Level], keep_ratio: f64) -> (Vec<Structure>,
                     if l != *label {
                         continue;
                     }
-                    let p = below.labels.get(cell).and_then(|&u| part_of.get(u as usize));
+                    let p = below
+                        .labels
+                        .get(cell)
+                        .and_then(|&u| part_of.get(u as usize));
                     if let Some(&p) = p.filter(|&&p| p != usize::MAX) {
                         overlap[p] += 1;
                     }
@@ -84,7 +87,17 @@ mod tests {
                 let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
                 let t1 = (4.0..12.0).contains(&x) && (6.0..14.0).contains(&y);
                 let t2 = (26.0..36.0).contains(&x) && (6.0..14.0).contains(&y);
-                pts.push([x, y, if t1 { 25.0 } else if t2 { 15.0 } else { 6.0 }]);
+                pts.push([
+                    x,
+                    y,
+                    if t1 {
+                        25.0
+                    } else if t2 {
+                        15.0
+                    } else {
+                        6.0
+                    },
+                ]);
             }
         }
         pts.push([0.0, 0.0, 0.0]);

@@ -85,7 +85,12 @@ pub fn generate(
 /// Open-ground positions on the ray from the skeleton through `m`, at the
 /// standoffs from which the sensor's vertical field of view reaches `m`'s
 /// height (the farthest open one when none does).
-fn standoff_candidates(m: &MissingPoint, site: &Site, params: &TargetParams, dropped: &mut Dropped) -> Vec<[f32; 3]> {
+fn standoff_candidates(
+    m: &MissingPoint,
+    site: &Site,
+    params: &TargetParams,
+    dropped: &mut Dropped,
+) -> Vec<[f32; 3]> {
     let n = m.normal;
     let len = n[0].hypot(n[1]);
     if !(len.is_finite() && len > 0.0) {
@@ -163,9 +168,14 @@ fn regions(
     let mut regions = Vec::new();
     let mut rest = Vec::new();
     for members in clusters {
-        let hull = MultiPoint(members.iter().map(|&k| Point::new(pushed[k][0], pushed[k][1])).collect())
-            .convex_hull()
-            .orient(Direction::Default);
+        let hull = MultiPoint(
+            members
+                .iter()
+                .map(|&k| Point::new(pushed[k][0], pushed[k][1]))
+                .collect(),
+        )
+        .convex_hull()
+        .orient(Direction::Default);
         let mut ring: Vec<[f64; 2]> = hull.exterior().0.iter().map(|c| [c.x, c.y]).collect();
         if ring.len() > 1 && ring.first() == ring.last() {
             ring.pop();
@@ -174,8 +184,13 @@ fn regions(
             rest.extend(members.iter().map(|&k| missing[k]));
             continue;
         }
-        let (cx, cy) = ring.iter().fold((0.0, 0.0), |(x, y), p| (x + p[0], y + p[1]));
-        let c = [(cx / ring.len() as f64) as f32, (cy / ring.len() as f64) as f32];
+        let (cx, cy) = ring
+            .iter()
+            .fold((0.0, 0.0), |(x, y), p| (x + p[0], y + p[1]));
+        let c = [
+            (cx / ring.len() as f64) as f32,
+            (cy / ring.len() as f64) as f32,
+        ];
         regions.push(Region {
             building: missing[members[0]].building,
             polygon: ring,
@@ -196,7 +211,8 @@ fn link_clusters(pts: &[[f64; 2]], link: f64) -> Vec<Vec<usize>> {
         k
     }
     let key = |p: &[f64; 2]| ((p[0] / link).floor() as i64, (p[1] / link).floor() as i64);
-    let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+    let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> =
+        std::collections::HashMap::new();
     for (k, p) in pts.iter().enumerate() {
         buckets.entry(key(p)).or_default().push(k);
     }
@@ -204,7 +220,9 @@ fn link_clusters(pts: &[[f64; 2]], link: f64) -> Vec<Vec<usize>> {
         let (i, j) = key(p);
         for di in -1..=1 {
             for dj in -1..=1 {
-                let Some(others) = buckets.get(&(i + di, j + dj)) else { continue };
+                let Some(others) = buckets.get(&(i + di, j + dj)) else {
+                    continue;
+                };
                 for &o in others {
                     let q = pts[o];
                     if o > k && (p[0] - q[0]).hypot(p[1] - q[1]) <= link {
@@ -215,7 +233,8 @@ fn link_clusters(pts: &[[f64; 2]], link: f64) -> Vec<Vec<usize>> {
             }
         }
     }
-    let mut groups: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
+    let mut groups: std::collections::BTreeMap<usize, Vec<usize>> =
+        std::collections::BTreeMap::new();
     for k in 0..pts.len() {
         let r = root(&mut parent, k);
         groups.entry(r).or_default().push(k);

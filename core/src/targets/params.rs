@@ -84,7 +84,10 @@ impl TargetParams {
                 return Err(TargetParamsError::NotPositive { name, value });
             }
         }
-        for (name, value) in [("clearance", self.clearance), ("sensor_height", self.sensor_height)] {
+        for (name, value) in [
+            ("clearance", self.clearance),
+            ("sensor_height", self.sensor_height),
+        ] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(TargetParamsError::NotPositive { name, value });
             }

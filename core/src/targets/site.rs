@@ -49,7 +49,12 @@ impl Site {
     /// Builds the grid from points and their LAS classes (2 ground, 5
     /// vegetation, 6 building; other classes are ignored). Occupied cells are
     /// grown by `clearance` metres.
-    pub fn from_cloud(xyz: &[[f32; 3]], labels: &[u8], cell: f32, clearance: f32) -> Result<Site, SiteError> {
+    pub fn from_cloud(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        cell: f32,
+        clearance: f32,
+    ) -> Result<Site, SiteError> {
         if xyz.len() != labels.len() {
             return Err(SiteError::LabelLength {
                 labels: labels.len(),
@@ -59,7 +64,11 @@ impl Site {
         if !(cell.is_finite() && cell > 0.0) {
             return Err(SiteError::Cell(cell));
         }
-        let finite = || xyz.iter().zip(labels).filter(|(p, _)| p.iter().all(|v| v.is_finite()));
+        let finite = || {
+            xyz.iter()
+                .zip(labels)
+                .filter(|(p, _)| p.iter().all(|v| v.is_finite()))
+        };
         let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
         for (p, _) in finite() {
             for k in 0..2 {
@@ -102,7 +111,13 @@ impl Site {
         let mut ground: Vec<f32> = sum
             .iter()
             .zip(&count)
-            .map(|(&s, &c)| if c > 0 { (s / c as f64) as f32 } else { f32::NAN })
+            .map(|(&s, &c)| {
+                if c > 0 {
+                    (s / c as f64) as f32
+                } else {
+                    f32::NAN
+                }
+            })
             .collect();
         for _ in 0..FILL_STEPS {
             ground = fill_once(&ground, size);
@@ -128,7 +143,9 @@ impl Site {
 
     /// Ground height at a point (None off the grid or off the ground).
     pub fn ground_at(&self, x: f32, y: f32) -> Option<f32> {
-        self.index(x, y).map(|k| self.ground[k]).filter(|g| g.is_finite())
+        self.index(x, y)
+            .map(|k| self.ground[k])
+            .filter(|g| g.is_finite())
     }
 }
 
@@ -205,6 +222,9 @@ mod tests {
         assert!((site.ground_at(20.5, 3.0).unwrap() - 2.0).abs() < 1e-4);
         assert!(site.ground_at(100.0, 0.0).is_none());
         assert!(Site::from_cloud(&xyz, &labels[1..], 1.0, 1.0).is_err());
-        assert_eq!(Site::from_cloud(&[[0.0; 3]], &[6], 1.0, 1.0).unwrap_err(), SiteError::NoGround);
+        assert_eq!(
+            Site::from_cloud(&[[0.0; 3]], &[6], 1.0, 1.0).unwrap_err(),
+            SiteError::NoGround
+        );
     }
 }
