@@ -34,8 +34,11 @@ fn real_file(name: &str) -> Option<PathBuf> {
     Some(dir.join(name))
 }
 
+/// Building points, their ids, all points, and the terrain.
+type Prior = (Vec<[f32; 3]>, Vec<u32>, Vec<[f32; 3]>, GroundGrid);
+
 /// Building points and ids of a scene's airborne prior (ground-truth labels).
-fn prior_buildings(scene: &Scene) -> (Vec<[f32; 3]>, Vec<u32>, Vec<[f32; 3]>, GroundGrid) {
+fn prior_buildings(scene: &Scene) -> Prior {
     let caster = Caster::new(scene).unwrap();
     let cloud = airborne_scan(&caster, &AirborneConfig::default()).unwrap();
     let labels = cloud.label.as_ref().unwrap();
