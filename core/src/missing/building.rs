@@ -64,7 +64,7 @@ pub fn detect_building_on(
     if let Some(fp) = footprint {
         let area = fp.unsigned_area();
         let finite = fp.coords_iter().all(|c| c.x.is_finite() && c.y.is_finite());
-        if !finite || !(area >= params.slice.min_area) {
+        if !finite || area.is_nan() || area < params.slice.min_area {
             let reason = SkipReason::DegenerateFootprint { area };
             return Ok(BuildingDetection::skipped(id, n, reason));
         }
@@ -84,21 +84,38 @@ pub fn detect_building_on(
         };
         return Ok(BuildingDetection::skipped(id, n, reason));
     }
-    Ok(analyse(
-        id, n, points, footprint, &sliced, global, terrain, params,
-    ))
+    let input = Input {
+        id,
+        n,
+        points,
+        footprint,
+        terrain,
+    };
+    Ok(analyse(&input, &sliced, global, params))
+}
+
+/// One building's inputs, passed on together.
+struct Input<'a> {
+    id: u32,
+    n: usize,
+    points: &'a [[f32; 3]],
+    footprint: Option<&'a MultiPolygon<f64>>,
+    terrain: Option<&'a GroundGrid>,
 }
 
 fn analyse(
-    id: u32,
-    n: usize,
-    points: &[[f32; 3]],
-    footprint: Option<&MultiPolygon<f64>>,
+    input: &Input,
     sliced: &Sliced,
     global: MultiPolygon<f64>,
-    terrain: Option<&GroundGrid>,
     params: &DetectParams,
 ) -> BuildingDetection {
+    let Input {
+        id,
+        n,
+        points,
+        footprint,
+        terrain,
+    } = *input;
     let levels = &sliced.levels;
     let (mut structures, assign) = cluster_structures(levels, params.structure_keep);
     if let Some(fp) = footprint {

@@ -3,13 +3,14 @@
 //! against the slice's points along the segment from the nearest skeleton
 //! point s_m; those without enough points near the wall are missing.
 //!
-//! - [`params`]: [`DetectParams`].
-//! - [`detection`]: results ([`BuildingDetection`], [`Detection`], [`MissingPoint`]).
-//! - [`building`]: [`detect_building`]; [`all`]: [`detect_all`] (rayon).
-//! - [`boundary`]: contour sampling; [`band`]: point index by band and cell;
-//!   [`coverage`]: the strip test.
-//! - [`ground`]: terrain grid, so sloped ground is not taken for missing wall.
-//! - [`eval`]: recall / precision against ground-truth wall cells.
+//! - [`params`] — [`DetectParams`].
+//! - [`detection`] — results ([`BuildingDetection`], [`Detection`], [`MissingPoint`]).
+//! - [`building`] — [`detect_building`].
+//! - [`all`] — [`detect_all`] over every building (rayon).
+//! - [`boundary`] — contour sampling; [`band`], point index by band and cell;
+//!   [`coverage`], the strip test.
+//! - [`ground`] — terrain grid, so sloped ground is not taken for missing wall.
+//! - [`eval`] — recall / precision against ground-truth wall cells.
 
 pub mod all;
 pub mod band;

@@ -39,9 +39,9 @@ impl Default for DetectParams {
         DetectParams {
             slice: SliceParams::default(),
             skeleton: SkeletonParams::default(),
-            delta: 0.5,
+            delta: 0.75,
             boundary_spacing: 1.0,
-            near: 1.25,
+            near: 2.0,
             outside: 0.5,
             coverage_radius: 0.25,
             min_coverage: 0.5,

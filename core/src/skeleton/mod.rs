@@ -3,8 +3,8 @@
 //! of its inner triangles joined across non-constraint edges, short spurs
 //! pruned.
 //!
-//! - [`medial`]: [`medial_axis`] → [`Skeleton`].
-//! - [`prune`]: removal of short leaf branches.
+//! - [`medial`] — [`medial_axis`] → [`Skeleton`].
+//! - [`prune`] — removal of short leaf branches.
 
 pub mod medial;
 pub mod prune;

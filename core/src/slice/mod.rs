@@ -2,10 +2,10 @@
 //! into horizontal bands, each band's 2D contour, and the slice contours
 //! clustered into single structures (podium, towers).
 //!
-//! - [`raster`]: occupancy grid over xy, closing, connected components.
-//! - [`contour`]: boundary rings of an occupancy grid → `MultiPolygon` (holes kept).
-//! - [`levels`]: slice heights and per-level contours of one building.
-//! - [`structure`]: levels grouped into structures by overlap across heights.
+//! - [`raster`] — occupancy grid over xy, closing, connected components.
+//! - [`contour`] — boundary rings of an occupancy grid → `MultiPolygon` (holes kept).
+//! - [`levels`] — slice heights and per-level contours of one building.
+//! - [`structure`] — levels grouped into structures by overlap across heights.
 
 pub mod contour;
 pub mod levels;

@@ -2,9 +2,9 @@
 //! regions to explore. The plain types here are what the detector hands the
 //! planner; how they are generated lives beside them.
 //!
-//! - [`types`]: [`TargetPoint`], [`Region`], [`TargetSet`].
-//! - [`params`]: [`TargetParams`]; [`site`]: [`Site`], the grid of where a robot may stand.
-//! - [`generate`](mod@generate): [`generate()`] → targets and [`Dropped`] counts.
+//! - [`types`] — [`TargetPoint`], [`Region`], [`TargetSet`].
+//! - [`params`] — [`TargetParams`]; [`site`]: [`Site`], the grid of where a robot may stand.
+//! - [`generate`](mod@generate) — [`generate()`] → targets and [`Dropped`] counts.
 
 mod from_missing;
 pub mod generate;

@@ -1,0 +1,124 @@
+//! Target generation end to end (DESIGN.md step 4) on the reference scene:
+//! targets are checked against the scene mesh (never inside a building or a
+//! tree), point targets against their standoff range, regions against the
+//! shape the planner expects.
+
+use skyground_core::cloud::class;
+use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
+use skyground_core::missing::{DetectParams, GroundGrid, Strategy, detect_all_on};
+use skyground_core::scene::{ObjectKind, load_scene};
+use skyground_core::targets::{Site, TargetParams, generate};
+
+#[test]
+fn reference_targets_are_outside_obstacles_and_in_range() {
+    let scene = load_scene("reference").unwrap();
+    let caster = Caster::new(&scene).unwrap();
+    let cloud = airborne_scan(&caster, &AirborneConfig::default()).unwrap();
+    let labels = cloud.label.as_ref().unwrap();
+    let ids = cloud.building.as_ref().unwrap();
+    let (mut xyz, mut bid, mut ground) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..cloud.xyz.len() {
+        if labels[k] == class::BUILDING && ids[k] > 0 {
+            xyz.push(cloud.xyz[k]);
+            bid.push(ids[k]);
+        } else if labels[k] == class::GROUND {
+            ground.push(cloud.xyz[k]);
+        }
+    }
+    let terrain = GroundGrid::from_points(&ground, 2.0, 40).unwrap();
+    // θ low enough that both strategies occur on this scene.
+    let dp = DetectParams {
+        theta: 0.12,
+        ..DetectParams::default()
+    };
+    let det = detect_all_on(&xyz, &bid, None, Some(&terrain), &dp).unwrap();
+    let tp = TargetParams::default();
+    let site = Site::from_cloud(&cloud.xyz, labels, tp.cell, tp.clearance).unwrap();
+    let (set, dropped) = generate(&det, &site, &tp).unwrap();
+    let point_buildings = det
+        .buildings
+        .iter()
+        .filter(|b| b.skipped.is_none() && b.strategy == Strategy::PointBased)
+        .count();
+    println!(
+        "{} point targets, {} regions ({} point-based buildings); dropped {:?}",
+        set.points.len(),
+        set.regions.len(),
+        point_buildings,
+        dropped
+    );
+    assert!(set.points.len() > 50);
+    assert!(!set.regions.is_empty());
+    assert!(
+        dropped.inside_building > 0,
+        "some candidates must have been rejected"
+    );
+
+    // Inside test against the mesh: a ray straight up from inside a closed
+    // solid leaves through a face whose normal points up (a back face).
+    let mut inside = 0;
+    for t in &set.points {
+        let o = [t.xyz[0], t.xyz[1], t.xyz[2] + 0.3];
+        if let Some(hit) = caster.cast(o, [0.0, 0.0, 1.0], 200.0) {
+            let kind = caster.object(hit.object).map(|ob| ob.kind);
+            let solid = matches!(kind, Some(ObjectKind::Building | ObjectKind::Vegetation));
+            if solid && hit.normal[2] > 0.0 {
+                inside += 1;
+            }
+        }
+    }
+    assert_eq!(inside, 0, "targets inside buildings or trees");
+
+    // Every point target stands on the ray of a missing point of its
+    // building, within the standoff range.
+    let lo = tp.standoffs.iter().cloned().fold(f32::MAX, f32::min) - 0.01;
+    let hi = tp.standoffs.iter().cloned().fold(f32::MIN, f32::max) + 0.01;
+    for t in &set.points {
+        let b = det
+            .buildings
+            .iter()
+            .find(|b| b.building == t.building)
+            .unwrap();
+        let ok = b.missing.iter().any(|m| {
+            let d = (t.xyz[0] - m.xyz[0]).hypot(t.xyz[1] - m.xyz[1]);
+            (lo..=hi).contains(&d)
+        });
+        assert!(
+            ok,
+            "target {t:?} not within standoff range of a missing point"
+        );
+    }
+    // Regions: counter-clockwise, not closed, at least a triangle.
+    for r in &set.regions {
+        let p = &r.polygon;
+        assert!(p.len() >= 3 && p.first() != p.last());
+        let area2: f64 = (0..p.len())
+            .map(|k| {
+                let (a, b) = (p[k], p[(k + 1) % p.len()]);
+                a[0] * b[1] - b[0] * a[1]
+            })
+            .sum();
+        assert!(area2 > 0.0, "region not counter-clockwise");
+        let strategy = det
+            .buildings
+            .iter()
+            .find(|b| b.building == r.building)
+            .unwrap()
+            .strategy;
+        assert_eq!(strategy, Strategy::RegionBased);
+    }
+}
+
+#[test]
+fn bad_target_params_are_errors() {
+    let p = TargetParams {
+        standoffs: vec![],
+        ..TargetParams::default()
+    };
+    assert!(p.validate().is_err());
+    let p = TargetParams {
+        half_fov_deg: 95.0,
+        ..TargetParams::default()
+    };
+    assert!(p.validate().is_err());
+}
