@@ -165,18 +165,19 @@ pub fn discover(rt: &NodeRuntime, topic: &str) -> Option<TopicInfo> {
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn dds_type_names_convert() {
-        assert_eq!(
-            ros_type_of_dds("sensor_msgs::msg::dds_::PointCloud2_").as_deref(),
-            Some("sensor_msgs/msg/PointCloud2")
-        );
-        assert_eq!(ros_type_of_dds("PointCloud2"), None);
-    }
+/// A publisher on `topic` of type `type_name` (`pkg/msg/Type` or `pkg/Type`).
+pub fn emitter(
+    rt: &mut NodeRuntime,
+    topic: &str,
+    type_name: &str,
+    qos: QosProfile,
+) -> Result<Box<dyn Emit>, RuntimeError> {
+    with_type(type_name, MakeEmit { rt, topic, qos }).unwrap_or_else(|| {
+        Err(RuntimeError::Node(format!(
+            "unknown message type `{type_name}` (known: {})",
+            skyground_msgs::known_types().join(", ")
+        )))
+    })
 }
 
 /// A publisher whose message type is known only at run time (`skyground play`).
@@ -223,17 +224,16 @@ impl TypeVisitor for MakeEmit<'_> {
     }
 }
 
-/// A publisher on `topic` of type `type_name` (`pkg/msg/Type` or `pkg/Type`).
-pub fn emitter(
-    rt: &mut NodeRuntime,
-    topic: &str,
-    type_name: &str,
-    qos: QosProfile,
-) -> Result<Box<dyn Emit>, RuntimeError> {
-    with_type(type_name, MakeEmit { rt, topic, qos }).unwrap_or_else(|| {
-        Err(RuntimeError::Node(format!(
-            "unknown message type `{type_name}` (known: {})",
-            skyground_msgs::known_types().join(", ")
-        )))
-    })
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dds_type_names_convert() {
+        assert_eq!(
+            ros_type_of_dds("sensor_msgs::msg::dds_::PointCloud2_").as_deref(),
+            Some("sensor_msgs/msg/PointCloud2")
+        );
+        assert_eq!(ros_type_of_dds("PointCloud2"), None);
+    }
 }

@@ -32,8 +32,10 @@ pub struct Dropped {
 /// Missing points closer to their skeleton point than this are rayed along
 /// the stored normal only (no usable skeleton direction).
 const STEP: f32 = 0.5;
-/// The first metres of a ray may cross the building's own (grown) cells.
-const OWN_WALL: f32 = 2.0;
+/// Beyond the clearance and a cell's diagonal, this much more of the
+/// building's own (grown) cells may lie at the start of a ray: walls are
+/// not exactly on cell edges and the missing point may sit behind its wall.
+const OWN_WALL_MARGIN: f32 = 1.0;
 
 /// Targets for every analysed building of `detection` on `site`.
 /// Point-based buildings get point targets, region-based ones regions
@@ -118,7 +120,7 @@ fn standoff_candidates(
             dropped.off_ground += 1;
             continue;
         }
-        if occluded(site, m.xyz, dir, d) {
+        if occluded(site, m.xyz, dir, d, own_wall(site, params)) {
             dropped.occluded += 1;
             continue;
         }
@@ -133,12 +135,27 @@ fn standoff_candidates(
     }
 }
 
-/// Whether building cells lie on the ray beyond the building's own wall.
-fn occluded(site: &Site, from: [f32; 3], dir: [f32; 2], d: f32) -> bool {
-    let mut t = OWN_WALL;
+/// How far a ray may run through its own building's grown cells.
+fn own_wall(site: &Site, params: &TargetParams) -> f32 {
+    params.clearance + site.cell * std::f32::consts::SQRT_2 + OWN_WALL_MARGIN
+}
+
+/// Whether building cells lie on the ray once it has left the building it
+/// starts on: the first run of building cells (at most `own` metres) is the
+/// building's own wall, any building cell after a free one blocks the view.
+fn occluded(site: &Site, from: [f32; 3], dir: [f32; 2], d: f32, own: f32) -> bool {
+    let mut t = 0.0;
+    let mut leaving = true;
     while t < d {
         let k = site.index(from[0] + dir[0] * t, from[1] + dir[1] * t);
-        if k.is_some_and(|k| site.building[k]) {
+        let inside = k.is_some_and(|k| site.building[k]);
+        if leaving {
+            if !inside {
+                leaving = false;
+            } else if t > own {
+                return true;
+            }
+        } else if inside {
             return true;
         }
         t += STEP;

@@ -283,11 +283,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 w.targets.points = decoded.cloud.xyz.iter().enumerate().map(|(i, p)| TargetPoint { xyz: *p, building: ids.get(i).copied().unwrap_or(0) }).collect();
             },
             Some(Ok((arr, _))) = r_s.next() => { w.targets.regions = markers_to_regions(&arr).0; }
-            Some(Ok((arr, _))) = c_s.next() => if let Some((round, mean)) = mean_completeness(&arr) {
-                if w.detected.last().is_none_or(|(r, _)| *r != round) {
-                    eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
-                    w.detected.push((round, mean));
-                }
+            Some(Ok((arr, _))) = c_s.next() => if let Some((round, mean)) = mean_completeness(&arr)
+                && w.detected.last().is_none_or(|(r, _)| *r != round)
+            {
+                eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
+                w.detected.push((round, mean));
             },
             Some(Ok((arr, _))) = p_s.next() => if let Some(s) = arr.status.first() {
                 w.planner_round = value(s, "round").unwrap_or(0);

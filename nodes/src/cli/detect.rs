@@ -127,7 +127,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     let labelled = cloud
         .label
         .as_ref()
-        .is_some_and(|l| l.iter().any(|&c| c == class::BUILDING));
+        .is_some_and(|l| l.contains(&class::BUILDING));
     let mut classify_s = 0.0;
     if a.classify || !labelled {
         let t = Instant::now();

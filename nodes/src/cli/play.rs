@@ -32,7 +32,7 @@ pub struct PlayArgs {
 }
 
 enum Out {
-    Cloud(CloudPublisher),
+    Cloud(Box<CloudPublisher>),
     Other(Box<dyn Emit>),
 }
 
@@ -65,7 +65,7 @@ pub async fn run(rt: &mut NodeRuntime, a: PlayArgs) -> Result<(), RuntimeError> 
                 tile_points: u32::MAX,
                 ..TransportConfig::default()
             };
-            Out::Cloud(CloudPublisher::new(rt, &m.topic, q, config)?)
+            Out::Cloud(Box::new(CloudPublisher::new(rt, &m.topic, q, config)?))
         } else {
             Out::Other(emitter(rt, &m.topic, &m.type_name, q)?)
         };

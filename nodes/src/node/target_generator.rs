@@ -30,6 +30,12 @@ struct Params {
     transport: TransportConfig,
 }
 
+/// Per-building plans, detection round and the stamp they came with.
+type Strategies = (BTreeMap<u32, BuildingPlan>, u32, Header);
+
+/// Skeleton segments (x, y pairs) per building id.
+type Skeletons = BTreeMap<u32, Vec<[[f64; 2]; 2]>>;
+
 /// Name and default params.
 pub const SPEC: NodeSpec = NodeSpec {
     name: "target_generator",
@@ -113,8 +119,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     futures::pin_mut!(status_s, marker_s);
     let mut site: Option<Site> = None;
     let mut missing: Option<(Cloud, Header)> = None;
-    let mut strategy: Option<(BTreeMap<u32, BuildingPlan>, u32, Header)> = None;
-    let mut skeletons: Option<(BTreeMap<u32, Vec<[[f64; 2]; 2]>>, Header)> = None;
+    let mut strategy: Option<Strategies> = None;
+    let mut skeletons: Option<(Skeletons, Header)> = None;
     let mut done_for: Option<(Header, u32)> = None;
     rt.log.info(
         "waiting for /classified_cloud, /missing_points, /completeness and /detection_markers",
