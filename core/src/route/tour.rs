@@ -25,6 +25,7 @@ impl Costs {
     }
 
     /// Total cost of visiting `order` from the start (open: no way back).
+    #[cfg(test)]
     pub fn tour_cost(&self, order: &[usize]) -> f32 {
         let mut prev = None;
         let mut sum = 0.0;
@@ -119,43 +120,79 @@ fn two_opt(costs: &Costs, order: &mut [usize]) -> bool {
 }
 
 /// One pass of moving segments of 1–3 stops elsewhere (either way round);
-/// true when the tour got shorter.
+/// true when the tour got shorter. Each move is priced from the edges it
+/// changes, so a pass is O(n²).
 fn or_opt(costs: &Costs, order: &mut Vec<usize>) -> bool {
     let mut improved = false;
     for len in 1..=3usize {
         let mut i = 0;
         while i + len <= order.len() {
-            let base = costs.tour_cost(order);
-            let seg: Vec<usize> = order[i..i + len].to_vec();
-            let mut rest: Vec<usize> = order[..i].to_vec();
-            rest.extend_from_slice(&order[i + len..]);
-            let mut best: Option<(f32, Vec<usize>)> = None;
-            for pos in 0..=rest.len() {
-                if pos == i {
-                    continue;
+            if let Some((pos, rev)) = best_move(costs, order, i, len) {
+                let seg: Vec<usize> = order.drain(i..i + len).collect();
+                let at = if pos > i { pos - len } else { pos };
+                if rev {
+                    order.splice(at..at, seg.into_iter().rev());
+                } else {
+                    order.splice(at..at, seg);
                 }
-                for rev in [false, true] {
-                    let mut cand = rest[..pos].to_vec();
-                    if rev {
-                        cand.extend(seg.iter().rev());
-                    } else {
-                        cand.extend_from_slice(&seg);
-                    }
-                    cand.extend_from_slice(&rest[pos..]);
-                    let c = costs.tour_cost(&cand);
-                    if c < base - EPS && best.as_ref().is_none_or(|(b, _)| c < *b) {
-                        best = Some((c, cand));
-                    }
-                }
-            }
-            if let Some((_, cand)) = best {
-                *order = cand;
                 improved = true;
             }
             i += 1;
         }
     }
     improved
+}
+
+/// The best place (a position in `order`, before which the segment goes,
+/// and whether reversed) for `order[i..i + len]`, if it shortens the tour.
+fn best_move(costs: &Costs, order: &[usize], i: usize, len: usize) -> Option<(usize, bool)> {
+    let n = order.len();
+    let seg = &order[i..i + len];
+    let (first, last) = (seg[0], seg[len - 1]);
+    let before = (i > 0).then(|| order[i - 1]);
+    let after = order.get(i + len).copied();
+    let inner = |rev: bool| -> f32 {
+        let mut sum = 0.0;
+        for w in seg.windows(2) {
+            let (a, b) = if rev { (w[1], w[0]) } else { (w[0], w[1]) };
+            sum += costs.cost(Some(a), b);
+        }
+        sum
+    };
+    let inner_fwd = inner(false);
+    // Taking the segment out joins `before` to `after`.
+    let removed =
+        costs.cost(before, first) + inner_fwd + after.map_or(0.0, |q| costs.cost(Some(last), q))
+            - after.map_or(0.0, |q| costs.cost(before, q));
+    let mut best: Option<(f32, usize, bool)> = None;
+    // Insert between order[pos - 1] and order[pos], outside the segment.
+    for pos in (0..=n).filter(|&p| p < i || p > i + len) {
+        let a = if pos == 0 { None } else { Some(order[pos - 1]) };
+        let b = order.get(pos).copied();
+        for rev in [false, true] {
+            let (h, t) = if rev { (last, first) } else { (first, last) };
+            let added = costs.cost(a, h)
+                + if rev { inner(true) } else { inner_fwd }
+                + b.map_or(0.0, |q| costs.cost(Some(t), q))
+                - b.map_or(0.0, |q| costs.cost(a, q));
+            let gain = removed - added;
+            if gain > EPS && best.is_none_or(|(g, _, _)| gain > g) {
+                best = Some((gain, pos, rev));
+            }
+        }
+    }
+    // In place, reversed.
+    if len > 1 {
+        let added = costs.cost(before, last)
+            + inner(true)
+            + after.map_or(0.0, |q| costs.cost(Some(first), q))
+            - after.map_or(0.0, |q| costs.cost(before, q));
+        let gain = removed - added;
+        if gain > EPS && best.is_none_or(|(g, _, _)| gain > g) {
+            best = Some((gain, i, true));
+        }
+    }
+    best.map(|(_, pos, rev)| (pos, rev))
 }
 
 #[cfg(test)]
@@ -207,5 +244,45 @@ mod tests {
             )
             .is_empty()
         );
+    }
+
+    fn plane(pts: &[(f32, f32)]) -> Costs {
+        let n = pts.len();
+        let d = |a: (f32, f32), b: (f32, f32)| (a.0 - b.0).hypot(a.1 - b.1);
+        let mut between = vec![0.0; n * n];
+        for a in 0..n {
+            for b in 0..n {
+                between[a * n + b] = d(pts[a], pts[b]);
+            }
+        }
+        Costs {
+            start: pts.iter().map(|&p| d((0.0, 0.0), p)).collect(),
+            between,
+        }
+    }
+
+    proptest::proptest! {
+        // Every Or-opt move is priced from the edges it changes: the tour it
+        // leaves must cost what the move promised, never more than before.
+        #[test]
+        fn or_opt_moves_only_shorten_and_keep_every_stop(
+            pts in proptest::collection::vec((-50.0f32..50.0, -50.0f32..50.0), 1..40)
+        ) {
+            let c = plane(&pts);
+            let mut order: Vec<usize> = (0..pts.len()).rev().collect();
+            let mut cost = c.tour_cost(&order);
+            for _ in 0..20 {
+                let improved = or_opt(&c, &mut order);
+                let now = c.tour_cost(&order);
+                proptest::prop_assert!(now <= cost + 1e-3, "{now} > {cost}");
+                if !improved {
+                    break;
+                }
+                cost = now;
+            }
+            let mut sorted = order.clone();
+            sorted.sort_unstable();
+            proptest::prop_assert_eq!(sorted, (0..pts.len()).collect::<Vec<_>>());
+        }
     }
 }

@@ -31,7 +31,7 @@ impl Default for TargetParams {
             standoffs: vec![6.0, 10.0, 14.0],
             sensor_height: 1.0,
             half_fov_deg: 15.0,
-            downsample: 2.0,
+            downsample: 5.0,
             region_buffer: 4.0,
             region_link: 3.0,
             clearance: 1.0,

@@ -50,8 +50,8 @@ pub struct DemoArgs {
     /// Simulated seconds per wall second.
     #[arg(long, default_value_t = 20.0)]
     pub time_factor: f64,
-    /// Rounds of detect → plan → drive at most.
-    #[arg(long, default_value_t = 3)]
+    /// Rounds of detect → plan → drive at most (the paper drives two).
+    #[arg(long, default_value_t = 2)]
     pub max_rounds: u32,
     /// A round whose detected completeness gain is below this ends the loop.
     #[arg(long, default_value_t = 0.01)]
@@ -63,7 +63,25 @@ pub struct DemoArgs {
 
 struct Proc {
     name: &'static str,
+    args: Vec<String>,
     child: Child,
+    restarts: u32,
+}
+
+fn spawn(name: &str, exe: &Path, args: &[String], out: &Path) -> Result<Child, RuntimeError> {
+    // Appended: a respawned node's log follows its predecessor's.
+    let log = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(out.join(format!("{name}.log")))
+        .map_err(|e| RuntimeError::Node(format!("cannot write {}: {e}", out.display())))?;
+    Command::new(exe)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(log)
+        .kill_on_drop(true)
+        .spawn()
+        .map_err(|e| RuntimeError::Node(format!("cannot start {name}: {e}")))
 }
 
 fn start(
@@ -72,16 +90,26 @@ fn start(
     args: &[String],
     out: &Path,
 ) -> Result<Proc, RuntimeError> {
-    let log = std::fs::File::create(out.join(format!("{name}.log")))
-        .map_err(|e| RuntimeError::Node(format!("cannot write {}: {e}", out.display())))?;
-    let child = Command::new(exe)
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(log)
-        .kill_on_drop(true)
-        .spawn()
-        .map_err(|e| RuntimeError::Node(format!("cannot start {name}: {e}")))?;
-    Ok(Proc { name, child })
+    let _ = std::fs::remove_file(out.join(format!("{name}.log")));
+    Ok(Proc {
+        name,
+        args: args.to_vec(),
+        child: spawn(name, exe, args, out)?,
+        restarts: 0,
+    })
+}
+
+/// Starts again every node that exited while the mission runs, as ros2
+/// launch's `respawn=True` does: nodes take their state from latched topics.
+fn respawn(procs: &mut [Proc], exe: &Path, out: &Path) -> Result<(), RuntimeError> {
+    for p in procs.iter_mut() {
+        if let Ok(Some(status)) = p.child.try_wait() {
+            eprintln!("  {} exited ({status}); starting it again", p.name);
+            p.child = spawn(p.name, exe, &p.args, out)?;
+            p.restarts += 1;
+        }
+    }
+    Ok(())
 }
 
 async fn stop(p: &mut Proc) {
@@ -138,7 +166,7 @@ const TOPICS: &[&str] = &[
 struct Watch {
     /// Detection rounds: (round, mean completeness over analysed buildings).
     detected: Vec<(u32, f64)>,
-    /// Planner: round, phase, stops, points and regions done, unreachable.
+    /// Planner: round, phase, targets of the round, points and regions done, unreachable.
     planner_round: u32,
     planner_phase: String,
     stops: usize,
@@ -147,7 +175,8 @@ struct Watch {
     /// Targets reached / unreachable summed over finished rounds.
     reached_total: usize,
     unreachable_total: usize,
-    rounds_finished: Vec<u32>,
+    /// Routes driven to the end: (round, stops reached).
+    rounds_finished: Vec<(u32, usize)>,
     greedy_m: f64,
     tsp_m: f64,
     resampled: Option<Cloud>,
@@ -155,6 +184,15 @@ struct Watch {
     odometer: f64,
     sim_s: f64,
     targets: TargetSet,
+    /// Nodes started again after they exited, and how often.
+    restarts: std::collections::BTreeMap<String, u32>,
+}
+
+impl Watch {
+    /// Routes driven to the end that had somewhere to go.
+    fn rounds_driven(&self) -> usize {
+        self.rounds_finished.iter().filter(|(_, s)| *s > 0).count()
+    }
 }
 
 fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
@@ -260,6 +298,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     futures::pin_mut!(c_s, p_s, v_s, r_s, o_s);
     let deadline = tokio::time::Instant::now() + Duration::from_secs_f64(a.timeout);
     let mut progress = tokio::time::interval(Duration::from_secs(5));
+    let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let mut w = Watch::default();
     let mut coverage_now = before.overall.ratio.unwrap_or(0.0);
     let mut finished = false;
@@ -292,13 +331,13 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             Some(Ok((arr, _))) = p_s.next() => if let Some(s) = arr.status.first() {
                 w.planner_round = value(s, "round").unwrap_or(0);
                 w.planner_phase = s.message.clone();
-                w.stops = value(s, "stops").unwrap_or(0);
+                w.stops = value::<usize>(s, "target_points").unwrap_or(0) + value::<usize>(s, "target_regions").unwrap_or(0);
                 w.done = (value(s, "points_done").unwrap_or(0), value(s, "regions_done").unwrap_or(0));
                 w.unreachable = (value(s, "unreachable_points").unwrap_or(0), value(s, "unreachable_regions").unwrap_or(0));
                 w.greedy_m = value(s, "greedy_m").unwrap_or(w.greedy_m);
                 w.tsp_m = value(s, "tsp_m").unwrap_or(w.tsp_m);
-                if s.message == "done" && !w.rounds_finished.contains(&w.planner_round) {
-                    w.rounds_finished.push(w.planner_round);
+                if s.message == "done" && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
+                    w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
                     w.reached_total += w.done.0 + w.done.1;
                     w.unreachable_total += w.unreachable.0 + w.unreachable.1;
                     eprintln!("  route of round {} done: {} points, {} regions; {} unreachable", w.planner_round, w.done.0, w.done.1, w.unreachable.0 + w.unreachable.1);
@@ -316,27 +355,28 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                     w.route.push(p);
                 }
             },
+            _ = respawn_tick.tick() => if !rt.shutdown.requested() { respawn(&mut procs, &exe, &a.out)? },
             _ = progress.tick() => {
                 eprintln!(
-                    "  [{:>5.0} s] round {} {}: stops {}/{} | coverage {:.2} % | {:.0} m driven, {:.0} sim s",
+                    "  [{:>5.0} s] round {} {}: targets {}/{} | coverage {:.2} % | {:.0} m driven, {:.0} sim s",
                     t0.elapsed().as_secs_f64(), w.planner_round, if w.planner_phase.is_empty() { "starting" } else { &w.planner_phase },
                     w.done.0 + w.done.1, w.stops, coverage_now * 100.0, w.odometer, w.sim_s
                 );
             }
         }
-        // The closed loop: a round ends when its route is done and the detector
-        // has looked again at aerial + resampled points.
-        let finished_round = w.rounds_finished.last().copied();
-        if let Some(r) = finished_round {
-            let after = w.detected.iter().find(|(d, _)| *d == r).map(|(_, m)| *m);
-            let prev = w
-                .detected
-                .iter()
-                .find(|(d, _)| *d + 1 == r)
-                .map(|(_, m)| *m);
-            if let (Some(after), Some(prev)) = (after, prev) {
-                let gain = after - prev;
-                if gain < a.min_round_gain || r >= a.max_rounds {
+        // The closed loop: the planner's round r is planned from detection
+        // r − 1; once it is driven, detection r looks again at aerial +
+        // resampled points and says what the round gained.
+        if let Some(&(r, stops)) = w.rounds_finished.last() {
+            if stops == 0 {
+                why = format!("round {r} left nothing to visit (no reachable target)");
+                finished = true;
+                break;
+            }
+            let of = |k: u32| w.detected.iter().find(|(d, _)| *d == k).map(|(_, m)| *m);
+            if let (Some(before), Some(after)) = (of(r.saturating_sub(1)), of(r)) {
+                let gain = after - before;
+                if gain < a.min_round_gain || w.rounds_driven() >= a.max_rounds as usize {
                     why = format!(
                         "round {r} gained {:.2} % detected completeness (stop under {:.2} % or after {} rounds)",
                         gain * 100.0,
@@ -347,17 +387,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                     break;
                 }
             }
-            if w.stops == 0 && w.planner_phase == "done" && w.planner_round == r && r > 1 {
-                why = "nothing reachable left".into();
-                finished = true;
-                break;
-            }
         }
     }
     eprintln!("  {why}; stopping the nodes");
     for p in procs.iter_mut().rev() {
         stop(p).await;
     }
+    w.restarts = procs
+        .iter()
+        .map(|p| (p.name.to_string(), p.restarts))
+        .filter(|(_, n)| *n > 0)
+        .collect();
     report(&a, &prior, &w, finished, &why, t0).map(|_| ())?;
     if finished {
         Ok(())
@@ -416,20 +456,21 @@ fn report(
         "path_length_m": w.odometer,
         "sim_time_s": w.sim_s,
         "wall_time_s": wall,
-        "rounds": w.rounds_finished.len(),
+        "rounds": w.rounds_driven(),
         "detected_completeness_by_round": w.detected,
         "targets_reached": w.reached_total,
         "targets_unreachable": w.unreachable_total,
         "last_route": {"greedy_m": w.greedy_m, "tsp_m": w.tsp_m},
         "ground_points_added": scans,
         "bag_messages": messages,
+        "restarts": w.restarts,
         "buildings": e.buildings,
     });
     write_json(&a.out.join("report.json"), &value)?;
     let mut md = markdown(&e, &format!("skyground demo: {}", a.scene));
     md.push_str(&format!(
         "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| simulated seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        w.rounds_finished.len(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
+        w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
     ));
     std::fs::write(a.out.join("report.md"), md).map_err(|e| err(e.to_string()))?;
     let outlines = footprints_of_scene(&prior.scene);
@@ -469,7 +510,7 @@ fn report(
         pct(e.after.completeness.overall.ratio),
         e.before.completeness.mean_gt_distance.unwrap_or(f64::NAN),
         e.after.completeness.mean_gt_distance.unwrap_or(f64::NAN),
-        w.rounds_finished.len(),
+        w.rounds_driven(),
         w.odometer,
         a.out.join("report.json").display()
     );

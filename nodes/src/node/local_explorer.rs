@@ -135,7 +135,6 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut requested: Option<(Region, usize, u32)> = None;
     let mut last_done: Option<(usize, u32, f64)> = None;
     let mut published_rounds: Vec<u32> = Vec::new();
-    let mut dirty = false;
     rt.log.info("waiting for /active_region");
     loop {
         let mut arrived_at: Option<bool> = None;
@@ -178,8 +177,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         let c = d.cloud;
                         let labels = c.label.as_deref();
                         for (i, q) in c.xyz.iter().enumerate() {
-                            if labels.is_none_or(|l| l.get(i) == Some(&class::BUILDING)) && merged.add(*q) {
-                                dirty = true;
+                            if labels.is_none_or(|l| l.get(i) == Some(&class::BUILDING)) {
+                                merged.add(*q);
                             }
                         }
                         if let Some(a) = active.as_mut() {
@@ -207,7 +206,6 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                     if v.message == "done" && !published_rounds.contains(&round) {
                         published_rounds.push(round);
                         publish_resampled(rt, &merged, &resampled_pub).await?;
-                        dirty = false;
                     }
                 }
             },
@@ -220,7 +218,6 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 let mut values = values;
                 values.push(kv("resampled_points", merged.len()));
                 let _ = status_pub.async_publish(DiagnosticArray { header: header(rt), status: vec![status("local_explorer", DiagnosticStatus::OK, state, values)] }).await;
-                let _ = dirty;
             }
         }
         // A new region to explore.
@@ -309,8 +306,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 last_done = Some((a.index, a.round, a.explorer.coverage()));
                 active = None;
                 requested = None;
-                publish_resampled(rt, &merged, &resampled_pub).await?;
-                dirty = false;
+                // /resampled_cloud goes out when the route is done: each one
+                // re-runs detection (the closed loop), not each region.
             } else if let Some(target) = next.first().copied() {
                 let leg = a.explorer.path_to(pos, target);
                 a.goal = leg.last().copied();
