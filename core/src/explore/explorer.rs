@@ -313,8 +313,18 @@ fn bucket(p: [f32; 3], tau: f32) -> [i32; 3] {
 fn thin(graph: &GroundGraph, nodes: &[usize], params: &ExploreParams) -> Vec<usize> {
     let s = params.viewpoint_spacing_m;
     let mut best: HashMap<(i64, i64), (usize, f32)> = HashMap::new();
+    // In a narrow alley no node keeps the margin; the graph's own clearance
+    // (the vehicle's radius) then has to do, or the region gets no viewpoint.
+    let margin = if nodes
+        .iter()
+        .any(|&n| graph.clearance(n) >= params.collision_margin_m)
+    {
+        params.collision_margin_m
+    } else {
+        0.0
+    };
     for &n in nodes {
-        if graph.clearance(n) < params.collision_margin_m {
+        if graph.clearance(n) < margin {
             continue;
         }
         let p = graph.positions()[n];

@@ -84,9 +84,9 @@ pub fn generate(
     Ok((set, dropped))
 }
 
-/// Open-ground positions on the ray from the skeleton through `m`, at the
-/// standoffs from which the sensor's vertical field of view reaches `m`'s
-/// height (the farthest open one when none does).
+/// The open-ground position on the ray from the skeleton through `m` at the
+/// nearest standoff from which the sensor's vertical field of view reaches
+/// `m`'s height (the farthest open one when none does).
 fn standoff_candidates(
     m: &MissingPoint,
     site: &Site,
@@ -100,8 +100,10 @@ fn standoff_candidates(
     }
     let dir = [n[0] / len, n[1] / len];
     let tan_fov = params.half_fov_deg.to_radians().tan();
+    let mut standoffs = params.standoffs.clone();
+    standoffs.sort_by(f32::total_cmp);
     let mut open = Vec::new();
-    for &d in &params.standoffs {
+    for &d in &standoffs {
         let p = [m.xyz[0] + dir[0] * d, m.xyz[1] + dir[1] * d];
         let Some(k) = site.index(p[0], p[1]) else {
             dropped.off_ground += 1;
@@ -127,12 +129,13 @@ fn standoff_candidates(
         let sees = (m.xyz[2] - (g + params.sensor_height)).abs() <= d * tan_fov;
         open.push(([p[0], p[1], g], sees));
     }
-    let seeing: Vec<[f32; 3]> = open.iter().filter(|(_, s)| *s).map(|(p, _)| *p).collect();
-    if seeing.is_empty() {
-        open.last().map(|(p, _)| vec![*p]).unwrap_or_default()
-    } else {
-        seeing
-    }
+    // The nearest standoff that sees the point: nearer means denser returns
+    // and fewer things in between; farther ones only for higher walls.
+    open.iter()
+        .find(|(_, sees)| *sees)
+        .or(open.last())
+        .map(|(p, _)| vec![*p])
+        .unwrap_or_default()
 }
 
 /// How far a ray may run through its own building's grown cells.

@@ -9,7 +9,7 @@ use tokio::sync::mpsc;
 
 use super::{qos_for, topic_and_type, wait_for_topic};
 use crate::bag::{BagWriter, TopicQos};
-use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError};
 use crate::tap::{TopicInfo, tap};
 
 /// What to record.
@@ -21,8 +21,9 @@ pub struct RecordArgs {
     /// Stop after this many seconds (0: until SIGINT/SIGTERM).
     #[arg(long, default_value_t = 0.0)]
     pub duration: f64,
-    /// Topics, each optionally with its type (/x:pkg/msg/Type); without a type
-    /// the topic's publishers must be discovered first.
+    /// Topics, each optionally with its type (/x:pkg/msg/Type, which wins over
+    /// the discovered one); each is recorded from its first publisher's
+    /// discovery on, with that publisher's reliability and durability.
     #[arg(required = true)]
     pub topics: Vec<String>,
 }
@@ -92,12 +93,10 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                             let q = qos_for(&info, 1000);
                             (TopicInfo { type_name: ty.unwrap_or(info.type_name.clone()), ..info }, q)
                         }
-                        // A typed topic without publishers yet: record it reliably.
-                        (None, Some(t)) => (
-                            TopicInfo { type_name: t, reliable: true, transient_local: false },
-                            qos::reliable(1000),
-                        ),
-                        (None, None) => {
+                        // No publisher yet, typed or not: the reader's QoS must
+                        // follow the writer's (a reliable reader never matches a
+                        // best-effort sensor stream), so wait for one.
+                        (None, _) => {
                             still.push(p);
                             continue;
                         }

@@ -5,6 +5,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
 use skyground_core::footprint::{DeriveParams, Footprint, SplitParams, load_footprints};
@@ -15,6 +16,7 @@ use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::detection::{completeness_array, detection_markers, missing_cloud};
+use crate::convert::diagnostics::value;
 use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
 use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
 
@@ -23,6 +25,7 @@ use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportCon
 struct Params {
     input_topic: String,
     resampled_topic: String,
+    planner_status_topic: String,
     footprints: String,
     origin: Vec<f64>,
     #[serde(default)]
@@ -86,6 +89,20 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             p.transport.tile_points,
         )?)
     };
+    let planner_sub = if p.planner_status_topic.is_empty() {
+        None
+    } else {
+        Some(rt.subscription::<DiagnosticArray>(&p.planner_status_topic, qos::latched(1))?)
+    };
+    let planner_s = match planner_sub.as_ref() {
+        Some(s) => futures::future::Either::Left(s.async_stream()),
+        None => futures::future::Either::Right(futures::stream::pending()),
+    };
+    futures::pin_mut!(planner_s);
+    // The planner round whose route is done, and the one detection last ran
+    // after: a resampled cloud re-runs detection once per finished route.
+    let mut route_done: Option<u32> = None;
+    let mut detected_after: Option<u32> = None;
     let missing_pub = CloudPublisher::new(rt, "/missing_points", qos::latched(1), p.transport)?;
     let status_pub = rt.publisher::<DiagnosticArray>("/completeness", qos::latched(1))?;
     let marker_pub = rt.publisher::<MarkerArray>("/detection_markers", qos::latched(1))?;
@@ -134,7 +151,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             r = async { match resampled_sub.as_mut() { Some(s) => s.next().await, None => std::future::pending().await } } => match r {
                 Some(Received::Cloud { decoded, .. }) => {
                     resampled = Some(decoded.cloud);
-                    aerial.is_some()
+                    let fresh = planner_sub.is_none() || (route_done.is_some() && route_done != detected_after);
+                    if fresh {
+                        detected_after = route_done;
+                    }
+                    aerial.is_some() && fresh
                 }
                 Some(Received::Bad(reason)) => {
                     rt.log.error(&format!("rejected cloud on {}: {reason}", p.resampled_topic));
@@ -142,6 +163,12 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 }
                 None => break,
             },
+            Some(Ok((arr, _))) = planner_s.next() => {
+                if let Some(s) = arr.status.first().filter(|s| s.message == "done") {
+                    route_done = value::<u32>(s, "round");
+                }
+                false
+            }
             _ = rt.shutdown.wait() => break,
         };
         let Some((cloud, header)) = aerial.as_ref().filter(|_| changed) else {

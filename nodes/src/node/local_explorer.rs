@@ -306,8 +306,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 last_done = Some((a.index, a.round, a.explorer.coverage()));
                 active = None;
                 requested = None;
-                // /resampled_cloud goes out when the route is done: each one
-                // re-runs detection (the closed loop), not each region.
+                // What the region added, for viewers; the detector re-runs
+                // only on the cloud that follows the route's end.
+                publish_resampled(rt, &merged, &resampled_pub).await?;
             } else if let Some(target) = next.first().copied() {
                 let leg = a.explorer.path_to(pos, target);
                 a.goal = leg.last().copied();
