@@ -92,7 +92,7 @@ def test_region_is_explored_and_its_coverage_rises(spawn, ros, prior):
     planner = Latest(ros, DiagnosticArray, "/planner_status", depth=100)
     pub = ros.node.create_publisher(PointCloud2, "/classified_cloud", qos("latched", 1))
     # Everyone who reads the 31 MB prior subscribes before it is published.
-    procs = [spawn("completeness_detector"), spawn("target_generator"), spawn("local_explorer"),
+    procs = [spawn("completeness_detector"), spawn("target_generator"), spawn("local_explorer", "--ros-args", "-p", "publish_each_region:=true"),
              spawn("global_planner")]
 
     def logs():

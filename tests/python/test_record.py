@@ -62,3 +62,31 @@ def test_sigint_before_any_message_leaves_a_valid_bag(spawn, tmp_path):
     time.sleep(1.5)
     assert rec.stop(signal.SIGINT) == 0, rec.stderr()
     assert list(read_ros2_messages(str(bag))) == []
+
+
+def test_every_keeps_one_message_in_n_of_a_best_effort_stream(spawn, ros, tmp_path):
+    """--every thins a dense sensor stream; a best-effort (sensor QoS) writer is
+    recorded at all, which a reliable reader would never match."""
+    from nav_msgs.msg import Odometry
+
+    bag = tmp_path / "every.mcap"
+    pub = ros.node.create_publisher(Odometry, "/state_estimation", qos("sensor", 10))
+    rec = spawn("skyground", "record", "-o", bag, "/state_estimation:nav_msgs/msg/Odometry",
+                "--every", "/state_estimation=3")
+    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 30), rec.stderr()
+    ros.spin_until(lambda: False, 0.5)
+    for k in range(10):
+        o = Odometry()
+        o.pose.pose.position.x = float(k)
+        pub.publish(o)
+        ros.spin_until(lambda: False, 0.05)
+    ros.spin_until(lambda: False, 1.0)
+    assert rec.stop(signal.SIGINT) == 0, rec.stderr()
+    xs = [m.ros_msg.pose.pose.position.x for m in read_ros2_messages(str(bag))]
+    assert xs == [0.0, 3.0, 6.0, 9.0], xs
+
+
+def test_every_rejects_a_bad_count(spawn, tmp_path):
+    rec = spawn("skyground", "record", "-o", tmp_path / "x.mcap", "/a", "--every", "/a=0")
+    assert rec.p.wait(10) != 0
+    assert "N must be a whole number" in rec.stderr()

@@ -26,6 +26,22 @@ pub struct RecordArgs {
     /// discovery on, with that publisher's reliability and durability.
     #[arg(required = true)]
     pub topics: Vec<String>,
+    /// Keep one message in N of a topic (TOPIC=N, repeatable): dense sensor
+    /// streams (a 10 Hz LiDAR is ~3 MB/s) would otherwise fill the disk.
+    #[arg(long = "every", value_parser = parse_every)]
+    pub every: Vec<(String, u64)>,
+}
+
+fn parse_every(s: &str) -> Result<(String, u64), String> {
+    let (topic, n) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}`: expected TOPIC=N"))?;
+    let n: u64 = n
+        .parse()
+        .ok()
+        .filter(|&n| n >= 1)
+        .ok_or_else(|| format!("`{s}`: N must be a whole number ≥ 1"))?;
+    Ok((topic.to_string(), n))
 }
 
 struct Pending {
@@ -115,10 +131,16 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                     let tx = tx.clone();
                     let log = rt.log.clone();
                     let topic = p.topic.clone();
+                    let every = a.every.iter().find(|(t, _)| *t == p.topic).map_or(1, |(_, n)| *n);
                     tasks.push(tokio::spawn(async move {
+                        let mut seen = 0u64;
                         while let Some(m) = sub.next().await {
                             match m {
                                 Ok(m) => {
+                                    seen += 1;
+                                    if (seen - 1) % every != 0 {
+                                        continue;
+                                    }
                                     let pub_ns = if m.publish_time_ns > 0 { m.publish_time_ns } else { now_ns() };
                                     if tx.send((ch, now_ns(), pub_ns, m.cdr)).await.is_err() {
                                         break;

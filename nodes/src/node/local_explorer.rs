@@ -37,6 +37,8 @@ struct Params {
     /// Missing points of the region's building within this distance of the
     /// region are the surface to cover, m.
     surface_margin_m: f64,
+    /// Also publish /resampled_cloud when each region is done (for viewers).
+    publish_each_region: bool,
     /// Edge of the de-duplication voxels of /resampled_cloud, m.
     resample_voxel_m: f32,
     /// Viewpoints the vehicle is blocked on this many times end the region.
@@ -308,7 +310,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 requested = None;
                 // What the region added, for viewers; the detector re-runs
                 // only on the cloud that follows the route's end.
-                publish_resampled(rt, &merged, &resampled_pub).await?;
+                if p.publish_each_region {
+                    publish_resampled(rt, &merged, &resampled_pub).await?;
+                }
             } else if let Some(target) = next.first().copied() {
                 let leg = a.explorer.path_to(pos, target);
                 a.goal = leg.last().copied();
