@@ -138,7 +138,7 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                             match m {
                                 Ok(m) => {
                                     seen += 1;
-                                    if (seen - 1) % every != 0 {
+                                    if !(seen - 1).is_multiple_of(every) {
                                         continue;
                                     }
                                     let pub_ns = if m.publish_time_ns > 0 { m.publish_time_ns } else { now_ns() };
