@@ -2,7 +2,8 @@
 //! that has only loopback (with multicast routed to it), as DESIGN.md asks.
 
 use std::ffi::OsString;
-use std::process::{Command, ExitStatus};
+use std::os::unix::process::CommandExt;
+use std::process::Command;
 
 /// Shell that brings loopback up with multicast, then runs the command.
 const SETUP: &str = "ip link set lo up && ip link set lo multicast on && \
@@ -28,9 +29,11 @@ pub fn is_isolated() -> bool {
     }
 }
 
-/// Runs `program args` in a new loopback-only namespace and waits for it.
+/// Replaces this process by `program args` in a new loopback-only namespace
+/// (`unshare` and `sh` both exec, so the PID stays the same and a SIGINT or
+/// SIGTERM sent to it reaches the isolated command). Returns only on failure.
 /// As root this is `unshare --net`; otherwise an unprivileged user namespace.
-pub fn run_isolated(program: &OsString, args: &[OsString]) -> std::io::Result<ExitStatus> {
+pub fn exec_isolated(program: &OsString, args: &[OsString]) -> std::io::Error {
     let root = nix_is_root();
     let mut cmd = Command::new("unshare");
     if !root {
@@ -38,14 +41,18 @@ pub fn run_isolated(program: &OsString, args: &[OsString]) -> std::io::Result<Ex
     }
     cmd.args(["--net", "--", "sh", "-c", SETUP, "netns"]);
     cmd.arg(program).args(args).env(ISOLATED_ENV, "1");
-    cmd.status()
+    cmd.exec()
 }
 
-/// Re-runs the current executable with the same arguments, isolated.
-pub fn rerun_self_isolated() -> std::io::Result<ExitStatus> {
-    let exe = std::env::current_exe()?;
-    let args: Vec<OsString> = std::env::args_os().skip(1).collect();
-    run_isolated(&exe.into_os_string(), &args)
+/// Replaces this process by the current executable with the same arguments, isolated.
+pub fn exec_self_isolated() -> std::io::Error {
+    match std::env::current_exe() {
+        Ok(exe) => {
+            let args: Vec<OsString> = std::env::args_os().skip(1).collect();
+            exec_isolated(&exe.into_os_string(), &args)
+        }
+        Err(e) => e,
+    }
 }
 
 fn nix_is_root() -> bool {

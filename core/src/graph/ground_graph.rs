@@ -40,7 +40,7 @@ pub struct GraphReport {
 #[derive(Debug, Clone)]
 pub struct GroundGraph {
     /// The graph (node weight: position; edge weight: length in metres).
-    graph: UnGraph<[f32; 3], f32>,
+    pub(super) graph: UnGraph<[f32; 3], f32>,
     /// Node positions (the node's index is its position here).
     pub(super) positions: Vec<[f32; 3]>,
     /// Distance (xy) from each node to the nearest obstacle, metres (capped at 8).
@@ -57,7 +57,9 @@ pub struct GroundGraph {
     pub(super) adj_w: Vec<f32>,
     start: usize,
     report: GraphReport,
-    params: GraphParams,
+    pub(super) params: GraphParams,
+    /// Spots the vehicle was blocked at while driving, with their radius.
+    pub(super) blocked_spots: Vec<([f32; 2], f32)>,
 }
 
 impl GroundGraph {
@@ -198,6 +200,7 @@ impl GroundGraph {
             adj_w,
             report,
             params: params.clone(),
+            blocked_spots: Vec::new(),
         })
     }
 
@@ -293,6 +296,7 @@ impl GroundGraph {
             .enumerate()
             .filter(|(_, p)| contains(polygon, [f64::from(p[0]), f64::from(p[1])]))
             .map(|(i, _)| i)
+            .filter(|&i| self.indexed(i))
             .collect()
     }
 
@@ -303,6 +307,27 @@ impl GroundGraph {
             .index_of(xy[0], xy[1])
             .map(|k| self.heights[k])
             .filter(|z| z.is_finite())
+    }
+
+    /// True while node `n` is in the cell index (not taken out by `block_near`).
+    fn indexed(&self, n: usize) -> bool {
+        self.positions.get(n).is_some_and(|p| {
+            self.frame
+                .index_of(p[0], p[1])
+                .is_some_and(|c| self.cell_node[c] as usize == n)
+        })
+    }
+
+    /// Drops node `n` from the cell index, so look-ups no longer find it.
+    pub(super) fn unindex_node(&mut self, n: usize) {
+        let Some(p) = self.positions.get(n) else {
+            return;
+        };
+        if let Some(c) = self.frame.index_of(p[0], p[1])
+            && self.cell_node[c] as usize == n
+        {
+            self.cell_node[c] = u32::MAX;
+        }
     }
 
     /// True when the vehicle (its radius) fits along the straight segment `a → b` (xy).

@@ -6,9 +6,10 @@
 //!
 //! - [`GraphParams`] (`params`), [`GraphError`] (`error`);
 //! - `cells`: ground binning; `obstacles`: the obstacle map; `grid`: the cell frame;
-//! - [`GroundGraph`] (`ground_graph`), its searches ([`ShortestPaths`], `search`)
-//!   and point-in-polygon (`polygon`).
+//! - [`GroundGraph`] (`ground_graph`), its searches ([`ShortestPaths`], `search`),
+//!   point-in-polygon (`polygon`) and spots found blocked while driving (`blocked`).
 
+mod blocked;
 mod cells;
 mod error;
 mod grid;

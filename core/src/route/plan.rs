@@ -40,8 +40,7 @@ pub fn plan(
 ) -> Result<Route, RouteError> {
     params.validate()?;
     let start_node = graph
-        .nearest_node([start[0], start[1]])
-        .filter(|&(_, d)| d <= params.max_snap_m)
+        .start_node_from([start[0], start[1]], params.max_snap_m)
         .ok_or(RouteError::StartOffGraph {
             x: start[0],
             y: start[1],

@@ -93,13 +93,13 @@ fn main() -> ExitCode {
     match cli.cmd {
         Cmd::Msgs { which } => msgs(which),
         Cmd::Netns { command } => match command.split_first() {
-            Some((prog, args)) => exit_of(netns::run_isolated(prog, args)),
+            Some((prog, args)) => exec_failed(netns::exec_isolated(prog, args)),
             None => ExitCode::from(2),
         },
         Cmd::Demo(a) => {
             if !a.no_netns && !netns::is_isolated() {
                 eprintln!("skyground demo: re-running inside a loopback-only network namespace");
-                return exit_of(netns::rerun_self_isolated());
+                return exec_failed(netns::exec_self_isolated());
             }
             if std::env::var_os("ROS_AUTOMATIC_DISCOVERY_RANGE").is_none() {
                 // The demo is a local mission: keep discovery on this host.
@@ -157,7 +157,7 @@ fn main() -> ExitCode {
         Cmd::Bench { no_netns, which } => {
             if !no_netns && !netns::is_isolated() {
                 eprintln!("skyground bench: re-running inside a loopback-only network namespace");
-                return exit_of(netns::rerun_self_isolated());
+                return exec_failed(netns::exec_self_isolated());
             }
             run_with(
                 cli::tool_spec("skyground_bench"),
@@ -196,14 +196,10 @@ fn offline(
     }
 }
 
-fn exit_of(status: std::io::Result<std::process::ExitStatus>) -> ExitCode {
-    match status {
-        Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
-        Err(e) => {
-            eprintln!("skyground: cannot start the isolated command: {e}");
-            ExitCode::FAILURE
-        }
-    }
+/// What is left when exec into the isolated command failed.
+fn exec_failed(e: std::io::Error) -> ExitCode {
+    eprintln!("skyground: cannot start the isolated command (needs `unshare` and `ip`): {e}");
+    ExitCode::FAILURE
 }
 
 fn msgs(which: MsgsCmd) -> ExitCode {

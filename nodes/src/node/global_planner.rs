@@ -36,6 +36,10 @@ struct Params {
     transport: TransportConfig,
 }
 
+/// How far beyond the vehicle's radius the obstacle that blocked it is
+/// looked for: the vehicle stops when its body is within one step of it.
+const BLOCK_AHEAD_M: f32 = 0.4;
+
 /// Name and default params.
 pub const SPEC: NodeSpec = NodeSpec {
     name: "global_planner",
@@ -301,6 +305,7 @@ async fn plan(
         // New targets: a new round (or the restored one, if it matches).
         st.targets = targets.clone();
         st.visited = Visited::default();
+        st.retries = 0;
         st.round += 1;
         if let Some((round, visited, np, nr)) = st.restored.take()
             && np == targets.points.len()
@@ -331,7 +336,6 @@ async fn plan(
                 .async_publish(path(&header(rt), &route.waypoints))
                 .await;
             st.route = Some(route);
-            st.retries = 0;
             let empty = regions_to_markers(&header(rt), &[]);
             let _ = region_pub.async_publish(empty).await;
             start_leg(rt, st, 0, leg_pub).await;
@@ -420,6 +424,32 @@ async fn on_vehicle_status(
             None => {}
         }
     } else if v.message.starts_with("blocked") && v.level != DiagnosticStatus::OK {
+        // Something the prior did not show stands between the vehicle and a
+        // pose of its leg: the graph forgets the ground just ahead of it, so
+        // later routes go around. The vehicle itself skips to the next pose;
+        // only when it gives up the leg's last one is a new route needed.
+        if let (Some(x), Some(y), Some(g)) = (
+            value::<f32>(v, "x"),
+            value::<f32>(v, "y"),
+            st.graph.as_mut(),
+        ) {
+            let (dx, dy) = (gx - x, gy - y);
+            let len = dx.hypot(dy);
+            if len > 1e-3 {
+                let ahead = g.params().vehicle_radius_m + BLOCK_AHEAD_M;
+                let at = [x + dx / len * ahead, y + dy / len * ahead];
+                let cut = g.block_near(at, ahead);
+                rt.log.info(&format!(
+                    "blocked near ({:.1}, {:.1}): {cut} graph edges taken out",
+                    at[0], at[1]
+                ));
+            }
+        }
+        if !ours {
+            return None;
+        }
+        // A per-stop count, kept across replans, gives the stop up when every
+        // way round is blocked too.
         st.retries += 1;
         if st.retries > p.block_retries {
             let stop = st.route.as_ref().and_then(|r| r.order.get(k)).copied();

@@ -34,6 +34,10 @@ struct Params {
     frame_id: String,
     child_frame_id: String,
     path_topics: Vec<String>,
+    /// A scan is cast at the LiDAR's rate once the sensor has moved this far
+    /// since the last one, else every `stationary_scan_period_s`.
+    scan_min_move_m: f64,
+    stationary_scan_period_s: f64,
     vehicle: VehicleConfig,
     lidar: LidarConfig,
 }
@@ -164,6 +168,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let (mut next_scan, mut next_odom, mut next_clock) = (0.0f64, 0.0f64, 0.0f64);
     let mut sim = 0.0f64;
     let mut scans = 0u64;
+    // Where and when the last scan was cast.
+    let mut last_scan_at: Option<([f32; 3], f64)> = None;
     let wall0 = Instant::now();
     while !rt.shutdown.requested() {
         while let Ok(cmd) = rx.try_recv() {
@@ -253,9 +259,25 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             o.twist.twist.angular.z = f64::from(s.yaw_rate);
             let _ = odom_pub.async_publish(o).await;
         }
-        if sim >= next_scan {
+        let sensor = vehicle.sensor_position();
+        // A 360° sensor that has not moved sees what it saw: a vehicle
+        // standing or turning on the spot casts a scan only now and then.
+        let moved = last_scan_at.is_none_or(|(q, t): ([f32; 3], f64)| {
+            f64::from(
+                (0..3)
+                    .map(|k| (sensor[k] - q[k]).powi(2))
+                    .sum::<f32>()
+                    .sqrt(),
+            ) >= p.scan_min_move_m
+                || sim - t >= p.stationary_scan_period_s
+        });
+        let scan_due = sim >= next_scan;
+        if scan_due {
             next_scan += lidar_period;
-            let pose = Pose::new(vehicle.sensor_position(), vehicle.state.yaw);
+        }
+        if scan_due && moved {
+            last_scan_at = Some((sensor, sim));
+            let pose = Pose::new(sensor, vehicle.state.yaw);
             match scan(&caster, &p.lidar, &pose, scans) {
                 Ok(points) => {
                     let header = Header {
