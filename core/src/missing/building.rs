@@ -1,6 +1,6 @@
 //! Missing-region detection of one building (DESIGN.md step 3).
 
-use geo::{Area, CoordsIter, MultiPolygon};
+use geo::{Area, Contains, CoordsIter, MultiPolygon, Point};
 use rayon::prelude::*;
 
 use super::band::BandIndex;
@@ -23,6 +23,12 @@ const MIN_SEGMENT: f64 = 0.5;
 const MIN_WALL_Z: f32 = 0.1;
 /// Wall parts this close above the terrain are not tested (the ground hides them).
 const GROUND_CLEARANCE: f32 = 0.1;
+/// Depths inside q_n (along s→q) probed for observed ground, metres: beyond
+/// the outline's up-to-a-cell offset from the wall, so the ground at the
+/// wall's foot does not count.
+const OPEN_DEPTHS: [f64; 3] = [1.25, 1.625, 2.0];
+/// Least probes inside the contour that saw ground for the base to be open.
+const OPEN_MIN_SEEN: usize = 2;
 
 /// Finds the missing boundary points of building `id` from its `points`.
 /// `footprint` (local frame), when given, is C_building and replaces the
@@ -189,6 +195,13 @@ fn analyse(
                         radius: params.coverage_radius,
                     };
                     let cover = strip_coverage(&index, &strip);
+                    // No points at this height and ground seen behind the
+                    // outline: an open ground floor, no wall to miss.
+                    if cover.wall_offset.is_none()
+                        && terrain.is_some_and(|t| open_below(t, contour, q, dir, params.delta))
+                    {
+                        continue;
+                    }
                     let coverage = cover.share;
                     // Report the point on the wall: where the strip's points
                     // put it, else half a raster cell in (the outline lies
@@ -286,6 +299,31 @@ fn segment(skeleton: &Skeleton, q: [f64; 2], normal: [f64; 2]) -> ([f64; 2], [f6
         q[1] - normal[1] * MIN_SEGMENT,
     ];
     (s, normal)
+}
+
+/// Whether ground was observed inside `contour` behind q (along -dir,
+/// across ±δ/2): the outline there overhangs open ground.
+fn open_below(
+    terrain: &GroundGrid,
+    contour: &MultiPolygon<f64>,
+    q: [f64; 2],
+    dir: [f64; 2],
+    delta: f64,
+) -> bool {
+    let t = [-dir[1], dir[0]];
+    let mut seen = 0;
+    for d in OPEN_DEPTHS {
+        for u in [-0.5 * delta, 0.0, 0.5 * delta] {
+            let p = [q[0] - dir[0] * d + t[0] * u, q[1] - dir[1] * d + t[1] * u];
+            if terrain.seen(p[0], p[1]) && contour.contains(&Point::new(p[0], p[1])) {
+                seen += 1;
+                if seen >= OPEN_MIN_SEEN {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
 
 /// Highest building point within `r` (square) of `q`: where the wall ends.
