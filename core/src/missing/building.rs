@@ -1,6 +1,6 @@
 //! Missing-region detection of one building (DESIGN.md step 3).
 
-use geo::{Area, Contains, CoordsIter, MultiPolygon, Point};
+use geo::{Area, CoordsIter, MultiPolygon};
 use rayon::prelude::*;
 
 use super::band::BandIndex;
@@ -12,6 +12,7 @@ use super::detection::{
 };
 use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
+use super::wall::{open_below, wall_normal};
 use crate::skeleton::{Skeleton, medial_axis};
 use crate::slice::{Sliced, cluster_structures, slice_building};
 
@@ -23,12 +24,6 @@ const MIN_SEGMENT: f64 = 0.5;
 const MIN_WALL_Z: f32 = 0.1;
 /// Wall parts this close above the terrain are not tested (the ground hides them).
 const GROUND_CLEARANCE: f32 = 0.1;
-/// Depths inside q_n (along s→q) probed for observed ground, metres: beyond
-/// the outline's up-to-a-cell offset from the wall, so the ground at the
-/// wall's foot does not count.
-const OPEN_DEPTHS: [f64; 3] = [1.25, 1.625, 2.0];
-/// Least probes inside the contour that saw ground for the base to be open.
-const OPEN_MIN_SEEN: usize = 2;
 
 /// Finds the missing boundary points of building `id` from its `points`.
 /// `footprint` (local frame), when given, is C_building and replaces the
@@ -184,9 +179,15 @@ fn analyse(
                     if z[1] - z[0] < MIN_WALL_Z {
                         continue;
                     }
+                    // The strip is measured across the wall the points
+                    // trace: s→q runs at 45° near corners of the skeleton,
+                    // or along the wall at a chamfered contour corner, and a
+                    // slanted strip sees a covered wall as partly empty.
+                    let wall_dir =
+                        wall_normal(&index, k, q, dir, 2.0 * params.delta).unwrap_or(dir);
                     let strip = Strip {
                         q,
-                        dir,
+                        dir: wall_dir,
                         half_width: params.delta,
                         near: params.near,
                         outside: params.outside,
@@ -207,7 +208,7 @@ fn analyse(
                     // put it, else half a raster cell in (the outline lies
                     // up to a cell outside the wall).
                     let off = cover.wall_offset.unwrap_or(-0.5 * params.slice.cell);
-                    let at = [q[0] + dir[0] * off, q[1] + dir[1] * off];
+                    let at = [q[0] + wall_dir[0] * off, q[1] + wall_dir[1] * off];
                     boundary.push(BoundaryPoint {
                         xyz: [at[0] as f32, at[1] as f32, 0.5 * (z[0] + z[1])],
                         normal: [dir[0] as f32, dir[1] as f32],
@@ -299,31 +300,6 @@ fn segment(skeleton: &Skeleton, q: [f64; 2], normal: [f64; 2]) -> ([f64; 2], [f6
         q[1] - normal[1] * MIN_SEGMENT,
     ];
     (s, normal)
-}
-
-/// Whether ground was observed inside `contour` behind q (along -dir,
-/// across ±δ/2): the outline there overhangs open ground.
-fn open_below(
-    terrain: &GroundGrid,
-    contour: &MultiPolygon<f64>,
-    q: [f64; 2],
-    dir: [f64; 2],
-    delta: f64,
-) -> bool {
-    let t = [-dir[1], dir[0]];
-    let mut seen = 0;
-    for d in OPEN_DEPTHS {
-        for u in [-0.5 * delta, 0.0, 0.5 * delta] {
-            let p = [q[0] - dir[0] * d + t[0] * u, q[1] - dir[1] * d + t[1] * u];
-            if terrain.seen(p[0], p[1]) && contour.contains(&Point::new(p[0], p[1])) {
-                seen += 1;
-                if seen >= OPEN_MIN_SEEN {
-                    return true;
-                }
-            }
-        }
-    }
-    false
 }
 
 /// Highest building point within `r` (square) of `q`: where the wall ends.

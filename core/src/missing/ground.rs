@@ -158,7 +158,7 @@ mod tests {
         assert!((g.at(5.0, 5.0).unwrap() - 0.5).abs() < 0.2);
         assert!((g.at(25.0, 25.0).unwrap() - 2.5).abs() < 0.5);
         assert!(g.at(-5.0, 5.0).is_none());
-        assert!(g.seen(5.2, 5.2) && !g.seen(25.2, 25.2) && !g.seen(-5.0, 5.0));
+        assert!(g.seen(5.6, 5.6) && !g.seen(25.6, 25.6) && !g.seen(-5.0, 5.0));
         assert!(GroundGrid::from_points(&[], 2.0, 10).is_none());
     }
 }
