@@ -2,8 +2,8 @@
 //! derived), then where each one's walls are missing.
 
 use super::all::{DetectError, detect_all_on};
-use super::ground::GroundGrid;
 use super::detection::{Detection, MissingPoint};
+use super::ground::GroundGrid;
 use super::params::DetectParams;
 use crate::cloud::{Cloud, class};
 use crate::footprint::{DeriveParams, Footprint, ParamsError, SplitParams, derive, split};
