@@ -12,6 +12,7 @@ use super::detection::{
 };
 use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
+use super::wall::{open_below, wall_normal};
 use crate::skeleton::{Skeleton, medial_axis};
 use crate::slice::{Sliced, cluster_structures, slice_building};
 
@@ -178,9 +179,15 @@ fn analyse(
                     if z[1] - z[0] < MIN_WALL_Z {
                         continue;
                     }
-                    let strip = Strip {
+                    // The strip is measured across the wall the points
+                    // trace: s→q runs at 45° near corners of the skeleton,
+                    // or along the wall at a chamfered contour corner, and a
+                    // slanted strip sees a covered wall as partly empty.
+                    let wall_dir =
+                        wall_normal(&index, k, q, dir, 2.0 * params.delta).unwrap_or(dir);
+                    let mut strip = Strip {
                         q,
-                        dir,
+                        dir: wall_dir,
                         half_width: params.delta,
                         near: params.near,
                         outside: params.outside,
@@ -188,15 +195,33 @@ fn analyse(
                         z,
                         radius: params.coverage_radius,
                     };
-                    let cover = strip_coverage(&index, &strip);
+                    let mut cover = strip_coverage(&index, &strip);
+                    // Ground seen behind the outline: an open ground floor.
+                    // Without points there is no wall to miss; the outline's
+                    // own face (a slab's facade) starts at its lowest point,
+                    // while points set back (pillars) are tested as they are.
+                    let open = cover.share < params.min_coverage
+                        && terrain.is_some_and(|t| open_below(t, contour, q, dir, params.delta));
+                    if open {
+                        if cover.wall_offset.is_none() {
+                            continue;
+                        }
+                        if let Some(lo) = cover.face_z_min.filter(|&lo| lo > z[0]) {
+                            if z[1] - lo < MIN_WALL_Z {
+                                continue;
+                            }
+                            strip.z = [lo, z[1]];
+                            cover = strip_coverage(&index, &strip);
+                        }
+                    }
                     let coverage = cover.share;
                     // Report the point on the wall: where the strip's points
                     // put it, else half a raster cell in (the outline lies
                     // up to a cell outside the wall).
                     let off = cover.wall_offset.unwrap_or(-0.5 * params.slice.cell);
-                    let at = [q[0] + dir[0] * off, q[1] + dir[1] * off];
+                    let at = [q[0] + wall_dir[0] * off, q[1] + wall_dir[1] * off];
                     boundary.push(BoundaryPoint {
-                        xyz: [at[0] as f32, at[1] as f32, 0.5 * (z[0] + z[1])],
+                        xyz: [at[0] as f32, at[1] as f32, 0.5 * (strip.z[0] + strip.z[1])],
                         normal: [dir[0] as f32, dir[1] as f32],
                         skeleton: [s[0] as f32, s[1] as f32],
                         coverage,

@@ -9,6 +9,10 @@
 
 use super::band::BandIndex;
 
+/// Points this close behind q_n lie on the outline's own face (the outline
+/// is up to a raster cell outside its wall); deeper ones are set back, metres.
+pub const FACE_DEPTH: f64 = 1.0;
+
 /// The strip of one test.
 #[derive(Debug, Clone, Copy)]
 pub struct Strip {
@@ -38,6 +42,9 @@ pub struct StripCoverage {
     /// Mean offset of the strip's points along s→q from q_n (negative:
     /// inside), where the wall actually is; None without points.
     pub wall_offset: Option<f64>,
+    /// Lowest z of the strip's points within [`FACE_DEPTH`] behind q_n (the
+    /// outline's own face); None without such points.
+    pub face_z_min: Option<f32>,
 }
 
 /// Covered share of the strip's sample nodes (0 when it has none) and where
@@ -53,6 +60,7 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
     let du = 2.0 * s.half_width as f32 / nu as f32;
     let dz = (s.z[1] - s.z[0]) / nz as f32;
     let (mut v_sum, mut v_n) = (0.0, 0usize);
+    let mut z_min = f32::INFINITY;
     index.for_each_near(s.band, s.q, reach, |p| {
         let rel = [p[0] as f64 - s.q[0], p[1] as f64 - s.q[1]];
         let v = rel[0] * s.dir[0] + rel[1] * s.dir[1];
@@ -67,6 +75,9 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
         }
         v_sum += v;
         v_n += 1;
+        if v >= -FACE_DEPTH {
+            z_min = z_min.min(p[2]);
+        }
         for a in 0..nu {
             let cu = (a as f32 + 0.5) * du - u;
             if cu.abs() > s.radius {
@@ -83,6 +94,7 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
     StripCoverage {
         share: covered.iter().filter(|&&c| c).count() as f32 / covered.len() as f32,
         wall_offset: (v_n > 0).then(|| v_sum / v_n as f64),
+        face_z_min: z_min.is_finite().then_some(z_min),
     }
 }
 

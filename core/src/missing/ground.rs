@@ -1,6 +1,12 @@
 //! Terrain height around buildings, from ground points: on sloped ground a
 //! building's lowest point is not the foot of every wall, and slices below
-//! the local terrain must not be tested.
+//! the local terrain must not be tested. It also keeps where ground was
+//! actually observed: ground seen under a building's outline means the
+//! outline is not a wall down to the ground there (a slab on pillars).
+
+/// Cell of the observed-ground bitmap, metres (fine enough to tell the
+/// ground under a slab from the ground at its wall's foot).
+pub const SEEN_CELL: f32 = 0.5;
 
 /// Mean ground height per square cell, holes (under buildings) filled from
 /// their neighbours.
@@ -10,6 +16,8 @@ pub struct GroundGrid {
     cell: f32,
     size: [usize; 2],
     z: Vec<f32>,
+    seen_size: [usize; 2],
+    seen: Vec<bool>,
 }
 
 impl GroundGrid {
@@ -38,6 +46,16 @@ impl GroundGrid {
             ((hi[0] - lo[0]) / cell) as usize + 1,
             ((hi[1] - lo[1]) / cell) as usize + 1,
         ];
+        let seen_size = [
+            ((hi[0] - lo[0]) / SEEN_CELL) as usize + 1,
+            ((hi[1] - lo[1]) / SEEN_CELL) as usize + 1,
+        ];
+        let mut seen = vec![false; seen_size[0] * seen_size[1]];
+        for p in &pts {
+            let i = (((p[0] - lo[0]) / SEEN_CELL) as usize).min(seen_size[0] - 1);
+            let j = (((p[1] - lo[1]) / SEEN_CELL) as usize).min(seen_size[1] - 1);
+            seen[j * seen_size[0] + i] = true;
+        }
         let mut sum = vec![0.0f64; size[0] * size[1]];
         let mut n = vec![0u32; size[0] * size[1]];
         for p in &pts {
@@ -93,6 +111,8 @@ impl GroundGrid {
             cell,
             size,
             z,
+            seen_size,
+            seen,
         })
     }
 
@@ -104,6 +124,18 @@ impl GroundGrid {
             return None;
         }
         Some(self.z[j as usize * self.size[0] + i as usize]).filter(|z| z.is_finite())
+    }
+
+    /// Whether a ground point was observed within the [`SEEN_CELL`] cell of (x, y).
+    pub fn seen(&self, x: f64, y: f64) -> bool {
+        let i = ((x as f32 - self.origin[0]) / SEEN_CELL).floor();
+        let j = ((y as f32 - self.origin[1]) / SEEN_CELL).floor();
+        let [nx, ny] = self.seen_size;
+        i >= 0.0
+            && j >= 0.0
+            && (i as usize) < nx
+            && (j as usize) < ny
+            && self.seen[j as usize * nx + i as usize]
     }
 }
 
@@ -126,6 +158,7 @@ mod tests {
         assert!((g.at(5.0, 5.0).unwrap() - 0.5).abs() < 0.2);
         assert!((g.at(25.0, 25.0).unwrap() - 2.5).abs() < 0.5);
         assert!(g.at(-5.0, 5.0).is_none());
+        assert!(g.seen(5.6, 5.6) && !g.seen(25.6, 25.6) && !g.seen(-5.0, 5.0));
         assert!(GroundGrid::from_points(&[], 2.0, 10).is_none());
     }
 }

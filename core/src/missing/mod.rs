@@ -10,6 +10,7 @@
 //! - [`boundary`] — contour sampling; [`band`], point index by band and cell;
 //!   [`coverage`], the strip test.
 //! - [`ground`] — terrain grid, so sloped ground is not taken for missing wall.
+//! - [`wall`] — the wall's direction near q_n, and open ground floors.
 //! - [`eval`] — recall / precision against ground-truth wall cells.
 
 pub mod all;
@@ -22,6 +23,7 @@ pub mod eval;
 pub mod ground;
 pub mod params;
 pub mod scene;
+pub mod wall;
 
 pub use all::{DetectError, detect_all, detect_all_on};
 pub use building::{detect_building, detect_building_on};

@@ -1,8 +1,9 @@
 //! Steps 2–3 on a whole classified cloud: buildings by footprints (given or
 //! derived), then where each one's walls are missing.
 
-use super::all::{DetectError, detect_all};
+use super::all::{DetectError, detect_all_on};
 use super::detection::{Detection, MissingPoint};
+use super::ground::GroundGrid;
 use super::params::DetectParams;
 use crate::cloud::{Cloud, class};
 use crate::footprint::{DeriveParams, Footprint, ParamsError, SplitParams, derive, split};
@@ -41,11 +42,17 @@ fn building_xyz(
         .collect())
 }
 
+/// Terrain cell and hole-filling reach of the ground grid, as the tests use.
+const TERRAIN_CELL: f32 = 2.0;
+const TERRAIN_FILL: usize = 40;
+
 /// Detects on the building points of `aerial` (label 6) plus those of
 /// `extra` (ground scans merged so far; unlabelled means all building),
 /// split by `footprints`, or by footprints derived from the aerial building
-/// points (so ids stay the same from round to round). Returns the detection
-/// (frame of `aerial`) and the footprints used.
+/// points (so ids stay the same from round to round). The terrain comes
+/// from `aerial`'s ground points (label 2): walls are tested above their
+/// foot, and open ground floors are told from missing walls. Returns the
+/// detection (frame of `aerial`) and the footprints used.
 pub fn detect_scene(
     aerial: &Cloud,
     extra: Option<&Cloud>,
@@ -65,7 +72,16 @@ pub fn detect_scene(
     let ids = split(&pts, &used, split_params)?;
     let given: Option<Vec<(u32, geo::MultiPolygon<f64>)>> =
         footprints.map(|f| f.iter().map(|f| (f.id, f.polygon.clone())).collect());
-    let detection = detect_all(&pts, &ids, given.as_deref(), params)?;
+    let labels = aerial.label.as_deref().unwrap_or_default();
+    let ground: Vec<[f32; 3]> = aerial
+        .xyz
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| **l == class::GROUND)
+        .map(|(p, _)| *p)
+        .collect();
+    let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
+    let detection = detect_all_on(&pts, &ids, given.as_deref(), terrain.as_ref(), params)?;
     Ok((detection, used))
 }
 
