@@ -5,6 +5,7 @@
 use petgraph::graph::NodeIndex;
 
 use super::GroundGraph;
+use crate::scene::vec3::segment_dist2;
 
 impl GroundGraph {
     /// Takes out every node within `radius` (xy) of `at` and makes every edge
@@ -76,14 +77,8 @@ impl GroundGraph {
 
 /// Distance (xy) from `p` to the segment `a → b`.
 fn segment_distance(p: [f32; 2], a: [f32; 2], b: [f32; 2]) -> f32 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
+    let lift = |q: [f32; 2]| [f64::from(q[0]), f64::from(q[1]), 0.0];
+    segment_dist2(lift(p), lift(a), lift(b)).sqrt() as f32
 }
 
 #[cfg(test)]
