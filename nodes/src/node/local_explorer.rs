@@ -211,16 +211,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                     }
                 }
             },
-            _ = tick.tick() => {
-                let (state, values) = match (&active, &last_done) {
-                    (Some(a), _) => ("exploring", vec![kv("region", a.index), kv("round", a.round), kv("building", a.region.building), kv("coverage", a.explorer.coverage()), kv("viewpoints", a.stops)]),
-                    (None, Some((i, r, c))) => ("done", vec![kv("region", i), kv("round", r), kv("coverage", c)]),
-                    (None, None) => ("idle", vec![]),
-                };
-                let mut values = values;
-                values.push(kv("resampled_points", merged.len()));
-                let _ = status_pub.async_publish(DiagnosticArray { header: header(rt), status: vec![status("local_explorer", DiagnosticStatus::OK, state, values)] }).await;
-            }
+            _ = tick.tick() => publish_status(rt, &status_pub, active.as_ref(), last_done, merged.len()).await,
         }
         // A new region to explore.
         if let (Some((region, index, round)), Some(pos), Some(cloud)) =
@@ -277,6 +268,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         stops: 0,
                     });
                     arrived_at = Some(true);
+                    // Every change of state goes out at once: a region can
+                    // start and end between two ticks.
+                    publish_status(rt, &status_pub, active.as_ref(), last_done, merged.len()).await;
                 }
                 Err(e) => {
                     rt.log.error(&format!(
@@ -284,6 +278,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                     ));
                     last_done = Some((*index, *round, 0.0));
                     requested = None;
+                    publish_status(rt, &status_pub, None, last_done, merged.len()).await;
                     continue;
                 }
             }
@@ -308,6 +303,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 last_done = Some((a.index, a.round, a.explorer.coverage()));
                 active = None;
                 requested = None;
+                publish_status(rt, &status_pub, None, last_done, merged.len()).await;
                 // What the region added, for viewers; the detector re-runs
                 // only on the cloud that follows the route's end.
                 if p.publish_each_region {
@@ -322,6 +318,46 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         }
     }
     Ok(())
+}
+
+/// /explorer_status: exploring (region, round, building, coverage,
+/// viewpoints), done (the last region handed back) or idle.
+async fn publish_status(
+    rt: &NodeRuntime,
+    publisher: &ros2_client::Publisher<DiagnosticArray>,
+    active: Option<&Active>,
+    last_done: Option<(usize, u32, f64)>,
+    resampled_points: usize,
+) {
+    let (state, mut values) = match (active, last_done) {
+        (Some(a), _) => (
+            "exploring",
+            vec![
+                kv("region", a.index),
+                kv("round", a.round),
+                kv("building", a.region.building),
+                kv("coverage", a.explorer.coverage()),
+                kv("viewpoints", a.stops),
+            ],
+        ),
+        (None, Some((i, r, c))) => (
+            "done",
+            vec![kv("region", i), kv("round", r), kv("coverage", c)],
+        ),
+        (None, None) => ("idle", vec![]),
+    };
+    values.push(kv("resampled_points", resampled_points));
+    let _ = publisher
+        .async_publish(DiagnosticArray {
+            header: header(rt),
+            status: vec![status(
+                "local_explorer",
+                DiagnosticStatus::OK,
+                state,
+                values,
+            )],
+        })
+        .await;
 }
 
 async fn publish_resampled(
