@@ -53,9 +53,7 @@ impl GroundGraph {
         }
         cut
     }
-}
 
-impl GroundGraph {
     /// The node to start a route from at `xy`: the nearest one within
     /// `max_dist` whose straight way from `xy` passes no spot found blocked
     /// (the nearest node can lie just beyond the obstacle the vehicle met).

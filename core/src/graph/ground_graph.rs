@@ -309,23 +309,22 @@ impl GroundGraph {
             .filter(|z| z.is_finite())
     }
 
-    /// True while node `n` is in the cell index (not taken out by `block_near`).
+    /// The cell that indexes node `n`, while it does (`block_near` takes nodes out).
+    fn cell_of(&self, n: usize) -> Option<usize> {
+        let p = self.positions.get(n)?;
+        self.frame
+            .index_of(p[0], p[1])
+            .filter(|&c| self.cell_node[c] as usize == n)
+    }
+
+    /// True while node `n` is in the cell index.
     fn indexed(&self, n: usize) -> bool {
-        self.positions.get(n).is_some_and(|p| {
-            self.frame
-                .index_of(p[0], p[1])
-                .is_some_and(|c| self.cell_node[c] as usize == n)
-        })
+        self.cell_of(n).is_some()
     }
 
     /// Drops node `n` from the cell index, so look-ups no longer find it.
     pub(super) fn unindex_node(&mut self, n: usize) {
-        let Some(p) = self.positions.get(n) else {
-            return;
-        };
-        if let Some(c) = self.frame.index_of(p[0], p[1])
-            && self.cell_node[c] as usize == n
-        {
+        if let Some(c) = self.cell_of(n) {
             self.cell_node[c] = u32::MAX;
         }
     }

@@ -259,23 +259,18 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             o.twist.twist.angular.z = f64::from(s.yaw_rate);
             let _ = odom_pub.async_publish(o).await;
         }
-        let sensor = vehicle.sensor_position();
-        // A 360° sensor that has not moved sees what it saw: a vehicle
-        // standing or turning on the spot casts a scan only now and then.
-        let moved = last_scan_at.is_none_or(|(q, t): ([f32; 3], f64)| {
-            f64::from(
-                (0..3)
-                    .map(|k| (sensor[k] - q[k]).powi(2))
-                    .sum::<f32>()
-                    .sqrt(),
-            ) >= p.scan_min_move_m
-                || sim - t >= p.stationary_scan_period_s
-        });
         let scan_due = sim >= next_scan;
         if scan_due {
             next_scan += lidar_period;
         }
-        if scan_due && moved {
+        let sensor = vehicle.sensor_position();
+        // A 360° sensor that has not moved sees what it saw: a vehicle
+        // standing or turning on the spot casts a scan only now and then.
+        let moved = |(q, t): ([f32; 3], f64)| {
+            let d: f32 = (0..3).map(|k| (sensor[k] - q[k]).powi(2)).sum();
+            f64::from(d.sqrt()) >= p.scan_min_move_m || sim - t >= p.stationary_scan_period_s
+        };
+        if scan_due && last_scan_at.is_none_or(moved) {
             last_scan_at = Some((sensor, sim));
             let pose = Pose::new(sensor, vehicle.state.yaw);
             match scan(&caster, &p.lidar, &pose, scans) {
