@@ -5,9 +5,17 @@ use std::ffi::OsString;
 use std::os::unix::process::CommandExt;
 use std::process::Command;
 
-/// Shell that brings loopback up with multicast, then runs the command.
+/// Shell that brings loopback up with multicast, moves the ephemeral port
+/// range above DDS's well-known ports, then runs the command.
+///
+/// Those ports are 7400 + 250 * domain + a few; for domains above ~101 they
+/// fall inside Linux's default ephemeral range (32768-60999), where any socket
+/// bound to port 0 may take one and a participant is then never discovered.
+/// 61000-65535 stays clear of the ports of domains 0-214.
 const SETUP: &str = "ip link set lo up && ip link set lo multicast on && \
-                     ip route add 224.0.0.0/4 dev lo && exec \"$@\"";
+                     ip route add 224.0.0.0/4 dev lo && \
+                     echo '61000 65535' > /proc/sys/net/ipv4/ip_local_port_range && \
+                     exec \"$@\"";
 
 /// Set in the environment of commands this module isolated, so that they
 /// never try to isolate themselves again.
