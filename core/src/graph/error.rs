@@ -24,11 +24,15 @@ pub enum GraphError {
     /// No finite point is labelled ground (class 2): classify the cloud first.
     #[error("no ground points (class 2) in the cloud: classify it first")]
     NoGround,
-    /// The ground is too large for the chosen node spacing.
-    #[error("ground spans {cells} cells at this node spacing; raise node_spacing_m")]
+    /// The ground is too large for the obstacle grid.
+    #[error(
+        "ground needs {cells} obstacle-grid cells, more than {max}: crop the scene to one cluster of buildings (skyground demo --crop) or raise occupancy_resolution_m"
+    )]
     TooLarge {
         /// Cells the grid would need.
         cells: usize,
+        /// The limit.
+        max: usize,
     },
     /// The start is off the ground graph.
     #[error(

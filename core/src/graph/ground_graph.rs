@@ -9,7 +9,7 @@ use super::cells::{bin_ground, filled_heights};
 use super::error::GraphError;
 use super::grid::GridFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
-use super::params::GraphParams;
+use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
 use super::polygon::contains;
 
 /// Ground cells this far from known ground still get a height, so walls at
@@ -84,9 +84,10 @@ impl GroundGraph {
         let frame = cells.frame;
         let occ_cells =
             frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
-        if occ_cells > 2.0e8 {
+        if occ_cells > MAX_OCCUPANCY_CELLS {
             return Err(GraphError::TooLarge {
                 cells: occ_cells as usize,
+                max: MAX_OCCUPANCY_CELLS as usize,
             });
         }
         let heights = filled_heights(&cells, HEIGHT_FILL_RINGS);

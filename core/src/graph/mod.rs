@@ -21,7 +21,7 @@ mod search;
 
 pub use error::GraphError;
 pub use ground_graph::{GraphReport, GroundGraph};
-pub use params::GraphParams;
+pub use params::{GraphParams, MAX_OCCUPANCY_CELLS};
 pub use polygon::contains as polygon_contains;
 pub use search::{NONE, ShortestPaths};
 

@@ -4,6 +4,10 @@ use serde::{Deserialize, Serialize};
 
 use super::error::GraphError;
 
+/// The most obstacle-grid cells a ground graph is built on (a memory bound:
+/// about 3.5 km × 3.5 km of ground at the default 0.25 m resolution).
+pub const MAX_OCCUPANCY_CELLS: f64 = 2.0e8;
+
 /// How the ground graph is built (DESIGN.md step 5).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -45,6 +49,12 @@ impl Default for GraphParams {
 }
 
 impl GraphParams {
+    /// Obstacle-grid cells a graph over ground spanning `size` (x, y metres) needs.
+    pub fn occupancy_cells(&self, size: [f64; 2]) -> f64 {
+        let r = f64::from(self.occupancy_resolution_m);
+        (size[0] / r).ceil().max(1.0) * (size[1] / r).ceil().max(1.0)
+    }
+
     /// Checks every field's range and that edges can reach the neighbouring cells.
     pub fn validate(&self) -> Result<(), GraphError> {
         let positive = |v: f32| v.is_finite() && v > 0.0;

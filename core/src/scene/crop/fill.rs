@@ -1,0 +1,176 @@
+//! Ground over the whole crop when the source's ground leaves holes in it.
+//!
+//! A CityJSON scene's ground is one patch per building (footprint box +
+//! margin): two buildings of a cluster may stand on separate islands, and a
+//! vehicle cannot drive from one to the other. Where that happens the crop's
+//! ground becomes one grid over its extent: the source ground's height where
+//! it exists, elsewhere the kept buildings' base heights as the CityJSON
+//! loader blends them (highest base inside a footprint box, else weighted
+//! by 1 / (1 + d²)² with d the distance to each box).
+
+use super::Window;
+use crate::scene::MeshPart;
+
+/// Grid cell of the filled ground, metres (the CityJSON terrain's).
+pub const FILL_CELL: f64 = 2.0;
+/// Bucket side of the triangle look-up, metres.
+const BUCKET: f64 = 8.0;
+/// Barycentric slack: a point on a shared edge counts as covered.
+const EPS: f64 = 1e-9;
+
+/// Where a kept building stands: its xy box and lowest z.
+#[derive(Debug, Clone, Copy)]
+pub struct Base {
+    /// The building's xy box.
+    pub xy: Window,
+    /// Its lowest z.
+    pub z: f64,
+}
+
+/// Ground triangles (xy-bucketed) answering "how high is the ground here".
+pub struct GroundLookup<'a> {
+    triangles: &'a [[[f64; 3]; 3]],
+    origin: [f64; 2],
+    nx: usize,
+    ny: usize,
+    buckets: Vec<Vec<usize>>,
+}
+
+impl<'a> GroundLookup<'a> {
+    /// Buckets `triangles` over `extent`.
+    pub fn new(triangles: &'a [[[f64; 3]; 3]], extent: &Window) -> Self {
+        let [w, h] = extent.size();
+        let nx = (w / BUCKET).floor() as usize + 1;
+        let ny = (h / BUCKET).floor() as usize + 1;
+        let mut buckets = vec![Vec::new(); nx * ny];
+        let origin = extent.min;
+        let key =
+            |v: f64, o: f64, n: usize| (((v - o) / BUCKET).floor().max(0.0) as usize).min(n - 1);
+        for (k, t) in triangles.iter().enumerate() {
+            let (lo, hi) = xy_box(t);
+            for j in key(lo[1], origin[1], ny)..=key(hi[1], origin[1], ny) {
+                for i in key(lo[0], origin[0], nx)..=key(hi[0], origin[0], nx) {
+                    buckets[j * nx + i].push(k);
+                }
+            }
+        }
+        Self {
+            triangles,
+            origin,
+            nx,
+            ny,
+            buckets,
+        }
+    }
+
+    /// The highest ground at `(x, y)`, `None` where there is none.
+    pub fn height(&self, x: f64, y: f64) -> Option<f64> {
+        let i = ((x - self.origin[0]) / BUCKET).floor();
+        let j = ((y - self.origin[1]) / BUCKET).floor();
+        if !(i >= 0.0 && j >= 0.0) {
+            return None;
+        }
+        // Points on the extent's far edge fall one bucket past the last.
+        let (i, j) = ((i as usize).min(self.nx - 1), (j as usize).min(self.ny - 1));
+        let bucket = self.buckets.get(j * self.nx + i)?;
+        bucket
+            .iter()
+            .filter_map(|&k| height_in(&self.triangles[k], x, y))
+            .max_by(f64::total_cmp)
+    }
+}
+
+fn xy_box(t: &[[f64; 3]; 3]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in t {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+/// The z of triangle `t` above `(x, y)`, when `(x, y)` lies in its xy projection.
+fn height_in(t: &[[f64; 3]; 3], x: f64, y: f64) -> Option<f64> {
+    let [a, b, c] = *t;
+    let det = (b[1] - c[1]) * (a[0] - c[0]) + (c[0] - b[0]) * (a[1] - c[1]);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / det;
+    let l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / det;
+    let l3 = 1.0 - l1 - l2;
+    (l1 >= -EPS && l2 >= -EPS && l3 >= -EPS).then(|| l1 * a[2] + l2 * b[2] + l3 * c[2])
+}
+
+/// The base-height blend of the CityJSON loader at `(x, y)`.
+fn base_height(bases: &[Base], x: f64, y: f64) -> f64 {
+    let mut inside = f64::NEG_INFINITY;
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for b in bases {
+        let dx = (b.xy.min[0] - x).max(x - b.xy.max[0]).max(0.0);
+        let dy = (b.xy.min[1] - y).max(y - b.xy.max[1]).max(0.0);
+        let d2 = dx * dx + dy * dy;
+        if d2 == 0.0 {
+            inside = inside.max(b.z);
+        }
+        let w = 1.0 / (1.0 + d2).powi(2);
+        sum += w * b.z;
+        weight += w;
+    }
+    if inside.is_finite() {
+        inside
+    } else if weight > 0.0 {
+        sum / weight
+    } else {
+        0.0
+    }
+}
+
+/// A grid of `FILL_CELL` cells over `extent` (vertices, counter-clockwise
+/// triangles), or `None` when `ground` already covers every grid vertex.
+pub fn fill_ground(ground: &[[[f64; 3]; 3]], bases: &[Base], extent: &Window) -> Option<MeshPart> {
+    let look = GroundLookup::new(ground, extent);
+    let [w, h] = extent.size();
+    let nx = (w / FILL_CELL).ceil().max(1.0) as usize;
+    let ny = (h / FILL_CELL).ceil().max(1.0) as usize;
+    let mut holes = false;
+    let mut vertices = Vec::with_capacity((nx + 1) * (ny + 1));
+    for j in 0..=ny {
+        // The last row and column sit on the extent's edge exactly.
+        let y = if j == ny {
+            extent.max[1]
+        } else {
+            extent.min[1] + j as f64 * FILL_CELL
+        };
+        for i in 0..=nx {
+            let x = if i == nx {
+                extent.max[0]
+            } else {
+                extent.min[0] + i as f64 * FILL_CELL
+            };
+            let z = look.height(x, y).unwrap_or_else(|| {
+                holes = true;
+                base_height(bases, x, y)
+            });
+            vertices.push([x, y, z]);
+        }
+    }
+    if !holes {
+        return None;
+    }
+    let at = |i: usize, j: usize| u32::try_from(j * (nx + 1) + i).unwrap_or(u32::MAX);
+    let mut triangles = Vec::with_capacity(2 * nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    Some(MeshPart {
+        vertices,
+        triangles,
+    })
+}
