@@ -15,6 +15,7 @@ use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, completeness_of_cloud, evaluate};
 use skyground_core::plot::{BuildingGain, mission_picture};
+use skyground_core::scene::{Cropped, load_scene, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -36,6 +37,10 @@ pub struct DemoArgs {
     /// reference, reference:SEED, or a scene file (.obj, .ply, CityJSON .json).
     #[arg(long, default_value = "reference")]
     pub scene: String,
+    /// One cluster of buildings of a large scene (written to OUT/scene.obj,
+    /// which every node then loads).
+    #[command(flatten)]
+    pub crop: super::crop::CropArgs,
     /// Output directory (aerial.las, resampled.las, mission.mcap, report.*, overview.png, logs).
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
@@ -217,7 +222,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.scene,
         a.out.display()
     );
-    let prior = survey(&a.scene, None)?;
+    let (scene_spec, crop) = mission_scene(&a)?;
+    let prior = survey(&scene_spec, None)?;
     let before = completeness_of_cloud(&prior.gt, &prior.cloud, prior.tau);
     let aerial_path = a.out.join("aerial.las");
     // The classifier labels the prior itself: publish it without the simulator's labels.
@@ -264,7 +270,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         (
             "vehicle_sim",
             vec![
-                format!("scene:={}", a.scene),
+                format!("scene:={scene_spec}"),
                 format!("start:=[{}, {}]", start_xy[0], start_xy[1]),
                 format!("time_factor:={}", a.time_factor),
             ],
@@ -400,7 +406,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         .map(|p| (p.name.to_string(), p.restarts))
         .filter(|(_, n)| *n > 0)
         .collect();
-    report(&a, &prior, &w, finished, &why, t0).map(|_| ())?;
+    report(&a, &prior, crop.as_ref(), &w, finished, &why, t0).map(|_| ())?;
     if finished {
         Ok(())
     } else {
@@ -411,10 +417,36 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     }
 }
 
+/// The scene every process of the mission loads: `--scene` itself, or its
+/// crop written to OUT/scene.obj (`--crop`; automatic when the scene is too
+/// large for the ground graph).
+fn mission_scene(a: &DemoArgs) -> Result<(String, Option<Cropped>), RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
+    let Some(c) = super::crop::apply(&full, &a.scene, &a.crop)? else {
+        if let Some(why) = super::crop::too_large(&full) {
+            return Err(err(format!(
+                "scene {}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
+                a.scene, a.crop.crop_size
+            )));
+        }
+        return Ok((a.scene.clone(), None));
+    };
+    let path = a.out.join("scene.obj");
+    write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
+    eprintln!(
+        "  {}; written to {}",
+        super::crop::describe(&c),
+        path.display()
+    );
+    Ok((path.display().to_string(), Some(c)))
+}
+
 /// Measures, writes report.json / report.md / overview.png and resampled.las.
 fn report(
     a: &DemoArgs,
     prior: &super::aerial::Survey,
+    crop: Option<&Cropped>,
     w: &Watch,
     finished: bool,
     why: &str,
@@ -441,6 +473,7 @@ fn report(
     let wall = t0.elapsed().as_secs_f64();
     let value = json!({
         "scene": a.scene,
+        "crop": crop.map(super::crop::to_json),
         "finished": finished,
         "ended_because": why,
         "coverage_before": e.before.completeness.overall.ratio,
@@ -467,11 +500,24 @@ fn report(
         "buildings": e.buildings,
     });
     write_json(&a.out.join("report.json"), &value)?;
-    let mut md = markdown(&e, &format!("skyground demo: {}", a.scene));
+    let title = match crop {
+        Some(c) => format!(
+            "skyground demo: {}, crop {} ({} of {} buildings)",
+            a.scene,
+            c.window,
+            c.buildings.len(),
+            c.buildings_total
+        ),
+        None => format!("skyground demo: {}", a.scene),
+    };
+    let mut md = markdown(&e, &title);
     md.push_str(&format!(
         "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| simulated seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
         w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
     ));
+    if let Some(c) = crop {
+        md.push_str(&super::crop::markdown(c));
+    }
     std::fs::write(a.out.join("report.md"), md).map_err(|e| err(e.to_string()))?;
     let outlines = footprints_of_scene(&prior.scene);
     let gains: Vec<BuildingGain> = outlines

@@ -21,6 +21,9 @@ pub struct EvalArgs {
     /// The scene whose buildings are the ground truth: reference, reference:SEED, or a file.
     #[arg(long, default_value = "reference")]
     pub scene: String,
+    /// Evaluate on one cluster of buildings of the scene, as `skyground demo --crop`.
+    #[command(flatten)]
+    pub crop: super::crop::CropArgs,
     /// Completeness radius τ, m.
     #[arg(long, default_value_t = 0.25)]
     pub tau: f32,
@@ -62,13 +65,21 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
             a.tau, a.gt_spacing
         )));
     }
-    let scene = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
+    let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
+    let (scene, crop) = match super::crop::apply(&full, &a.scene, &a.crop)? {
+        Some(c) => {
+            eprintln!("  {}", super::crop::describe(&c));
+            (c.scene.clone(), Some(c))
+        }
+        None => (full, None),
+    };
     let aerial = read_cloud(&a.aerial).map_err(err)?;
     let merged = read_cloud(&a.resampled).map_err(err)?;
     let gt = sample_building_surfaces(&scene, a.gt_spacing);
     let e = evaluate(&scene, &gt, &aerial, &merged, a.tau);
     let value = serde_json::json!({
         "scene": a.scene,
+        "crop": crop.as_ref().map(super::crop::to_json),
         "aerial": a.aerial,
         "resampled": a.resampled,
         "coverage_before": e.before.completeness.overall.ratio,

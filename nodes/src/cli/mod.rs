@@ -4,6 +4,7 @@
 pub mod aerial;
 pub mod bench;
 pub mod classify;
+pub mod crop;
 pub mod demo;
 pub mod detect;
 pub mod echo;
