@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use skyground_core::graph::{GraphParams, MAX_OCCUPANCY_CELLS};
+use skyground_core::metrics::sample_building_surfaces;
 use skyground_core::scene::{
     ObjOptions, ObjectKind, Window, busiest_window, crop_scene, load_scene, obj_text, parse_obj,
 };
@@ -63,6 +64,13 @@ fn zurich_busiest_250_m_window() {
     // Written and read back: same buildings, same source coordinates.
     let back = parse_obj(&obj_text(&c.scene), &ObjOptions::default()).unwrap();
     assert_eq!(back.building_count(), 2);
+    assert_eq!(back.objects.len(), c.scene.objects.len());
+    // The parts stay separate solids, so the ground truth is the same.
+    let (a, b) = (
+        sample_building_surfaces(&c.scene, 0.25).xyz.len(),
+        sample_building_surfaces(&back, 0.25).xyz.len(),
+    );
+    assert!(a.abs_diff(b) * 1000 < a, "{a} vs {b} GT samples");
     let (blo, bhi) = back.bounds().unwrap();
     let (clo, chi) = c.scene.bounds().unwrap();
     for k in 0..3 {

@@ -16,10 +16,13 @@ pub struct IndexedObject {
     pub kind: ObjectKind,
     /// Triangles (indices into the file's vertices, already range-checked).
     pub triangles: Vec<[u32; 3]>,
+    /// Building objects with the same group are parts of one building (one id).
+    pub group: usize,
 }
 
 /// Builds a scene: objects without triangles are dropped, each object gets
-/// its own copy of the vertices it uses, buildings get ids 1.. in order, and
+/// its own copy of the vertices it uses, buildings get ids 1.. in order of
+/// their group's first object with triangles (parts share their group's), and
 /// the origin follows [`crate::cloud::origin`] for the lowest used vertex.
 ///
 /// `None` when no object has triangles; `Some(Err(v))` when used vertex `v`
@@ -56,7 +59,7 @@ pub fn scene_from_indexed(
     }
     let origin = local_origin(lo);
     let mut b = SceneBuilder::new(origin);
-    let mut next_building = 0;
+    let mut ids: HashMap<usize, u32> = HashMap::new();
     for (o, (mut part, source)) in used.iter().zip(parts) {
         for (p, &src) in part.vertices.iter_mut().zip(&source) {
             match localize(*p, origin) {
@@ -65,8 +68,8 @@ pub fn scene_from_indexed(
             }
         }
         let id = if o.kind == ObjectKind::Building {
-            next_building += 1;
-            next_building
+            let next = u32::try_from(ids.len() + 1).unwrap_or(u32::MAX);
+            *ids.entry(o.group).or_insert(next)
         } else {
             0
         };

@@ -6,8 +6,11 @@
 //!   building object is one building; ids 1.. in order of appearance.
 //! - `o NAME` and `g NAME` switch to the object of that name (a name seen
 //!   again continues its object). A `g` whose name announces no kind inside an
-//!   object opened by `o` is a sub-group of it (`o building_3` + `g roof`).
-//!   Any other unknown name follows [`UnknownObjects`] (default: error).
+//!   object opened by `o` is a sub-group of it (`o building_3` + `g roof`),
+//!   except `g part_NAME` inside a building: a part of that building, its
+//!   own object `NAME` with the building's id (a CityJSON BuildingPart, as
+//!   [`super::write_obj`] writes it). Any other unknown name follows
+//!   [`UnknownObjects`] (default: error).
 //! - Faces before any name belong to an object `building` (one building).
 //! - Faces are fanned into triangles; indices may be negative (relative) and
 //!   written `v`, `v/vt`, `v//vn` or `v/vt/vn`. `vt`, `vn`, materials,
@@ -104,7 +107,12 @@ struct Group {
     kind: ObjectKind,
     opened_by_o: bool,
     triangles: Vec<[u32; 3]>,
+    /// The group whose building this is a part of (its own index otherwise).
+    building: usize,
 }
+
+/// The name prefix of a `g` that is a part of the building `o` around it.
+const PART: &str = "part_";
 
 /// Parses OBJ text into a scene.
 pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
@@ -148,6 +156,28 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
                     current = Some(i);
                     continue;
                 }
+                // A part of the current building: keyed under its building so
+                // two buildings may have parts of the same name.
+                let root = current.map(|c| groups[c].building);
+                if tag == "g"
+                    && let Some(part) = name.strip_prefix(PART)
+                    && let Some(r) = root.filter(|&r| {
+                        groups[r].opened_by_o && groups[r].kind == ObjectKind::Building
+                    })
+                {
+                    let key = format!("{}\0{name}", groups[r].name);
+                    current = Some(*by_name.entry(key).or_insert_with(|| {
+                        groups.push(Group {
+                            name: part.to_string(),
+                            kind: ObjectKind::Building,
+                            opened_by_o: false,
+                            triangles: Vec::new(),
+                            building: r,
+                        });
+                        groups.len() - 1
+                    }));
+                    continue;
+                }
                 let kind = match kind_from_name(&name) {
                     Some(kind) => kind,
                     None if tag == "g" && current.is_some_and(|c| groups[c].opened_by_o) => {
@@ -167,6 +197,7 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
                     kind,
                     opened_by_o: tag == "o",
                     triangles: Vec::new(),
+                    building: groups.len(),
                 });
             }
             "f" => {
@@ -186,6 +217,7 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
                             kind: ObjectKind::Building,
                             opened_by_o: true,
                             triangles: Vec::new(),
+                            building: groups.len(),
                         });
                         *current.insert(groups.len() - 1)
                     }
@@ -204,6 +236,7 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
             name: g.name,
             kind: g.kind,
             triangles: g.triangles,
+            group: g.building,
         })
         .collect();
     let whole_file = |kind| ObjError {

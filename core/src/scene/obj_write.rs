@@ -6,7 +6,9 @@
 //!   by the [`crate::cloud::origin`] rule (the same one when coordinates are
 //!   small, as in the reference scene).
 //! - One `o` per building (ids ascending, so the reader numbers them the
-//!   same), its parts as `g part_NAME` sub-groups; then vegetation, then
+//!   same), each of its objects (CityJSON BuildingParts: the ground truth
+//!   treats them as separate solids) as a `g part_NAME` part when it has
+//!   several; then vegetation, then
 //!   ground, each `o` named so that [`super::kind_from_name`] announces its
 //!   kind.
 
@@ -149,6 +151,7 @@ mod tests {
         let back = parse_obj(&obj_text(&scene), &ObjOptions::default()).unwrap();
         assert_eq!(back.origin, scene.origin);
         assert_eq!(back.building_ids(), scene.building_ids());
+        assert_eq!(back.objects.len(), scene.objects.len());
         assert_eq!(back.triangles.len(), scene.triangles.len());
         let (a, b) = (profile(&scene), profile(&back));
         assert_eq!(a.1, b.1);
@@ -171,13 +174,32 @@ mod tests {
         m.triangle(r[0], r[1], r[2]);
         b.add("UUID 1#a", ObjectKind::Building, 1, &m);
         b.add("UUID 1#a", ObjectKind::Building, 2, &m);
+        b.add("UUID 2 part", ObjectKind::Building, 2, &m);
         b.add("terrain", ObjectKind::Ground, 0, &m);
         let scene = b.finish();
         let text = obj_text(&scene);
         assert!(text.contains("o building_UUID_1_a\n"), "{text}");
-        assert!(text.contains("o building_UUID_1_a_2\n"), "{text}");
+        assert!(
+            text.contains("o building_UUID_1_a_2\ng part_UUID_1_a\n"),
+            "{text}"
+        );
         let back = parse_obj(&text, &ObjOptions::default()).unwrap();
         assert_eq!(back.building_count(), 2);
+        // Building 2's two objects stay two parts of one building.
+        let parts: Vec<(&str, u32)> = back
+            .objects
+            .iter()
+            .filter(|o| o.kind == ObjectKind::Building)
+            .map(|o| (o.name.as_str(), o.building))
+            .collect();
+        assert_eq!(
+            parts,
+            vec![
+                ("building_UUID_1_a", 1),
+                ("UUID_1_a", 2),
+                ("UUID_2_part", 2)
+            ]
+        );
         assert_eq!(back.object_count(ObjectKind::Ground), 1);
         let source =
             |s: &Scene, v: usize| [0, 1, 2].map(|k| f64::from(s.vertices[v][k]) + s.origin[k]);

@@ -127,7 +127,8 @@ fn group_faces(faces: &[Face], vertex_count: usize) -> Result<Vec<IndexedObject>
     }
     Ok(groups
         .into_iter()
-        .map(|(key, (class, triangles))| IndexedObject {
+        .enumerate()
+        .map(|(group, (key, (class, triangles)))| IndexedObject {
             name: key.map_or_else(|| "building".to_string(), |k| format!("object_{k}")),
             kind: match class {
                 Some(2) => ObjectKind::Ground,
@@ -135,6 +136,7 @@ fn group_faces(faces: &[Face], vertex_count: usize) -> Result<Vec<IndexedObject>
                 _ => ObjectKind::Building,
             },
             triangles,
+            group,
         })
         .collect())
 }
