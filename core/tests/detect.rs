@@ -129,9 +129,9 @@ fn reference_prior_recall_and_precision() {
         "the prior should leave walls missing"
     );
     assert!(score.recall >= 0.90, "recall {:.3}", score.recall);
-    // Measured 0.861 (0.790 before open ground floors were told from
-    // missing walls and strips were measured across the wall the points
-    // trace rather than along s→q).
+    // Measured 0.857, recall 0.940 (0.790 / 0.939 before open ground
+    // floors were told from missing walls and strips were measured across
+    // the wall the points trace rather than along s→q).
     assert!(score.precision >= 0.85, "precision {:.3}", score.precision);
     // Every tested building gets a strategy consistent with θ.
     for b in det.buildings.iter().filter(|b| b.skipped.is_none()) {
@@ -166,7 +166,9 @@ fn zurich_cityjson_prior() {
     );
     assert!(det.buildings.iter().filter(|b| b.skipped.is_none()).count() > 10);
     // A real city block is harder than the reference; require the method to
-    // still find most truly missing wall.
+    // still find most truly missing wall. Measured recall 0.605, precision
+    // 0.526 (0.556 / 0.485 while a wall seen lower down could still be
+    // taken for an open ground floor).
     assert!(score.recall >= 0.6, "recall {:.3}", score.recall);
 }
 

@@ -12,7 +12,7 @@ use super::detection::{
 };
 use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
-use super::wall::{open_below, wall_normal};
+use super::wall::{face_below, open_below, wall_normal};
 use crate::skeleton::{Skeleton, medial_axis};
 use crate::slice::{Sliced, cluster_structures, slice_building};
 
@@ -200,8 +200,13 @@ fn analyse(
                     // Without points there is no wall to miss; the outline's
                     // own face (a slab's facade) starts at its lowest point,
                     // while points set back (pillars) are tested as they are.
+                    // Unless the face is seen in a lower band: then the wall
+                    // reaches down past this one, and the ground seen is that
+                    // at its foot (probes run along s→q, often oblique to the
+                    // wall, in 0.5 m cells) or under a lower floor.
                     let open = cover.share < params.min_coverage
-                        && terrain.is_some_and(|t| open_below(t, contour, q, dir, params.delta));
+                        && terrain.is_some_and(|t| open_below(t, contour, q, dir, params.delta))
+                        && !face_below(&index, &strip);
                     if open {
                         if cover.wall_offset.is_none() {
                             continue;
@@ -326,4 +331,71 @@ fn local_top(sliced: &Sliced, q: [f64; 2], r: f64) -> f32 {
         }
     }
     top
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 12 × 10 m slab on an open ground floor (floor 4 m, roof 12 m; its
+    /// pillars unseen). The aerial view sees the roof, every facade from the
+    /// floor up except the south one between 6 and 10 m (occluded), and the
+    /// ground outside and up to 3 m in under the slab.
+    fn slab() -> (Vec<[f32; 3]>, GroundGrid) {
+        let grid = |n: usize, m: usize| (0..n).flat_map(move |i| (0..m).map(move |j| (i, j)));
+        let mut pts: Vec<[f32; 3]> = grid(49, 41)
+            .map(|(i, j)| [i as f32 * 0.25, j as f32 * 0.25, 12.0])
+            .collect();
+        for (i, k) in grid(49, 33) {
+            let (s, z) = (i as f32 * 0.25, 4.0 + k as f32 * 0.25);
+            if s <= 10.0 {
+                pts.push([0.0, s, z]);
+                pts.push([12.0, s, z]);
+            }
+            pts.push([s, 10.0, z]);
+            if !(6.0..10.0).contains(&z) {
+                pts.push([s, 0.0, z]);
+            }
+        }
+        let ground: Vec<[f32; 3]> = grid(97, 89)
+            .map(|(i, j)| [-6.0 + i as f32 * 0.25, -6.0 + j as f32 * 0.25, 0.0])
+            .filter(|p| !((3.0..9.0).contains(&p[0]) && (3.0..7.0).contains(&p[1])))
+            .collect();
+        let terrain = GroundGrid::from_points(&ground, 2.0, 40).expect("ground points");
+        (pts, terrain)
+    }
+
+    #[test]
+    fn open_floor_is_skipped_but_a_facade_seen_lower_down_is_tested() {
+        let (pts, terrain) = slab();
+        let params = DetectParams::default();
+        let det = detect_building_on(1, &pts, None, Some(0.0), Some(&terrain), &params)
+            .expect("valid params");
+        assert!(det.skipped.is_none(), "{:?}", det.skipped);
+        let south: Vec<&BoundaryPoint> = det
+            .boundary
+            .iter()
+            .filter(|p| p.xyz[1] < 1.0 && (1.0..11.0).contains(&p.xyz[0]))
+            .collect();
+        // Under the floor: ground behind the outline and no face: not tested.
+        assert!(
+            south.iter().all(|p| p.xyz[2] > 4.0),
+            "tested under the floor"
+        );
+        // Between 6 and 10 m the facade is missing: it is seen from 4 m up,
+        // so the ground seen under the slab does not excuse it.
+        let gap: Vec<_> = south
+            .iter()
+            .filter(|p| (6.0..10.0).contains(&p.xyz[2]))
+            .collect();
+        assert!(gap.len() >= 20, "gap tested at {} points", gap.len());
+        assert!(gap.iter().all(|p| !p.collected));
+        // Where it is seen, it is collected.
+        assert!(
+            south
+                .iter()
+                .filter(|p| !(5.5..10.5).contains(&p.xyz[2]))
+                .all(|p| p.collected)
+        );
+    }
 }

@@ -4,6 +4,7 @@
 use geo::{Contains, MultiPolygon, Point};
 
 use super::band::BandIndex;
+use super::coverage::{FACE_DEPTH, Strip};
 use super::ground::GroundGrid;
 
 /// Depths inside q_n (along s→q) probed for observed ground, metres: beyond
@@ -99,6 +100,26 @@ pub fn open_below(
     false
 }
 
+/// Whether the outline's own face (within [`FACE_DEPTH`] behind q, up to
+/// `outside` beyond it, across ±δ of the strip) has points in a band below
+/// the strip's: the wall is seen to reach further down, so the strip's band
+/// is no open ground floor, whatever ground is seen behind the outline.
+pub fn face_below(index: &BandIndex, s: &Strip) -> bool {
+    let t = [-s.dir[1], s.dir[0]];
+    let reach = FACE_DEPTH.max(s.outside).hypot(s.half_width);
+    // Nearest band first: a wall seen at all is usually seen just below.
+    (0..s.band).rev().any(|band| {
+        let mut found = false;
+        index.for_each_near(band, s.q, reach, |p| {
+            let rel = [p[0] as f64 - s.q[0], p[1] as f64 - s.q[1]];
+            let v = rel[0] * s.dir[0] + rel[1] * s.dir[1];
+            let u = rel[0] * t[0] + rel[1] * t[1];
+            found |= (-FACE_DEPTH..=s.outside).contains(&v) && u.abs() <= s.half_width;
+        });
+        found
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -130,5 +151,31 @@ mod tests {
         ]);
         assert!(open_below(&t, &c, [5.0, 10.2], [0.0, 1.0], 0.75));
         assert!(!open_below(&t, &c, [5.0, -0.2], [0.0, -1.0], 0.75));
+    }
+
+    #[test]
+    fn face_seen_in_a_lower_band() {
+        // the wall y = 0 (x from 0 to 4) seen in band 0 only; a pillar 1.5 m
+        // in from the outline's line, past the wall's end, in band 1
+        let mut pts: Vec<[f32; 3]> = (0..40).map(|i| [i as f32 * 0.1, 0.0, 0.5]).collect();
+        pts.push([6.0, 1.5, 1.5]);
+        let idx = BandIndex::new(&pts, 0.0, 1.0, 3, [-5.0, -5.0], 1.0, [20, 20]);
+        let strip = |band: usize, q: [f64; 2]| Strip {
+            q,
+            dir: [0.0, -1.0],
+            half_width: 0.75,
+            near: 2.0,
+            outside: 0.5,
+            band,
+            z: [band as f32, band as f32 + 1.0],
+            radius: 0.25,
+        };
+        assert!(face_below(&idx, &strip(1, [2.0, -0.3])));
+        assert!(face_below(&idx, &strip(2, [2.0, -0.3])));
+        // not its own band, not past the wall's end, not points set back
+        assert!(!face_below(&idx, &strip(0, [2.0, -0.3])));
+        assert!(!face_below(&idx, &strip(1, [5.0, -0.3])));
+        assert!(!face_below(&idx, &strip(2, [6.0, -0.3])));
+        assert!(face_below(&idx, &strip(2, [6.0, 1.2])));
     }
 }
