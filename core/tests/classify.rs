@@ -21,21 +21,12 @@ use skyground_core::forest::ForestParams;
 use skyground_core::lidar::{AirborneConfig, FlightPattern};
 use skyground_core::scene::REFERENCE_SEED;
 
+mod common;
+use common::real_file;
+
 fn shipped_model() -> Model {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
     Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn real_file(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    if !dir.is_dir() {
-        eprintln!("SKIPPED: real data not found (looked in {})", dir.display());
-        return None;
-    }
-    Some(dir.join(name))
 }
 
 fn evaluate(xyz: &[[f32; 3]], label: &[u8], model: &Model) -> ClassReport {

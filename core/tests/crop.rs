@@ -3,26 +3,14 @@
 //! Reads `../shared/data/real` (`SKYGROUND_REAL_DATA` overrides); absent →
 //! `SKIPPED: ...`, the test passes.
 
-use std::path::PathBuf;
-
 use skyground_core::graph::{GraphParams, MAX_OCCUPANCY_CELLS};
 use skyground_core::metrics::sample_building_surfaces;
 use skyground_core::scene::{
     ObjOptions, ObjectKind, Window, busiest_window, crop_scene, load_scene, obj_text, parse_obj,
 };
 
-fn real_file(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    let path = dir.join(name);
-    if !path.is_file() {
-        eprintln!("SKIPPED: {} not found", path.display());
-        return None;
-    }
-    Some(path)
-}
+mod common;
+use common::real_file;
 
 #[test]
 fn zurich_busiest_250_m_window() {

@@ -6,7 +6,6 @@
 //! Real files come from `SKYGROUND_REAL_DATA` or `../shared/data/real`;
 //! absent → `SKIPPED: ...` and the test passes.
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use geo::{Area, Contains, Coord, LineString, MultiPolygon, Polygon};
@@ -19,20 +18,8 @@ use skyground_core::missing::{
 };
 use skyground_core::scene::{Scene, load_scene};
 
-fn real_file(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    if !dir.is_dir() {
-        eprintln!(
-            "SKIPPED: ../shared/data/real not found (looked in {})",
-            dir.display()
-        );
-        return None;
-    }
-    Some(dir.join(name))
-}
+mod common;
+use common::real_file;
 
 /// Building points, their ids, all points, and the terrain.
 type Prior = (Vec<[f32; 3]>, Vec<u32>, Vec<[f32; 3]>, GroundGrid);

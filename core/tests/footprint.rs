@@ -16,20 +16,8 @@ use skyground_core::footprint::{
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::scene::{REFERENCE_SEED, Scene, load_scene, reference_scene};
 
-fn real_file(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    if !dir.is_dir() {
-        eprintln!(
-            "SKIPPED: ../shared/data/real not found (looked in {})",
-            dir.display()
-        );
-        return None;
-    }
-    Some(dir.join(name))
-}
+mod common;
+use common::real_file;
 
 fn prior(scene: &Scene) -> Cloud {
     airborne_scan(&Caster::new(scene).unwrap(), &AirborneConfig::default()).unwrap()

@@ -5,7 +5,6 @@
 //! (`SKYGROUND_REAL_DATA` overrides; absent → `SKIPPED: ...`, test passes).
 
 use std::collections::HashMap;
-use std::path::PathBuf;
 
 use skyground_core::cloud::{Cloud, class, read_cloud};
 use skyground_core::ground::{CsfError, CsfParams, GroundSplit, csf};
@@ -13,16 +12,12 @@ use skyground_core::lidar::Ray;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::scene::{ObjectKind, REFERENCE_SEED, Scene, reference_scene};
 
+mod common;
+use common::real_file;
+
 fn real(name: &str) -> Option<Cloud> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    if !dir.is_dir() {
-        eprintln!("SKIPPED: {} not found", dir.display());
-        return None;
-    }
-    Some(read_cloud(&dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}")))
+    let path = real_file(name)?;
+    Some(read_cloud(&path).unwrap_or_else(|e| panic!("{name}: {e}")))
 }
 
 /// Agreement of `split` with the truth (`true` = ground), ISPRS style.

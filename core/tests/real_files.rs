@@ -5,24 +5,11 @@
 //! `SKIPPED: ...` to stderr and passes.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
 
-fn real_file(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    if !dir.is_dir() {
-        eprintln!(
-            "SKIPPED: ../shared/data/real not found (looked in {})",
-            dir.display()
-        );
-        return None;
-    }
-    Some(dir.join(name))
-}
+mod common;
+use common::real_file;
 
 fn read(name: &str) -> Option<Cloud> {
     let path = real_file(name)?;

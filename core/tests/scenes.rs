@@ -16,6 +16,9 @@ use skyground_core::scene::{
     load_scene, reference_scene,
 };
 
+mod common;
+use common::real_file;
+
 // ---------------------------------------------------------------- helpers
 
 /// Heights (m) along `dir` from `origin` at which the ray hits triangles of
@@ -112,19 +115,6 @@ fn temp_file(name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path
-}
-
-fn real_file(name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
-        PathBuf::from,
-    );
-    let path = dir.join(name);
-    if !path.is_file() {
-        eprintln!("SKIPPED: {} not found", path.display());
-        return None;
-    }
-    Some(path)
 }
 
 // ------------------------------------------------------- reference scene

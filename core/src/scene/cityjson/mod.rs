@@ -27,6 +27,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 pub use error::CityJsonError;
+pub(crate) use terrain::blend_bases;
 pub use terrain::{Footprint, TerrainOptions, terrain_around};
 
 use super::builder::{MeshPart, SceneBuilder};

@@ -143,25 +143,35 @@ impl Buckets {
                 &all
             }
         };
-        let mut inside = f64::NEG_INFINITY;
-        let (mut sum, mut weight) = (0.0, 0.0);
-        for &k in candidates {
+        blend_bases(candidates.iter().map(|&k| {
             let f = &footprints[k];
             let d = f.distance(x, y);
-            if d == 0.0 {
-                inside = inside.max(f.base);
-            }
-            let w = 1.0 / (1.0 + d * d).powi(2);
-            sum += w * f.base;
-            weight += w;
+            (d * d, f.base)
+        }))
+    }
+}
+
+/// Ground height from nearby building bases, given as (squared xy distance
+/// to the footprint, base height): the highest base of a footprint the point
+/// lies in, else an inverse-distance blend that is flat near each building
+/// (0 without bases).
+pub(crate) fn blend_bases(bases: impl IntoIterator<Item = (f64, f64)>) -> f64 {
+    let mut inside = f64::NEG_INFINITY;
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for (d2, base) in bases {
+        if d2 == 0.0 {
+            inside = inside.max(base);
         }
-        if inside.is_finite() {
-            inside
-        } else if weight > 0.0 {
-            sum / weight
-        } else {
-            0.0
-        }
+        let w = 1.0 / (1.0 + d2).powi(2);
+        sum += w * base;
+        weight += w;
+    }
+    if inside.is_finite() {
+        inside
+    } else if weight > 0.0 {
+        sum / weight
+    } else {
+        0.0
     }
 }
 

@@ -10,6 +10,7 @@
 
 use super::Window;
 use crate::scene::MeshPart;
+use crate::scene::cityjson::blend_bases;
 
 /// Grid cell of the filled ground, metres (the CityJSON terrain's).
 pub const FILL_CELL: f64 = 2.0;
@@ -107,26 +108,11 @@ fn height_in(t: &[[f64; 3]; 3], x: f64, y: f64) -> Option<f64> {
 
 /// The base-height blend of the CityJSON loader at `(x, y)`.
 fn base_height(bases: &[Base], x: f64, y: f64) -> f64 {
-    let mut inside = f64::NEG_INFINITY;
-    let (mut sum, mut weight) = (0.0, 0.0);
-    for b in bases {
+    blend_bases(bases.iter().map(|b| {
         let dx = (b.xy.min[0] - x).max(x - b.xy.max[0]).max(0.0);
         let dy = (b.xy.min[1] - y).max(y - b.xy.max[1]).max(0.0);
-        let d2 = dx * dx + dy * dy;
-        if d2 == 0.0 {
-            inside = inside.max(b.z);
-        }
-        let w = 1.0 / (1.0 + d2).powi(2);
-        sum += w * b.z;
-        weight += w;
-    }
-    if inside.is_finite() {
-        inside
-    } else if weight > 0.0 {
-        sum / weight
-    } else {
-        0.0
-    }
+        (dx * dx + dy * dy, b.z)
+    }))
 }
 
 /// A grid of `FILL_CELL` cells over `extent` (vertices, counter-clockwise
