@@ -2,7 +2,9 @@
 //! `cargo bench -p skyground-core --bench plan`.
 //!
 //! - `plan/graph_matrix_tour`: ground graph build + distance matrix + both tours (target ≤ 1 s);
-//! - `plan/explore_cycle`: one explorer update with a VLP-16 scan + viewpoint reselection (target ≤ 100 ms).
+//! - `plan/explore_cycle`: one explorer update with a VLP-16 scan + viewpoint reselection (target ≤ 100 ms);
+//! - `plan/voxel_merge_40_scans`: 40 VLP-16 scans, 0.2 m apart (2 s of driving at 10 Hz), into the
+//!   explorer's 5 cm de-duplication, as /resampled_cloud is kept.
 
 #[path = "../tests/planning_scene/mod.rs"]
 mod planning_scene;
@@ -12,7 +14,7 @@ use std::sync::Arc;
 
 use criterion::{BatchSize, Criterion};
 use planning_scene::{corner_region, start, target_set, world};
-use skyground_core::explore::{ExploreParams, Explorer};
+use skyground_core::explore::{ExploreParams, Explorer, VoxelMerge};
 use skyground_core::graph::{GraphParams, GroundGraph, polygon_contains};
 use skyground_core::lidar::{LidarConfig, Pose, scan};
 use skyground_core::metrics::SurfaceKind;
@@ -67,6 +69,33 @@ fn benches(c: &mut Criterion) {
             },
             BatchSize::LargeInput,
         )
+    });
+    let scans: Vec<Vec<[f32; 3]>> = (0..40)
+        .map(|k| {
+            let at = [
+                vp[0] + 0.2 * k as f32,
+                vp[1],
+                vp[2] + params.sensor_height_m,
+            ];
+            scan(&w.caster, &LidarConfig::default(), &Pose::new(at, 0.0), k)
+                .unwrap()
+                .xyz
+        })
+        .collect();
+    println!(
+        "voxel_merge: {} points in 40 scans",
+        scans.iter().map(Vec::len).sum::<usize>()
+    );
+    group.bench_function("voxel_merge_40_scans", |b| {
+        b.iter(|| {
+            let mut m = VoxelMerge::new(0.05).unwrap();
+            for s in &scans {
+                for p in s {
+                    m.add(black_box(*p));
+                }
+            }
+            m.len()
+        })
     });
     group.finish();
 }

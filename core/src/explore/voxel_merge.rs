@@ -1,7 +1,7 @@
 //! Voxel de-duplication of merged clouds (for /resampled_cloud): one point
 //! per voxel, kept incrementally as scans arrive.
 
-use std::collections::HashSet;
+use rustc_hash::FxHashSet;
 
 use super::error::ExploreError;
 
@@ -10,7 +10,11 @@ use super::error::ExploreError;
 #[derive(Debug, Clone)]
 pub struct VoxelMerge {
     voxel: f64,
-    seen: HashSet<[i64; 3]>,
+    // Fx, not the default SipHash: the keys are our own voxel indices (no
+    // untrusted input to guard against), and the explorer adds every
+    // building point of every scan here; the bench `plan/voxel_merge_40_scans`
+    // went from 173 to 86 ms.
+    seen: FxHashSet<[i64; 3]>,
     points: Vec<[f32; 3]>,
 }
 
@@ -22,7 +26,7 @@ impl VoxelMerge {
         }
         Ok(Self {
             voxel: f64::from(voxel_m),
-            seen: HashSet::new(),
+            seen: FxHashSet::default(),
             points: Vec::new(),
         })
     }
