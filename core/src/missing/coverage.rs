@@ -34,6 +34,18 @@ pub struct Strip {
     pub radius: f32,
 }
 
+impl Strip {
+    /// Offsets of `p` from q_n: along s→q (negative: inside) and across it
+    /// (left of s→q positive), metres.
+    pub fn along_across(&self, p: [f32; 3]) -> (f64, f64) {
+        let rel = [f64::from(p[0]) - self.q[0], f64::from(p[1]) - self.q[1]];
+        (
+            rel[0] * self.dir[0] + rel[1] * self.dir[1],
+            rel[1] * self.dir[0] - rel[0] * self.dir[1],
+        )
+    }
+}
+
 /// What the strip holds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StripCoverage {
@@ -54,7 +66,6 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
     let nu = ((2.0 * s.half_width) as f32 / step).round().max(1.0) as usize;
     let nz = ((s.z[1] - s.z[0]) / step).round().max(1.0) as usize;
     let mut covered = vec![false; nu * nz];
-    let t = [-s.dir[1], s.dir[0]];
     let r2 = s.radius * s.radius;
     let reach = s.near.max(s.outside).hypot(s.half_width) + s.radius as f64;
     let du = 2.0 * s.half_width as f32 / nu as f32;
@@ -62,12 +73,11 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
     let (mut v_sum, mut v_n) = (0.0, 0usize);
     let mut z_min = f32::INFINITY;
     index.for_each_near(s.band, s.q, reach, |p| {
-        let rel = [p[0] as f64 - s.q[0], p[1] as f64 - s.q[1]];
-        let v = rel[0] * s.dir[0] + rel[1] * s.dir[1];
+        let (v, u) = s.along_across(*p);
         if v < -s.near || v > s.outside {
             return;
         }
-        let u = (rel[0] * t[0] + rel[1] * t[1]) as f32 + s.half_width as f32;
+        let u = u as f32 + s.half_width as f32;
         let z = p[2] - s.z[0];
         if !(0.0..=2.0 * s.half_width as f32).contains(&u) || !(0.0..=s.z[1] - s.z[0]).contains(&z)
         {

@@ -105,15 +105,12 @@ pub fn open_below(
 /// the strip's: the wall is seen to reach further down, so the strip's band
 /// is no open ground floor, whatever ground is seen behind the outline.
 pub fn face_below(index: &BandIndex, s: &Strip) -> bool {
-    let t = [-s.dir[1], s.dir[0]];
     let reach = FACE_DEPTH.max(s.outside).hypot(s.half_width);
     // Nearest band first: a wall seen at all is usually seen just below.
     (0..s.band).rev().any(|band| {
         let mut found = false;
         index.for_each_near(band, s.q, reach, |p| {
-            let rel = [p[0] as f64 - s.q[0], p[1] as f64 - s.q[1]];
-            let v = rel[0] * s.dir[0] + rel[1] * s.dir[1];
-            let u = rel[0] * t[0] + rel[1] * t[1];
+            let (v, u) = s.along_across(*p);
             found |= (-FACE_DEPTH..=s.outside).contains(&v) && u.abs() <= s.half_width;
         });
         found

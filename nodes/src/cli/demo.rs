@@ -15,7 +15,7 @@ use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, completeness_of_cloud, evaluate};
 use skyground_core::plot::{BuildingGain, mission_picture};
-use skyground_core::scene::{Cropped, load_scene, write_obj};
+use skyground_core::scene::{Cropped, Scene, load_scene, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -23,7 +23,7 @@ use skyground_msgs::nav_msgs::Odometry;
 use skyground_msgs::visualization_msgs::MarkerArray;
 use tokio::process::{Child, Command};
 
-use super::aerial::survey;
+use super::aerial::survey_of;
 use super::eval::{markdown, write_json};
 use crate::convert::diagnostics::value;
 use crate::convert::markers::markers_to_regions;
@@ -222,8 +222,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.scene,
         a.out.display()
     );
-    let (scene_spec, crop) = mission_scene(&a)?;
-    let prior = survey(&scene_spec, None)?;
+    let (scene_spec, scene, crop) = mission_scene(&a)?;
+    let prior = survey_of(scene, &scene_spec, None)?;
     let before = completeness_of_cloud(&prior.gt, &prior.cloud, prior.tau);
     let aerial_path = a.out.join("aerial.las");
     // The classifier labels the prior itself: publish it without the simulator's labels.
@@ -417,20 +417,22 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     }
 }
 
-/// The scene every process of the mission loads: `--scene` itself, or its
-/// crop written to OUT/scene.obj (`--crop`; automatic when the scene is too
-/// large for the ground graph).
-fn mission_scene(a: &DemoArgs) -> Result<(String, Option<Cropped>), RuntimeError> {
+/// The scene every process of the mission loads (its spec and the scene as
+/// they will read it): `--scene` itself, or its crop written to
+/// OUT/scene.obj (`--crop`; automatic when the scene is too large for the
+/// ground graph).
+fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
     let Some(c) = super::crop::apply(&full, &a.scene, &a.crop)? else {
+        // Uncropped yet too large: only `--crop none` gets here.
         if let Some(why) = super::crop::too_large(&full) {
             return Err(err(format!(
                 "scene {}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
                 a.scene, a.crop.crop_size
             )));
         }
-        return Ok((a.scene.clone(), None));
+        return Ok((a.scene.clone(), full, None));
     };
     let path = a.out.join("scene.obj");
     write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
@@ -439,7 +441,11 @@ fn mission_scene(a: &DemoArgs) -> Result<(String, Option<Cropped>), RuntimeError
         super::crop::describe(&c),
         path.display()
     );
-    Ok((path.display().to_string(), Some(c)))
+    let spec = path.display().to_string();
+    // Read back, not c.scene: the file picks its own local frame, and the
+    // survey must be in the frame vehicle_sim will load.
+    let scene = load_scene(&spec).map_err(|e| err(format!("scene {spec}: {e}")))?;
+    Ok((spec, scene, Some(c)))
 }
 
 /// Measures, writes report.json / report.md / overview.png and resampled.las.

@@ -66,17 +66,15 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
         )));
     }
     let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
-    let (scene, crop) = match super::crop::apply(&full, &a.scene, &a.crop)? {
-        Some(c) => {
-            eprintln!("  {}", super::crop::describe(&c));
-            (c.scene.clone(), Some(c))
-        }
-        None => (full, None),
-    };
+    let crop = super::crop::apply(&full, &a.scene, &a.crop)?;
+    if let Some(c) = &crop {
+        eprintln!("  {}", super::crop::describe(c));
+    }
+    let scene = crop.as_ref().map_or(&full, |c| &c.scene);
     let aerial = read_cloud(&a.aerial).map_err(err)?;
     let merged = read_cloud(&a.resampled).map_err(err)?;
-    let gt = sample_building_surfaces(&scene, a.gt_spacing);
-    let e = evaluate(&scene, &gt, &aerial, &merged, a.tau);
+    let gt = sample_building_surfaces(scene, a.gt_spacing);
+    let e = evaluate(scene, &gt, &aerial, &merged, a.tau);
     let value = serde_json::json!({
         "scene": a.scene,
         "crop": crop.as_ref().map(super::crop::to_json),

@@ -1,7 +1,7 @@
 //! Choosing the crop window automatically: the square of a given size that
 //! holds the most building surface.
 
-use super::{BuildingBox, CropError, Window, building_boxes};
+use super::{BuildingBox, CropError, Window, box_of, building_boxes};
 use crate::scene::Scene;
 
 /// The `size` × `size` window whose kept buildings (box centre inside) have
@@ -18,12 +18,8 @@ pub fn busiest_window(scene: &Scene, size: f64) -> Result<Window, CropError> {
     }
     let chosen = best_set(&boxes, size);
     let centres: Vec<[f64; 2]> = chosen.iter().map(|&k| boxes[k].xy.centre()).collect();
-    let (mut lo, mut hi) = (centres[0], centres[0]);
-    for c in &centres {
-        lo = [lo[0].min(c[0]), lo[1].min(c[1])];
-        hi = [hi[0].max(c[0]), hi[1].max(c[1])];
-    }
-    let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+    let span = box_of(centres.iter().copied()).ok_or(CropError::NoBuildingsInScene)?;
+    let (lo, mid) = (span.min, span.centre());
     let holds_all = |w: &Window| centres.iter().all(|c| w.contains(c[0], c[1]));
     let rounded = Window::square(mid.map(f64::round), size)?;
     if holds_all(&rounded) {

@@ -58,10 +58,7 @@ pub fn building_boxes(scene: &Scene) -> Vec<BuildingBox> {
         let b = out.entry(o.building).or_insert_with(|| BuildingBox {
             id: o.building,
             name: o.name.clone(),
-            xy: Window {
-                min: [f64::INFINITY; 2],
-                max: [f64::NEG_INFINITY; 2],
-            },
+            xy: NO_BOX,
             base: f64::INFINITY,
             area: 0.0,
         });
@@ -74,6 +71,13 @@ pub fn building_boxes(scene: &Scene) -> Vec<BuildingBox> {
     out.into_values().collect()
 }
 
+/// The box nothing has grown yet (min +∞, max −∞): [`grow`] starts from it.
+const NO_BOX: Window = Window {
+    min: [f64::INFINITY; 2],
+    max: [f64::NEG_INFINITY; 2],
+};
+
+/// Grows box `w` to hold `(x, y)`.
 fn grow(w: &mut Window, x: f64, y: f64) {
     w.min = [w.min[0].min(x), w.min[1].min(y)];
     w.max = [w.max[0].max(x), w.max[1].max(y)];
@@ -110,7 +114,8 @@ pub struct Cropped {
 /// The part of `scene` in `window` (see the module's rules).
 pub fn crop_scene(scene: &Scene, window: &Window) -> Result<Cropped, CropError> {
     let boxes = building_boxes(scene);
-    let centres = centre_box(&boxes).ok_or(CropError::NoBuildingsInScene)?;
+    let centres =
+        box_of(boxes.iter().map(|b| b.xy.centre())).ok_or(CropError::NoBuildingsInScene)?;
     let kept: Vec<&BuildingBox> = boxes
         .iter()
         .filter(|b| {
@@ -149,14 +154,7 @@ pub fn crop_scene(scene: &Scene, window: &Window) -> Result<Cropped, CropError> 
                 .is_some_and(|c| window.contains(c[0], c[1])),
             ObjectKind::Ground => false,
         };
-        let triangles: Vec<[u32; 3]> = if keep_whole {
-            let tri = scene.triangles[t];
-            vec![tri.map(|v| {
-                *whole
-                    .entry(v)
-                    .or_insert_with(|| push(&mut out, corners_of(scene, v)))
-            })]
-        } else {
+        if !keep_whole {
             if o.kind == ObjectKind::Ground {
                 let polygon = clip::clip_triangle(corners.map(super::vec3::wide), &extent);
                 if !polygon.is_empty() {
@@ -164,12 +162,16 @@ pub fn crop_scene(scene: &Scene, window: &Window) -> Result<Cropped, CropError> 
                 }
             }
             continue;
-        };
-        let index = object_index(&mut out, &mut objects, scene, object, &new_id);
-        for tri in triangles {
-            out.triangles.push(tri);
-            out.triangle_object.push(index);
         }
+        let tri = scene.triangles[t];
+        let ids = [0, 1, 2].map(|k| {
+            *whole
+                .entry(tri[k])
+                .or_insert_with(|| push(&mut out, corners[k]))
+        });
+        let index = object_index(&mut out, &mut objects, scene, object, &new_id);
+        out.triangles.push(ids);
+        out.triangle_object.push(index);
     }
     let pieces: Vec<[[f64; 3]; 3]> = ground
         .iter()
@@ -264,28 +266,18 @@ fn object_index(
     })
 }
 
-/// Vertex `v` of `scene` (the caller read it through `triangle_corners`).
-fn corners_of(scene: &Scene, v: u32) -> [f32; 3] {
-    scene.vertices.get(v as usize).copied().unwrap_or_default()
-}
-
 fn push(scene: &mut Scene, p: [f32; 3]) -> u32 {
     scene.vertices.push(p);
     u32::try_from(scene.vertices.len() - 1).unwrap_or(u32::MAX)
 }
 
-/// The xy box of the buildings' box centres; `None` without buildings.
-fn centre_box(boxes: &[BuildingBox]) -> Option<Window> {
-    let first = boxes.first()?.xy.centre();
-    let mut w = Window {
-        min: first,
-        max: first,
-    };
-    for b in boxes {
-        let c = b.xy.centre();
+/// The xy box of `points`; `None` without any.
+fn box_of(points: impl IntoIterator<Item = [f64; 2]>) -> Option<Window> {
+    let mut w = NO_BOX;
+    for c in points {
         grow(&mut w, c[0], c[1]);
     }
-    Some(w)
+    (w.min[0] <= w.max[0]).then_some(w)
 }
 
 /// The centre of every object's xy bounding box, by object index.
@@ -293,10 +285,7 @@ fn object_centres(scene: &Scene) -> HashMap<u32, [f64; 2]> {
     let mut boxes: HashMap<u32, Window> = HashMap::new();
     for (t, &object) in scene.triangle_object.iter().enumerate() {
         for p in scene.triangle_corners(t).into_iter().flatten() {
-            let w = boxes.entry(object).or_insert(Window {
-                min: [f64::INFINITY; 2],
-                max: [f64::NEG_INFINITY; 2],
-            });
+            let w = boxes.entry(object).or_insert(NO_BOX);
             grow(w, f64::from(p[0]), f64::from(p[1]));
         }
     }
