@@ -12,7 +12,7 @@ use std::time::Duration;
 use criterion::{Criterion, Throughput};
 use skyground_core::classify::{Model, classify, hag_from_ground_points, simulated_cloud};
 use skyground_core::cloud::class::GROUND;
-use skyground_core::features::compute;
+use skyground_core::features::{Echoes, compute};
 use skyground_core::lidar::AirborneConfig;
 use skyground_core::scene::REFERENCE_SEED;
 
@@ -27,6 +27,20 @@ fn benches(c: &mut Criterion) {
     let xyz: Vec<[f32; 3]> = keep.iter().map(|&i| full.xyz[i]).collect();
     let is_ground: Vec<bool> = keep.iter().map(|&i| full.label[i] == GROUND).collect();
     let hag = hag_from_ground_points(&xyz, &is_ground).unwrap();
+    let (rn, nr) = full.echoes.clone().unwrap_or_default();
+    let (rn, nr): (Vec<u8>, Vec<u8>) = keep
+        .iter()
+        .map(|&i| {
+            (
+                rn.get(i).copied().unwrap_or(0),
+                nr.get(i).copied().unwrap_or(0),
+            )
+        })
+        .unzip();
+    let echoes = Some(Echoes {
+        return_number: &rn,
+        number_of_returns: &nr,
+    });
     println!(
         "{} of {} points, {} not ground, {} threads",
         xyz.len(),
@@ -39,10 +53,10 @@ fn benches(c: &mut Criterion) {
     g.measurement_time(Duration::from_secs(30));
     g.throughput(Throughput::Elements(xyz.len() as u64));
     g.bench_function("classify_1M", |b| {
-        b.iter(|| classify(black_box(&xyz), &hag, &is_ground, &model).map(|l| l.len()))
+        b.iter(|| classify(black_box(&xyz), &hag, &is_ground, echoes, &model).map(|l| l.len()))
     });
     g.bench_function("features_all_1M", |b| {
-        b.iter(|| compute(black_box(&xyz), &hag, &model.feature_params).map(|f| f.len()))
+        b.iter(|| compute(black_box(&xyz), &hag, echoes, &model.feature_params).map(|f| f.len()))
     });
     g.finish();
 }

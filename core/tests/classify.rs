@@ -11,12 +11,12 @@
 use std::path::PathBuf;
 
 use skyground_core::classify::{
-    ClassReport, ClassifyError, Model, TrainParams, classify, hag_from_ground_points,
-    simulated_cloud, train,
+    ClassReport, ClassifyError, Model, TrainParams, TrainingCloud, classify, echoes_of,
+    hag_from_ground_points, simulated_cloud, train,
 };
 use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
 use skyground_core::cloud::read_cloud;
-use skyground_core::features::FeatureError;
+use skyground_core::features::{Echoes, FeatureError};
 use skyground_core::forest::ForestParams;
 use skyground_core::lidar::{AirborneConfig, FlightPattern};
 use skyground_core::scene::REFERENCE_SEED;
@@ -24,15 +24,27 @@ use skyground_core::scene::REFERENCE_SEED;
 mod common;
 use common::real_file;
 
+fn echo_input(c: &TrainingCloud) -> Option<Echoes<'_>> {
+    c.echoes.as_ref().map(|(rn, nr)| Echoes {
+        return_number: rn,
+        number_of_returns: nr,
+    })
+}
+
 fn shipped_model() -> Model {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
     Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn evaluate(xyz: &[[f32; 3]], label: &[u8], model: &Model) -> ClassReport {
+fn evaluate(
+    xyz: &[[f32; 3]],
+    label: &[u8],
+    echoes: Option<Echoes<'_>>,
+    model: &Model,
+) -> ClassReport {
     let is_ground: Vec<bool> = label.iter().map(|&c| c == GROUND).collect();
     let hag = hag_from_ground_points(xyz, &is_ground).unwrap();
-    let predicted = classify(xyz, &hag, &is_ground, model).unwrap();
+    let predicted = classify(xyz, &hag, &is_ground, echoes, model).unwrap();
     ClassReport::new(label, &predicted).unwrap()
 }
 
@@ -45,7 +57,7 @@ fn reference_prior_buildings_and_vegetation() {
             .contains(&format!("reference:{REFERENCE_SEED} "))
     );
     let cloud = simulated_cloud(REFERENCE_SEED, &AirborneConfig::default()).unwrap();
-    let r = evaluate(&cloud.xyz, &cloud.label, &model);
+    let r = evaluate(&cloud.xyz, &cloud.label, echo_input(&cloud), &model);
     println!(
         "reference scene (seed {REFERENCE_SEED}), default survey, hag from ground truth:\n{}",
         r.table()
@@ -64,7 +76,7 @@ fn sample_c_buildings_with_the_shipped_model() {
     let cloud = read_cloud(&path).unwrap();
     let label = cloud.label.clone().unwrap();
     assert_eq!(cloud.len(), 14_408);
-    let r = evaluate(&cloud.xyz, &label, &shipped_model());
+    let r = evaluate(&cloud.xyz, &label, echoes_of(&cloud), &shipped_model());
     println!(
         "sample_c.las (producer ground labels as is_ground, hag from them):\n{}",
         r.table()
@@ -92,7 +104,12 @@ fn a_small_training_run_generalises_to_another_city() {
     let model = train(&[train_cloud], &params).unwrap();
     assert_eq!(model.classes, vec![GROUND, VEGETATION, BUILDING]);
     let test_cloud = simulated_cloud(32, &sparse).unwrap();
-    let r = evaluate(&test_cloud.xyz, &test_cloud.label, &model);
+    let r = evaluate(
+        &test_cloud.xyz,
+        &test_cloud.label,
+        echo_input(&test_cloud),
+        &model,
+    );
     println!(
         "trained on city 31, tested on city 32 at {:.0} pts/m²:\n{}",
         sparse.nominal_density(),
@@ -117,15 +134,15 @@ fn bad_input_gives_typed_errors() {
     let hag = vec![0.0f32; 50];
     let ground = vec![false; 50];
     assert!(matches!(
-        classify(&[], &[], &[], &model),
+        classify(&[], &[], &[], None, &model),
         Err(ClassifyError::Empty)
     ));
     assert!(matches!(
-        classify(&xyz, &hag[..10], &ground, &model),
+        classify(&xyz, &hag[..10], &ground, None, &model),
         Err(ClassifyError::LengthMismatch { what: "hag", .. })
     ));
     assert!(matches!(
-        classify(&xyz, &hag, &ground[..49], &model),
+        classify(&xyz, &hag, &ground[..49], None, &model),
         Err(ClassifyError::LengthMismatch {
             what: "is_ground",
             ..
@@ -134,7 +151,7 @@ fn bad_input_gives_typed_errors() {
     let mut nan = xyz.clone();
     nan[5][2] = f32::NAN;
     assert!(matches!(
-        classify(&nan, &hag, &ground, &model),
+        classify(&nan, &hag, &ground, None, &model),
         Err(ClassifyError::Features(FeatureError::NonFinite {
             index: 5,
             ..
@@ -143,7 +160,7 @@ fn bad_input_gives_typed_errors() {
     let mut bad_hag = hag.clone();
     bad_hag[3] = f32::INFINITY;
     assert!(matches!(
-        classify(&xyz, &bad_hag, &ground, &model),
+        classify(&xyz, &bad_hag, &ground, None, &model),
         Err(ClassifyError::Features(FeatureError::NonFinite {
             what: "hag",
             index: 3
@@ -155,7 +172,7 @@ fn bad_input_gives_typed_errors() {
     ));
     // All ground: nothing for the forest to do.
     assert_eq!(
-        classify(&xyz, &hag, &[true; 50], &model).unwrap(),
+        classify(&xyz, &hag, &[true; 50], None, &model).unwrap(),
         vec![GROUND; 50]
     );
     assert!(matches!(

@@ -17,14 +17,16 @@ pub mod model;
 pub mod pipeline;
 pub mod report;
 pub mod scene;
+pub mod smooth;
 pub mod training;
 
 pub use error::ClassifyError;
 pub use hag::hag_from_ground_points;
-pub use model::Model;
+pub use model::{Model, Smoothing};
 pub use pipeline::classify;
 pub use report::{ClassMetrics, ClassReport};
-pub use scene::{Classified, GroundReport, SceneClassifier};
+pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};
 pub use training::{
-    TrainParams, TrainingCloud, default_training_set, simulated_cloud, train, training_surveys,
+    TrainParams, TrainingCloud, default_training_set, labelled_cloud, simulated_cloud, train,
+    training_surveys,
 };

@@ -24,6 +24,32 @@ pub struct Model {
     pub classes: Vec<u8>,
     /// What the model was trained on, for provenance.
     pub trained_on: String,
+    /// The training clouds by name (files as given, simulated surveys by
+    /// scene and density): no accuracy figure may be reported on these.
+    #[serde(default)]
+    pub training_files: Vec<String>,
+    /// How the forest's votes are smoothed over neighbours.
+    #[serde(default)]
+    pub smoothing: Smoothing,
+}
+
+/// Neighbourhood smoothing of the votes (see `classify::smooth`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Smoothing {
+    /// Neighbours averaged, the point included (below 2: no smoothing).
+    pub k: usize,
+    /// Farthest neighbour counted, metres.
+    pub radius_m: f32,
+}
+
+impl Default for Smoothing {
+    fn default() -> Self {
+        Self {
+            k: 16,
+            radius_m: 1.5,
+        }
+    }
 }
 
 impl Model {

@@ -2,17 +2,20 @@
 
 use super::error::ClassifyError;
 use super::model::Model;
+use super::smooth::{argmax_rows, smooth_votes};
 use crate::cloud::class::{GROUND, UNCLASSIFIED};
-use crate::features::compute_subset;
+use crate::features::{Echoes, compute_subset};
 
 /// LAS class of every point: 2 where `is_ground`, else the forest's
 /// vegetation (5) or building (6). A non-ground point the forest calls
 /// ground (a low object the ground filter left standing) gets 1.
-/// `hag`: height above the ground model, metres.
+/// `hag`: height above the ground model, metres; `echoes`: the cloud's
+/// return numbers, when it has them.
 pub fn classify(
     xyz: &[[f32; 3]],
     hag: &[f32],
     is_ground: &[bool],
+    echoes: Option<Echoes<'_>>,
     model: &Model,
 ) -> Result<Vec<u8>, ClassifyError> {
     if xyz.is_empty() {
@@ -33,9 +36,14 @@ pub fn classify(
     if rows.is_empty() {
         return Ok(out);
     }
-    let features = compute_subset(xyz, hag, &rows, &model.feature_params)?;
-    let predicted = model.forest.predict(&features.data)?;
-    for (&i, &c) in rows.iter().zip(&predicted) {
+    let features = compute_subset(xyz, hag, echoes, &rows, &model.feature_params)?;
+    let proba = model.forest.predict_proba(&features.data)?;
+    let classes = model.forest.classes();
+    let sub: Vec<[f32; 3]> = rows.iter().map(|&i| xyz[i]).collect();
+    let s = &model.smoothing;
+    let proba = smooth_votes(&sub, &proba, classes.len(), s.k, s.radius_m);
+    for (&i, k) in rows.iter().zip(argmax_rows(&proba, classes.len())) {
+        let c = classes.get(k).copied().unwrap_or(UNCLASSIFIED);
         out[i] = if c == GROUND { UNCLASSIFIED } else { c };
     }
     Ok(out)

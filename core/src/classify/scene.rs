@@ -6,7 +6,8 @@ use std::time::Instant;
 use super::error::ClassifyError;
 use super::model::Model;
 use super::pipeline::classify;
-use crate::cloud::class;
+use crate::cloud::{Cloud, class};
+use crate::features::Echoes;
 use crate::ground::{CsfParams, Dtm, csf};
 
 /// A ground filter and a trained model, ready for clouds.
@@ -72,13 +73,22 @@ impl SceneClassifier {
         Ok(Self { csf, model })
     }
 
+    /// Classifies a cloud, using its echo columns when it has them.
+    pub fn classify_cloud(&self, cloud: &Cloud) -> Result<Classified, ClassifyError> {
+        self.classify(&cloud.xyz, echoes_of(cloud))
+    }
+
     /// The model in use.
     pub fn model(&self) -> &Model {
         &self.model
     }
 
-    /// Classifies `xyz` (local frame).
-    pub fn classify(&self, xyz: &[[f32; 3]]) -> Result<Classified, ClassifyError> {
+    /// Classifies `xyz` (local frame) with its echoes, when known.
+    pub fn classify(
+        &self,
+        xyz: &[[f32; 3]],
+        echoes: Option<Echoes<'_>>,
+    ) -> Result<Classified, ClassifyError> {
         let t0 = Instant::now();
         let split = csf(xyz, &self.csf)?;
         let seconds_csf = t0.elapsed().as_secs_f64();
@@ -87,7 +97,7 @@ impl SceneClassifier {
         if let Some(index) = split.hag.iter().position(|h| !h.is_finite()) {
             return Err(ClassifyError::NonFinite { index });
         }
-        let labels = classify(xyz, &split.hag, &split.is_ground, &self.model)?;
+        let labels = classify(xyz, &split.hag, &split.is_ground, echoes, &self.model)?;
         Ok(Classified {
             labels,
             is_ground: split.is_ground,
@@ -97,6 +107,14 @@ impl SceneClassifier {
             seconds_classify: t1.elapsed().as_secs_f64(),
         })
     }
+}
+
+/// The echo columns of `cloud` as feature input, when they say something.
+pub fn echoes_of(cloud: &Cloud) -> Option<Echoes<'_>> {
+    cloud.echoes().map(|(rn, nr)| Echoes {
+        return_number: rn,
+        number_of_returns: nr,
+    })
 }
 
 /// Ground vs non-ground against reference labels (the CSF paper's measures).

@@ -11,9 +11,11 @@ use serde::{Deserialize, Serialize};
 use super::error::ClassifyError;
 use super::hag::hag_from_ground_points;
 use super::model::Model;
+use crate::cloud::Cloud;
 use crate::cloud::class::{BUILDING, GROUND, VEGETATION, fold};
-use crate::features::{FEATURE_NAMES, FeatureParams, compute_subset};
+use crate::features::{Echoes, FEATURE_NAMES, FeatureParams, compute_subset};
 use crate::forest::{ForestParams, RandomForest};
+use crate::ground::{CsfParams, csf};
 use crate::lidar::{AirborneConfig, Caster, FlightPattern, airborne_scan};
 use crate::scene::reference_scene;
 
@@ -28,6 +30,21 @@ pub struct TrainingCloud {
     pub hag: Vec<f32>,
     /// Reference LAS class per point (folded by `train`).
     pub label: Vec<u8>,
+    /// Return number and number of returns per point, when known.
+    pub echoes: Option<(Vec<u8>, Vec<u8>)>,
+    /// Points that may be sampled (the ones the ground filter leaves to
+    /// the forest); `None`: all.
+    pub candidates: Option<Vec<bool>>,
+}
+
+impl TrainingCloud {
+    /// The echo columns as feature input.
+    fn echo_input(&self) -> Option<Echoes<'_>> {
+        self.echoes.as_ref().map(|(rn, nr)| Echoes {
+            return_number: rn,
+            number_of_returns: nr,
+        })
+    }
 }
 
 /// How to sample and train.
@@ -88,8 +105,13 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
                 got: c.label.len(),
             });
         }
-        let rows = balanced_rows(&c.label, params.per_class, params.seed ^ ci as u64);
-        let f = compute_subset(&c.xyz, &c.hag, &rows, &params.features)?;
+        let rows = balanced_rows(
+            &c.label,
+            c.candidates.as_deref(),
+            params.per_class,
+            params.seed ^ ci as u64,
+        );
+        let f = compute_subset(&c.xyz, &c.hag, c.echo_input(), &rows, &params.features)?;
         x.extend_from_slice(&f.data);
         y.extend(rows.iter().map(|&r| fold(c.label[r])));
     }
@@ -106,16 +128,25 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
         classes: forest.classes().to_vec(),
         forest,
         trained_on: format!("{} samples from {}", y.len(), names.join(", ")),
+        training_files: names.iter().map(|s| s.to_string()).collect(),
+        smoothing: Default::default(),
     })
 }
 
-/// Up to `per_class` rows of each learned class, drawn without replacement.
-fn balanced_rows(label: &[u8], per_class: usize, seed: u64) -> Vec<usize> {
+/// Up to `per_class` rows of each learned class among the `candidates`,
+/// drawn without replacement.
+fn balanced_rows(
+    label: &[u8],
+    candidates: Option<&[bool]>,
+    per_class: usize,
+    seed: u64,
+) -> Vec<usize> {
     let mut out = Vec::new();
     let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let allowed = |i: usize| candidates.is_none_or(|c| c.get(i).copied().unwrap_or(false));
     for class in CLASSES {
         let mut rows: Vec<usize> = (0..label.len())
-            .filter(|&i| fold(label[i]) == class)
+            .filter(|&i| fold(label[i]) == class && allowed(i))
             .collect();
         let take = per_class.min(rows.len());
         for t in 0..take {
@@ -205,11 +236,48 @@ pub fn simulated_cloud(seed: u64, survey: &AirborneConfig) -> Result<TrainingClo
         .ok_or_else(|| ClassifyError::Simulation("scan has no labels".into()))?;
     let is_ground: Vec<bool> = label.iter().map(|&c| c == GROUND).collect();
     let hag = hag_from_ground_points(&cloud.xyz, &is_ground)?;
+    let echoes = cloud.return_number.zip(cloud.number_of_returns);
     Ok(TrainingCloud {
         name: format!("reference:{seed} @ {:.0} pts/m²", survey.nominal_density()),
         xyz: cloud.xyz,
         hag,
         label,
+        echoes,
+        candidates: None,
+    })
+}
+
+/// A cloud labelled by its producer (LAS classes 2–6 are learned, the rest
+/// ignored), with heights above the ground that `csf` finds in it, exactly
+/// as [`super::SceneClassifier`] will see such a cloud. Only the points the
+/// filter leaves to the forest are sampled.
+pub fn labelled_cloud(
+    name: &str,
+    cloud: Cloud,
+    csf_params: &CsfParams,
+) -> Result<TrainingCloud, ClassifyError> {
+    let label = cloud.label.clone().ok_or_else(|| ClassifyError::File {
+        path: name.to_owned(),
+        message: "has no classification to learn from".into(),
+    })?;
+    if !label
+        .iter()
+        .any(|&c| fold(c) == BUILDING || fold(c) == VEGETATION)
+    {
+        return Err(ClassifyError::File {
+            path: name.to_owned(),
+            message: "has no building or vegetation points (classes 3–6) to learn from".into(),
+        });
+    }
+    let split = csf(&cloud.xyz, csf_params)?;
+    let echoes = cloud.echoes().map(|(rn, nr)| (rn.to_vec(), nr.to_vec()));
+    Ok(TrainingCloud {
+        name: name.to_owned(),
+        candidates: Some(split.is_ground.iter().map(|g| !g).collect()),
+        xyz: cloud.xyz,
+        hag: split.hag,
+        label,
+        echoes,
     })
 }
 

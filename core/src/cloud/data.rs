@@ -30,6 +30,10 @@ pub struct Cloud {
     pub label: Option<Vec<u8>>,
     /// Building id (0 = none).
     pub building: Option<Vec<u32>>,
+    /// Which return of its pulse each point is (1-based, as LAS; 0 = unknown).
+    pub return_number: Option<Vec<u8>>,
+    /// How many returns its pulse gave (as LAS; 0 = unknown).
+    pub number_of_returns: Option<Vec<u8>>,
     /// The local frame's origin in the source coordinate system.
     pub origin: [f64; 3],
 }
@@ -66,7 +70,12 @@ impl Cloud {
         };
         check("intensity", self.intensity.as_ref().map(Vec::len))?;
         check("label", self.label.as_ref().map(Vec::len))?;
-        check("building", self.building.as_ref().map(Vec::len))
+        check("building", self.building.as_ref().map(Vec::len))?;
+        check("return_number", self.return_number.as_ref().map(Vec::len))?;
+        check(
+            "number_of_returns",
+            self.number_of_returns.as_ref().map(Vec::len),
+        )
     }
 
     /// Number of points per label value (index = label), when labels exist.
@@ -77,6 +86,36 @@ impl Cloud {
             h[usize::from(l)] += 1;
         }
         Some(h)
+    }
+
+    /// Both echo columns when the cloud has them and they say something
+    /// (some pulse gave a known number of returns).
+    pub fn echoes(&self) -> Option<(&[u8], &[u8])> {
+        let (rn, nr) = (
+            self.return_number.as_deref()?,
+            self.number_of_returns.as_deref()?,
+        );
+        (rn.len() == nr.len() && nr.iter().any(|&n| n > 0)).then_some((rn, nr))
+    }
+
+    /// The points `rows` (in that order) with all their columns.
+    pub fn subset(&self, rows: &[usize]) -> Cloud {
+        fn pick<T: Copy>(col: &Option<Vec<T>>, rows: &[usize]) -> Option<Vec<T>> {
+            col.as_ref()
+                .map(|c| rows.iter().filter_map(|&i| c.get(i).copied()).collect())
+        }
+        Cloud {
+            xyz: rows
+                .iter()
+                .filter_map(|&i| self.xyz.get(i).copied())
+                .collect(),
+            intensity: pick(&self.intensity, rows),
+            label: pick(&self.label, rows),
+            building: pick(&self.building, rows),
+            return_number: pick(&self.return_number, rows),
+            number_of_returns: pick(&self.number_of_returns, rows),
+            origin: self.origin,
+        }
     }
 
     /// Axis-aligned bounds `(min, max)` of the positions, or `None` when empty.

@@ -158,6 +158,8 @@ mod tests {
             intensity: Some(vec![10.0, 20.0]),
             label: Some(vec![2, 6]),
             building: Some(vec![0, 42]),
+            return_number: None,
+            number_of_returns: None,
             origin: [637_000.0, 849_000.0, 0.0],
         }
     }

@@ -30,6 +30,8 @@ pub fn tilted_plane(n: usize) -> Cloud {
         intensity: Some(intensity),
         label: Some(label),
         building: Some(building),
+        return_number: None,
+        number_of_returns: None,
         origin: [0.0; 3],
     }
 }

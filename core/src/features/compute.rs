@@ -5,6 +5,7 @@ use std::num::NonZeroUsize;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
+use super::echo::{Echoes, UNKNOWN, voxel_counts};
 use super::error::FeatureError;
 use super::params::FeatureParams;
 use super::shape::Moments;
@@ -12,8 +13,9 @@ use super::voxel::{ScaleStats, VoxelStats, thin, voxel_stats};
 
 /// Column names of [`Features::data`], in order. `knn_*` lengths are divided
 /// by the k-NN radius (scale-free); `r1_*` / `r2_*` are the small / large
-/// radius spheres on voxel centroids, in metres where they are lengths.
-pub const FEATURE_NAMES: [&str; 26] = [
+/// radius spheres on voxel centroids, in metres where they are lengths;
+/// `echo_*` are [`super::echo`]'s (−1 without echo information).
+pub const FEATURE_NAMES: [&str; 30] = [
     "hag",
     "knn_linearity",
     "knn_planarity",
@@ -40,6 +42,10 @@ pub const FEATURE_NAMES: [&str; 26] = [
     "count_ratio",
     "column_above",
     "column_below",
+    "echo_returns",
+    "echo_place",
+    "echo_multiple_r1",
+    "echo_multiple_column",
 ];
 
 /// Number of features per point.
@@ -72,14 +78,15 @@ impl Features {
 }
 
 /// Features of every point of `xyz`, given each point's height above the
-/// ground model `hag` (metres).
+/// ground model `hag` (metres) and, when the cloud has them, its echoes.
 pub fn compute(
     xyz: &[[f32; 3]],
     hag: &[f32],
+    echoes: Option<Echoes<'_>>,
     params: &FeatureParams,
 ) -> Result<Features, FeatureError> {
     let rows: Vec<usize> = (0..xyz.len()).collect();
-    compute_subset(xyz, hag, &rows, params)
+    compute_subset(xyz, hag, echoes, &rows, params)
 }
 
 /// Features of the points `rows` of `xyz` (in that order); neighbourhoods
@@ -88,11 +95,26 @@ pub fn compute(
 pub fn compute_subset(
     xyz: &[[f32; 3]],
     hag: &[f32],
+    echoes: Option<Echoes<'_>>,
     rows: &[usize],
     params: &FeatureParams,
 ) -> Result<Features, FeatureError> {
     params.validate()?;
     check_input(xyz, hag, params)?;
+    if let Some(e) = &echoes {
+        for (what, got) in [
+            ("return_number", e.return_number.len()),
+            ("number_of_returns", e.number_of_returns.len()),
+        ] {
+            if got != xyz.len() {
+                return Err(FeatureError::LengthMismatch {
+                    what,
+                    expected: xyz.len(),
+                    got,
+                });
+            }
+        }
+    }
     if let Some(&row) = rows.iter().find(|&&r| r >= xyz.len()) {
         return Err(FeatureError::RowOutOfRange {
             row,
@@ -109,7 +131,10 @@ pub fn compute_subset(
     for &r in rows {
         needed[voxels.of_point[r] as usize] = true;
     }
-    let stats = voxel_stats(&voxels, &needed, params);
+    let counts = echoes
+        .as_ref()
+        .map(|e| voxel_counts(&voxels.of_point, voxels.centroid.len(), e));
+    let stats = voxel_stats(&voxels, &needed, params, counts.as_deref());
     let k = NonZeroUsize::new((params.k + 1).min(xyz.len())).unwrap_or(NonZeroUsize::MIN);
     let mut data = vec![0.0f32; rows.len() * DIMS];
     data.par_chunks_mut(DIMS)
@@ -146,6 +171,11 @@ pub fn compute_subset(
             out[23] = v.count_ratio;
             out[24] = (v.column_top - p[2]).max(0.0);
             out[25] = (p[2] - v.column_bottom).max(0.0);
+            let [returns, place] = echoes.as_ref().map_or([UNKNOWN; 2], |e| e.point(r));
+            out[26] = returns;
+            out[27] = place;
+            out[28] = v.multiple_small;
+            out[29] = v.multiple_column;
             for x in out.iter_mut() {
                 if !x.is_finite() {
                     *x = 0.0;
@@ -211,7 +241,7 @@ mod tests {
             xyz.push([30.0 + 4.0 * rnd(), 30.0 + 4.0 * rnd(), 8.0 + 4.0 * rnd()]);
         }
         let hag: Vec<f32> = xyz.iter().map(|p| p[2]).collect();
-        let f = compute(&xyz, &hag, &FeatureParams::default()).unwrap();
+        let f = compute(&xyz, &hag, None, &FeatureParams::default()).unwrap();
         assert_eq!(f.len(), xyz.len());
         assert!(f.data.iter().all(|v| v.is_finite()));
         let col = |name: &str| FEATURE_NAMES.iter().position(|n| *n == name).unwrap();
@@ -227,7 +257,7 @@ mod tests {
     fn bad_input_is_typed() {
         let p = FeatureParams::default();
         assert!(matches!(
-            compute(&[], &[], &p),
+            compute(&[], &[], None, &p),
             Err(FeatureError::Empty { .. })
         ));
         let xyz = vec![
@@ -237,32 +267,33 @@ mod tests {
             [1.0, 1.0, 0.5],
         ];
         assert!(matches!(
-            compute(&xyz, &[0.0; 3], &p),
+            compute(&xyz, &[0.0; 3], None, &p),
             Err(FeatureError::LengthMismatch { got: 3, .. })
         ));
         let mut nan = xyz.clone();
         nan[2][1] = f32::NAN;
         assert!(matches!(
-            compute(&nan, &[0.0; 4], &p),
+            compute(&nan, &[0.0; 4], None, &p),
             Err(FeatureError::NonFinite { index: 2, .. })
         ));
         assert!(matches!(
-            compute(&xyz[..2], &[0.0; 2], &p),
+            compute(&xyz[..2], &[0.0; 2], None, &p),
             Err(FeatureError::TooFewPoints { got: 2, .. })
         ));
         assert!(matches!(
-            compute_subset(&xyz, &[0.0; 4], &[7], &p),
+            compute_subset(&xyz, &[0.0; 4], None, &[7], &p),
             Err(FeatureError::RowOutOfRange { row: 7, .. })
         ));
         let bad = FeatureParams { k: 1, ..p };
         assert!(matches!(
-            compute(&xyz, &[0.0; 4], &bad),
+            compute(&xyz, &[0.0; 4], None, &bad),
             Err(FeatureError::Param { .. })
         ));
         // Duplicates are degenerate, not NaN.
         let f = compute(
             &[[1.0, 2.0, 3.0]; 10],
             &[0.0; 10],
+            None,
             &FeatureParams::default(),
         )
         .unwrap();

@@ -1,6 +1,7 @@
 //! Per-point features for classification (DESIGN.md step 1): eigen-features
 //! of each point's k nearest neighbours, of fixed-radius neighbourhoods on a
-//! voxel-thinned cloud, vertical column extents and the height above ground.
+//! voxel-thinned cloud, vertical column extents, echoes (multiple returns)
+//! and the height above ground.
 //!
 //! The features are ratios or metric lengths at fixed radii, not absolute
 //! densities, so a model trained on one point density transfers to others.
@@ -8,14 +9,17 @@
 //! - [`params`]: [`FeatureParams`] (k, radii, voxel size).
 //! - [`compute`]: [`compute`], [`compute_subset`] → [`Features`]; [`FEATURE_NAMES`].
 //! - `shape`: covariance eigen-analysis of one neighbourhood.
+//! - [`echo`]: return number / number of returns, the real-survey cue for vegetation.
 //! - `voxel`: the thinned cloud and its radius / column statistics.
 
 pub mod compute;
+pub mod echo;
 pub mod error;
 pub mod params;
 mod shape;
 mod voxel;
 
 pub use compute::{FEATURE_NAMES, Features, compute, compute_subset};
+pub use echo::Echoes;
 pub use error::FeatureError;
 pub use params::FeatureParams;

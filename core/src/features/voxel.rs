@@ -10,6 +10,7 @@ use std::collections::HashMap;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
+use super::echo;
 use super::params::FeatureParams;
 use super::shape::Moments;
 
@@ -65,10 +66,22 @@ pub struct VoxelStats {
     pub column_top: f32,
     /// Lowest centroid z in the vertical column.
     pub column_bottom: f32,
+    /// Share of multiple-return points in the small sphere (echo::UNKNOWN
+    /// without echo information).
+    pub multiple_small: f32,
+    /// Share of multiple-return points in the vertical column.
+    pub multiple_column: f32,
 }
 
 /// Statistics of the voxels flagged in `needed` (the others stay default).
-pub fn voxel_stats(voxels: &Voxels, needed: &[bool], params: &FeatureParams) -> Vec<VoxelStats> {
+/// `counts`: points and multiple-return points per voxel, when the cloud
+/// has echo information.
+pub fn voxel_stats(
+    voxels: &Voxels,
+    needed: &[bool],
+    params: &FeatureParams,
+    counts: Option<&[[u32; 2]]>,
+) -> Vec<VoxelStats> {
     let c = &voxels.centroid;
     let mut out = vec![VoxelStats::default(); c.len()];
     let (Ok(tree3), Ok(tree2)) = (
@@ -88,6 +101,13 @@ pub fn voxel_stats(voxels: &Voxels, needed: &[bool], params: &FeatureParams) -> 
         .map(|&i| {
             let a = c[i];
             let (mut small, mut large) = (Moments::default(), Moments::default());
+            let (mut echo_small, mut echo_column) = ([0u32; 2], [0u32; 2]);
+            let tally = |acc: &mut [u32; 2], v: u32| {
+                if let Some(c) = counts.and_then(|c| c.get(v as usize)) {
+                    acc[0] += c[0];
+                    acc[1] += c[1];
+                }
+            };
             let near = tree3
                 .query(&a)
                 .within::<SquaredEuclidean<f32>>(rl2)
@@ -99,6 +119,7 @@ pub fn voxel_stats(voxels: &Voxels, needed: &[bool], params: &FeatureParams) -> 
                 large.add(d);
                 if nb.distance <= rs2 {
                     small.add(d);
+                    tally(&mut echo_small, nb.item);
                 }
             }
             let (mut top, mut bottom) = (a[2], a[2]);
@@ -111,13 +132,20 @@ pub fn voxel_stats(voxels: &Voxels, needed: &[bool], params: &FeatureParams) -> 
                 let z = c[nb.item as usize][2];
                 top = top.max(z);
                 bottom = bottom.min(z);
+                tally(&mut echo_column, nb.item);
             }
+            let echo_share = |acc: [u32; 2]| match counts {
+                Some(_) => echo::share(acc[0], acc[1]),
+                None => echo::UNKNOWN,
+            };
             VoxelStats {
                 small: scale_stats(&small, a[2]),
                 large: scale_stats(&large, a[2]),
                 count_ratio: (large.count().max(1.0) / small.count().max(1.0)).log2() as f32,
                 column_top: top,
                 column_bottom: bottom,
+                multiple_small: echo_share(echo_small),
+                multiple_column: echo_share(echo_column),
             }
         })
         .collect();

@@ -17,6 +17,7 @@ use super::intensity::{INTENSITY_FULL_SCALE, reflectance};
 use super::noise::Stream;
 use super::ray::{Hit, Ray, cross, dot, normalize};
 use crate::cloud::Cloud;
+use crate::scene::ObjectKind;
 
 /// Which way the flight lines run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -94,6 +95,16 @@ pub struct AirborneConfig {
     pub sub_rays: u32,
     /// Which return to keep with `beam_divergence_mrad`.
     pub return_mode: ReturnMode,
+    /// Record every return of a pulse (up to [`MAX_RETURNS`], with return
+    /// number and number of returns, as survey LiDARs do); `false` keeps one
+    /// return per pulse (`return_mode`).
+    pub multiple_returns: bool,
+    /// Crowns are porous: a beam inside one meets leaves at this rate,
+    /// events per metre; each takes `canopy_interception` of the energy left.
+    /// 0 makes crowns opaque surfaces.
+    pub canopy_events_per_m: f32,
+    /// Share of the remaining beam energy one leaf event returns, 0–1.
+    pub canopy_interception: f32,
     /// Probability that a pulse gives no return, 0–1.
     pub dropout: f32,
     /// Seed of the noise and dropout.
@@ -116,6 +127,9 @@ impl Default for AirborneConfig {
             beam_divergence_mrad: None,
             sub_rays: 7,
             return_mode: ReturnMode::First,
+            multiple_returns: true,
+            canopy_events_per_m: 0.35,
+            canopy_interception: 0.5,
             dropout: 0.0,
             seed: 0,
         }
@@ -124,6 +138,13 @@ impl Default for AirborneConfig {
 
 /// Nearest two returns of one pulse that are still told apart, metres.
 const RETURN_SEPARATION: f32 = 1.0;
+/// Most returns recorded per pulse (LAS point formats 0–5 hold up to 5 well).
+pub const MAX_RETURNS: usize = 5;
+/// Weakest return a receiver records, as a share of a full-energy return
+/// from a perfect reflector.
+const MIN_RETURN_ENERGY: f32 = 0.02;
+/// Most surfaces one sub-ray passes through (crowns entered and left).
+const MAX_CROWNS: usize = 4;
 
 impl AirborneConfig {
     /// Checks every field's range.
@@ -192,6 +213,18 @@ impl AirborneConfig {
             "sub_rays",
             self.sub_rays,
             "must be 1–64",
+        )?;
+        check(
+            self.canopy_events_per_m.is_finite() && self.canopy_events_per_m >= 0.0,
+            "canopy_events_per_m",
+            self.canopy_events_per_m,
+            "must be ≥ 0",
+        )?;
+        check(
+            self.canopy_interception > 0.0 && self.canopy_interception <= 1.0,
+            "canopy_interception",
+            self.canopy_interception,
+            "must be in (0, 1]",
         )?;
         check(
             (0.0..=1.0).contains(&self.dropout),
@@ -291,6 +324,10 @@ pub fn flight_lines(
 struct SubHit {
     hit: Hit,
     energy: f32,
+    /// An opaque surface: returned whatever its energy (the receiver's
+    /// threshold is for leaf returns, which the scene does not model as
+    /// surfaces).
+    solid: bool,
 }
 
 /// One kept return.
@@ -299,6 +336,8 @@ struct Return {
     intensity: f32,
     label: u8,
     building: u32,
+    /// 1-based place among its pulse's returns, and their number.
+    echo: (u8, u8),
 }
 
 /// Flies the survey over the caster's scene and returns the point cloud:
@@ -365,24 +404,40 @@ pub fn airborne_scan(caster: &Caster, config: &AirborneConfig) -> Result<Cloud, 
                     continue;
                 }
                 sub.clear();
-                cast_footprint(caster, origin, axis, footprint, sub_rays, max_t, &mut sub);
-                let Some((range, best, energy)) = pick_return(&mut sub, config.return_mode) else {
-                    continue;
+                let beam = Beam {
+                    origin,
+                    axis,
+                    footprint,
+                    rays: sub_rays,
+                    max_t,
                 };
-                let range = if sigma > 0.0 {
-                    (f64::from(range) + sigma * rng.normal_truncated(4.0)) as f32
+                cast_footprint(caster, &beam, config, &mut rng, &mut sub);
+                let groups = returns_of(&mut sub, sub_rays);
+                let picked: Vec<Group> = if config.multiple_returns {
+                    groups.into_iter().take(MAX_RETURNS).collect()
                 } else {
-                    range
+                    pick_return(groups, config.return_mode)
+                        .into_iter()
+                        .collect()
                 };
-                let Some(object) = caster.object(best.object) else {
-                    continue;
-                };
-                out.push(Return {
-                    xyz: std::array::from_fn(|i| origin[i] + range * axis[i]),
-                    intensity: (energy / sub_rays as f32 * INTENSITY_FULL_SCALE).round(),
-                    label: object.kind.las_class(),
-                    building: object.building,
-                });
+                let count = picked.len() as u8;
+                for (n, g) in picked.into_iter().enumerate() {
+                    let range = if sigma > 0.0 {
+                        (f64::from(g.range) + sigma * rng.normal_truncated(4.0)) as f32
+                    } else {
+                        g.range
+                    };
+                    let Some(object) = caster.object(g.hit.object) else {
+                        continue;
+                    };
+                    out.push(Return {
+                        xyz: std::array::from_fn(|i| origin[i] + range * axis[i]),
+                        intensity: (g.energy / sub_rays as f32 * INTENSITY_FULL_SCALE).round(),
+                        label: object.kind.las_class(),
+                        building: object.building,
+                        echo: (n as u8 + 1, count),
+                    });
+                }
             }
             out
         })
@@ -391,66 +446,134 @@ pub fn airborne_scan(caster: &Caster, config: &AirborneConfig) -> Result<Cloud, 
     let mut intensity = Vec::with_capacity(n);
     let mut label = Vec::with_capacity(n);
     let mut building = Vec::with_capacity(n);
+    let (mut return_number, mut number_of_returns) = (Vec::with_capacity(n), Vec::with_capacity(n));
     cloud.xyz.reserve(n);
     for r in returns.into_iter().flatten() {
         cloud.xyz.push(r.xyz);
         intensity.push(r.intensity);
         label.push(r.label);
         building.push(r.building);
+        return_number.push(r.echo.0);
+        number_of_returns.push(r.echo.1);
     }
     cloud.intensity = Some(intensity);
     cloud.label = Some(label);
     cloud.building = Some(building);
+    cloud.return_number = Some(return_number);
+    cloud.number_of_returns = Some(number_of_returns);
     Ok(cloud)
 }
 
-/// Casts the pulse's axis and, with a footprint, a ring of `n - 1` rays at
-/// half the divergence around it; pushes every hit with its energy.
-fn cast_footprint(
-    caster: &Caster,
+/// One pulse: where it leaves, where it points, how wide it is.
+struct Beam {
     origin: [f32; 3],
     axis: [f32; 3],
+    /// tan of half the divergence (0: one ray).
     footprint: f32,
-    n: usize,
+    rays: usize,
     max_t: f32,
+}
+
+/// Casts the pulse's axis and, with a footprint, a ring of `rays - 1` rays
+/// at half the divergence around it; pushes every hit with its energy.
+fn cast_footprint(
+    caster: &Caster,
+    beam: &Beam,
+    config: &AirborneConfig,
+    rng: &mut Stream,
     out: &mut Vec<SubHit>,
 ) {
-    let (u, w) = basis(axis);
+    let (u, w) = basis(beam.axis);
+    let n = beam.rays;
     for i in 0..n {
         let dir = if i == 0 {
-            axis
+            beam.axis
         } else {
             let phi = std::f32::consts::TAU * (i - 1) as f32 / (n - 1) as f32;
             let (sp, cp) = phi.sin_cos();
-            std::array::from_fn(|k| axis[k] + footprint * (cp * u[k] + sp * w[k]))
+            std::array::from_fn(|k| beam.axis[k] + beam.footprint * (cp * u[k] + sp * w[k]))
         };
-        let Some(hit) = caster.cast_ray(&Ray::new(origin, dir, max_t)) else {
-            continue;
-        };
-        let kind = caster.object(hit.object).map(|o| o.kind);
-        let unit = normalize(dir).unwrap_or(axis);
-        let energy = kind.map_or(0.0, reflectance) * dot(hit.normal, unit).abs();
-        out.push(SubHit { hit, energy });
+        let unit = normalize(dir).unwrap_or(beam.axis);
+        walk(caster, beam.origin, unit, beam.max_t, config, rng, out);
     }
 }
 
-/// Two unit vectors perpendicular to `a` and to each other.
-fn basis(a: [f32; 3]) -> ([f32; 3], [f32; 3]) {
-    let helper = if a[2].abs() < 0.9 {
-        [0.0, 0.0, 1.0]
-    } else {
-        [1.0, 0.0, 0.0]
-    };
-    let u = normalize(cross(a, helper)).unwrap_or([1.0, 0.0, 0.0]);
-    (u, cross(a, u))
+/// Follows one ray of unit energy: an opaque surface returns what is left
+/// of it; a crown (vegetation, when `canopy_events_per_m` > 0) returns a
+/// share at each leaf event met inside it and lets the rest through.
+fn walk(
+    caster: &Caster,
+    origin: [f32; 3],
+    unit: [f32; 3],
+    max_t: f32,
+    config: &AirborneConfig,
+    rng: &mut Stream,
+    out: &mut Vec<SubHit>,
+) {
+    const STEP: f32 = 1e-3;
+    let at = |t: f32| -> [f32; 3] { std::array::from_fn(|k| origin[k] + t * unit[k]) };
+    let (mut start, mut left) = (0.0f32, 1.0f32);
+    for _ in 0..MAX_CROWNS {
+        let Some(mut hit) = caster.cast_ray(&Ray::new(at(start), unit, max_t - start)) else {
+            return;
+        };
+        hit.t += start;
+        let kind = caster.object(hit.object).map(|o| o.kind);
+        let porous = kind == Some(ObjectKind::Vegetation) && config.canopy_events_per_m > 0.0;
+        if !porous {
+            let energy = kind.map_or(0.0, reflectance) * dot(hit.normal, unit).abs() * left;
+            out.push(SubHit {
+                hit,
+                energy,
+                solid: true,
+            });
+            return;
+        }
+        // The crown's far side (or what stands inside it, a trunk).
+        let inner = hit.t + STEP;
+        let exit = caster.cast_ray(&Ray::new(at(inner), unit, max_t - inner));
+        let (leave, resume) = match exit {
+            Some(e) if e.object == hit.object => (inner + e.t, inner + e.t + STEP),
+            Some(e) => (inner + e.t, inner + e.t - STEP),
+            None => (max_t, max_t),
+        };
+        let mut t = hit.t;
+        loop {
+            t += -(1.0 - rng.uniform() as f32).ln() / config.canopy_events_per_m;
+            if t >= leave {
+                break;
+            }
+            let take = left * config.canopy_interception;
+            left -= take;
+            let leaf = Hit { t, ..hit };
+            out.push(SubHit {
+                hit: leaf,
+                energy: reflectance(ObjectKind::Vegetation) * take,
+                solid: false,
+            });
+            if left < MIN_RETURN_ENERGY {
+                return;
+            }
+        }
+        start = resume;
+    }
 }
 
-/// Groups the sub-hits into returns (gaps > [`RETURN_SEPARATION`] split
-/// them) and picks one by `mode`: its mean range, its most energetic
-/// sub-hit (object, normal) and its total energy.
-fn pick_return(sub: &mut [SubHit], mode: ReturnMode) -> Option<(f32, Hit, f32)> {
+/// One return: sub-hits no further apart than [`RETURN_SEPARATION`].
+struct Group {
+    /// Mean range of its sub-hits.
+    range: f32,
+    /// Its most energetic sub-hit (object, normal).
+    hit: Hit,
+    /// Energy of all its sub-hits.
+    energy: f32,
+}
+
+/// The returns of one pulse in range order: sub-hits grouped by range,
+/// the ones a receiver would miss (below [`MIN_RETURN_ENERGY`]) left out.
+fn returns_of(sub: &mut [SubHit], rays: usize) -> Vec<Group> {
     sub.sort_by(|a, b| a.hit.t.total_cmp(&b.hit.t));
-    let mut best: Option<(f32, Hit, f32)> = None;
+    let mut out = Vec::new();
     let mut start = 0;
     while start < sub.len() {
         let mut end = start + 1;
@@ -464,18 +587,36 @@ fn pick_return(sub: &mut [SubHit], mode: ReturnMode) -> Option<(f32, Hit, f32)> 
             .iter()
             .max_by(|a, b| a.energy.total_cmp(&b.energy))
             .map_or(group[0].hit, |s| s.hit);
-        let better = match (mode, &best) {
-            (_, None) => true,
-            (ReturnMode::Strongest, Some((_, _, e))) => energy > *e,
-            (ReturnMode::First, Some(_)) => false,
-        };
-        if better {
-            best = Some((range, strongest, energy));
-        }
-        if mode == ReturnMode::First {
-            break;
+        if energy / rays as f32 >= MIN_RETURN_ENERGY || group.iter().any(|s| s.solid) {
+            out.push(Group {
+                range,
+                hit: strongest,
+                energy,
+            });
         }
         start = end;
     }
-    best
+    out
+}
+
+/// Two unit vectors perpendicular to `a` and to each other.
+fn basis(a: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+    let helper = if a[2].abs() < 0.9 {
+        [0.0, 0.0, 1.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    let u = normalize(cross(a, helper)).unwrap_or([1.0, 0.0, 0.0]);
+    (u, cross(a, u))
+}
+
+/// The one return a single-return receiver keeps: the first, or the
+/// strongest.
+fn pick_return(groups: Vec<Group>, mode: ReturnMode) -> Option<Group> {
+    match mode {
+        ReturnMode::First => groups.into_iter().next(),
+        ReturnMode::Strongest => groups
+            .into_iter()
+            .max_by(|a, b| a.energy.total_cmp(&b.energy)),
+    }
 }

@@ -165,6 +165,8 @@ impl ScanPoints {
             intensity: Some(self.intensity.clone()),
             label: Some(self.label.clone()),
             building: Some(self.building.clone()),
+            return_number: None,
+            number_of_returns: None,
             origin,
         }
     }

@@ -118,6 +118,8 @@ impl GtSamples {
             intensity: None,
             label: Some(self.kind.iter().map(|k| k.code()).collect()),
             building: Some(self.building.clone()),
+            return_number: None,
+            number_of_returns: None,
             origin: self.origin,
         }
     }

@@ -41,7 +41,8 @@ enum Kind {
 ///
 /// Needs `x`, `y`, `z` (FLOAT32 or FLOAT64, rounded to f32); reads
 /// `intensity` (any numeric type, as f32), `label` (integer type, 0..=255)
-/// and `building` (integer type, 0..=u32::MAX) when present; ignores other
+/// `building` (integer type, 0..=u32::MAX), `return_number` and
+/// `number_of_returns` (integer type, 0..=255) when present; ignores other
 /// fields. Organized clouds (height > 1) are read row by row, skipping the
 /// padding between `width × point_step` and `row_step`.
 ///
@@ -62,6 +63,8 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
     let intensity = slot(msg, "intensity", Kind::Numeric)?;
     let label = slot(msg, "label", Kind::Integer)?;
     let building = slot(msg, "building", Kind::Integer)?;
+    let return_number = slot(msg, "return_number", Kind::Integer)?;
+    let number_of_returns = slot(msg, "number_of_returns", Kind::Integer)?;
 
     let overflow = PointCloud2Error::SizeOverflow {
         width: msg.width,
@@ -92,6 +95,8 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
     cloud.intensity = intensity.map(|_| Vec::with_capacity(points));
     cloud.label = label.map(|_| Vec::with_capacity(points));
     cloud.building = building.map(|_| Vec::with_capacity(points));
+    cloud.return_number = return_number.map(|_| Vec::with_capacity(points));
+    cloud.number_of_returns = number_of_returns.map(|_| Vec::with_capacity(points));
     if points == 0 {
         // Without this, width 0 and height 4e9 (data length 0 fits) would walk
         // four billion empty rows: found by fuzzing.
@@ -126,6 +131,12 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
             values.push(integer(record, s, index, msg)?);
         }
         if let (Some(values), Some(s)) = (cloud.building.as_mut(), building) {
+            values.push(integer(record, s, index, msg)?);
+        }
+        if let (Some(values), Some(s)) = (cloud.return_number.as_mut(), return_number) {
+            values.push(integer(record, s, index, msg)?);
+        }
+        if let (Some(values), Some(s)) = (cloud.number_of_returns.as_mut(), number_of_returns) {
             values.push(integer(record, s, index, msg)?);
         }
     }

@@ -22,6 +22,8 @@ struct Layout {
     building: Option<usize>,
     /// Offset of `label`, when written.
     label: Option<usize>,
+    /// Offsets of `return_number` and `number_of_returns`, when written.
+    echo: Option<(usize, usize)>,
     /// Bytes per point, padded.
     point_step: usize,
 }
@@ -42,11 +44,14 @@ impl Layout {
         let intensity = place(cloud.intensity.is_some(), 4);
         let building = place(cloud.building.is_some(), 4);
         let label = place(cloud.label.is_some(), 1);
+        let has_echo = cloud.return_number.is_some() && cloud.number_of_returns.is_some();
+        let echo = place(has_echo, 1).zip(place(has_echo, 1));
         Self {
             coordinate,
             intensity,
             building,
             label,
+            echo,
             point_step: end.next_multiple_of(coordinate),
         }
     }
@@ -78,6 +83,10 @@ impl Layout {
                 .map(|o| field("building", o, PointField::UINT32)),
         );
         fields.extend(self.label.map(|o| field("label", o, PointField::UINT8)));
+        if let Some((rn, nr)) = self.echo {
+            fields.push(field("return_number", rn, PointField::UINT8));
+            fields.push(field("number_of_returns", nr, PointField::UINT8));
+        }
         fields
     }
 }
@@ -92,6 +101,7 @@ impl Layout {
 /// | intensity | FLOAT32 | next     | `cloud.intensity` set |
 /// | building  | UINT32  | next     | `cloud.building` set  |
 /// | label     | UINT8   | next     | `cloud.label` set     |
+/// | return_number, number_of_returns | UINT8 | next | both echo columns set |
 ///
 /// Fields follow each other without gaps (widest first, so each is aligned)
 /// and `point_step` is rounded up to a multiple of 4 [8]; the padding bytes
@@ -111,6 +121,8 @@ pub fn encode(cloud: &Cloud, header: Header, opts: &EncodeOptions) -> PointCloud
     let intensity = cloud.intensity.as_deref().unwrap_or_default();
     let building = cloud.building.as_deref().unwrap_or_default();
     let label = cloud.label.as_deref().unwrap_or_default();
+    let rn = cloud.return_number.as_deref().unwrap_or_default();
+    let nr = cloud.number_of_returns.as_deref().unwrap_or_default();
     for (i, (record, p)) in data.chunks_exact_mut(step).zip(&cloud.xyz).enumerate() {
         if opts.double {
             put(record, 0, &f64::from(p[0]).to_le_bytes());
@@ -131,6 +143,10 @@ pub fn encode(cloud: &Cloud, header: Header, opts: &EncodeOptions) -> PointCloud
         }
         if let Some(o) = layout.label {
             put(record, o, &[label.get(i).copied().unwrap_or_default()]);
+        }
+        if let Some((a, b)) = layout.echo {
+            put(record, a, &[rn.get(i).copied().unwrap_or_default()]);
+            put(record, b, &[nr.get(i).copied().unwrap_or_default()]);
         }
     }
     PointCloud2 {

@@ -5,9 +5,10 @@ use std::time::Instant;
 
 use serde::Deserialize;
 use skyground_core::classify::{
-    ClassReport, GroundReport, SceneClassifier, TrainParams, default_training_set, train,
+    ClassReport, GroundReport, SceneClassifier, TrainParams, default_training_set, labelled_cloud,
+    train,
 };
-use skyground_core::cloud::{read_cloud, write_cloud};
+use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
 use skyground_core::ground::CsfParams;
 
 use crate::node::scene_classifier::load_model;
@@ -16,7 +17,8 @@ use crate::runtime::{RuntimeError, params::ParamSet};
 /// Options of `skyground classify`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ClassifyArgs {
-    /// The cloud to classify (LAS/LAZ/PLY). Its own labels, if any, are the reference.
+    /// The cloud to classify (LAS/LAZ/PLY). Its own labels, if any, are the
+    /// reference (scored on points whose label is 2–6).
     #[arg(long = "in")]
     pub input: PathBuf,
     /// Where to write the classified cloud (.las/.laz/.ply).
@@ -39,6 +41,29 @@ pub struct TrainArgs {
     /// Where to write the model.
     #[arg(long, default_value = "config/classifier_model.json")]
     pub out: PathBuf,
+    /// Labelled clouds to learn from (LAS/LAZ/PLY with the producer's
+    /// classes: 2 ground, 3/4/5 vegetation, 6 building; others ignored).
+    /// The model records their names: never report accuracy on them.
+    #[arg(long = "in", num_args = 1..)]
+    pub inputs: Vec<PathBuf>,
+    /// Clouds without buildings (forests) whose unclassified points (LAS 1)
+    /// are learned as vegetation; named in the model like --in files.
+    #[arg(long = "vegetation-in", num_args = 1..)]
+    pub vegetation_inputs: Vec<PathBuf>,
+    /// Leave out the simulated reference-city surveys.
+    #[arg(long)]
+    pub no_sim: bool,
+    /// Each --in file is also learned thinned to these shares of its points
+    /// (pulses kept at random), so the model sees sparser surveys too.
+    #[arg(long, value_delimiter = ',', default_values_t = [1.0, 0.35, 0.12])]
+    pub densities: Vec<f64>,
+    /// Samples drawn per class from each cloud.
+    #[arg(long, default_value_t = 10_000)]
+    pub per_class: usize,
+    /// A params file overriding config/scene_classifier.yaml (its `csf`
+    /// section: the ground filter that gives real clouds their heights).
+    #[arg(long)]
+    pub params_file: Option<PathBuf>,
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -84,19 +109,43 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     let mut cloud = read_cloud(&a.input).map_err(err)?;
     let read_s = t0.elapsed().as_secs_f64();
     let classified = classifier
-        .classify(&cloud.xyz)
+        .classify_cloud(&cloud)
         .map_err(|e| err(format!("{}: {e}", a.input.display())))?;
     let truth = cloud.label.take().filter(|l| l.iter().any(|&c| c > 1));
+    let counts = classified.counts();
+    let building = counts.get("building").copied().unwrap_or(0);
+    let name = a
+        .input
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let seen = classifier.model().training_files.contains(&name);
     let mut out = serde_json::json!({
         "input": a.input,
         "points": cloud.len(),
-        "classes": classified.counts(),
+        "classes": counts,
+        "building_share": building as f64 / cloud.len().max(1) as f64,
+        "echoes": cloud.echoes().is_some(),
         "seconds": {"read": read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
         "model": classifier.model().trained_on,
+        "trained_on_this_file": seen,
     });
+    if seen {
+        eprintln!(
+            "note: the model was trained on {name}: the figures below are not an accuracy claim"
+        );
+    }
     if let Some(truth) = &truth {
-        let report = ClassReport::new(truth, &classified.labels).map_err(err)?;
-        let ground = GroundReport::new(truth, &classified.is_ground).map_err(err)?;
+        // Producers' classes outside 2–6 (unclassified, water, wires, noise)
+        // say nothing about ground, vegetation or building: left out.
+        let scored: Vec<usize> = (0..truth.len())
+            .filter(|&i| (2..=6).contains(&truth[i]))
+            .collect();
+        let pick = |v: &[u8]| scored.iter().map(|&i| v[i]).collect::<Vec<u8>>();
+        let t = pick(truth);
+        let report = ClassReport::new(&t, &pick(&classified.labels)).map_err(err)?;
+        let flags: Vec<bool> = scored.iter().map(|&i| classified.is_ground[i]).collect();
+        let ground = GroundReport::new(&t, &flags).map_err(err)?;
         if !a.json {
             eprintln!("{}", report.table());
             eprintln!(
@@ -107,6 +156,7 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
                 ground.kappa
             );
         }
+        out["scored_points"] = serde_json::json!(scored.len());
         out["report"] = serde_json::to_value(&report).map_err(err)?;
         out["ground"] = serde_json::to_value(&ground).map_err(err)?;
     }
@@ -118,19 +168,82 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     Ok(out)
 }
 
-/// Trains the default model on simulated scenes and writes it.
+/// Rows of a random share `keep` of the cloud's pulses: a point goes with
+/// the others of its pulse (consecutive points whose return numbers count
+/// up), as a sparser survey would have recorded them.
+fn pulse_sample(cloud: &Cloud, keep: f64, seed: u64) -> Vec<usize> {
+    if keep >= 1.0 {
+        return (0..cloud.len()).collect();
+    }
+    let rn = cloud.return_number.as_deref().unwrap_or_default();
+    let mut state = (seed + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let mut take = false;
+    (0..cloud.len())
+        .filter(|&i| {
+            if rn.get(i).copied().unwrap_or(1) <= 1 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                take = (state >> 11) as f64 / (1u64 << 53) as f64 <= keep;
+            }
+            take
+        })
+        .collect()
+}
+
+/// Trains a model on labelled files and/or simulated scenes and writes it.
 pub fn run_train(a: &TrainArgs) -> Result<serde_json::Value, RuntimeError> {
     let t0 = Instant::now();
-    let set = default_training_set().map_err(err)?;
+    let mut set = if a.no_sim {
+        Vec::new()
+    } else {
+        default_training_set().map_err(err)?
+    };
     let sim_s = t0.elapsed().as_secs_f64();
+    let csf = csf_params(a.params_file.as_deref())?;
+    let inputs = a.inputs.iter().map(|p| (p, false));
+    for (path, forest) in inputs.chain(a.vegetation_inputs.iter().map(|p| (p, true))) {
+        let mut cloud = read_cloud(path).map_err(err)?;
+        if forest {
+            // A file its producer left unclassified above ground, and which
+            // holds no building: its unclassified points are trees.
+            if let Some(l) = cloud.label.as_mut() {
+                l.iter_mut().filter(|c| **c == 1).for_each(|c| *c = 5);
+            }
+        }
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        for (k, &keep) in a.densities.iter().enumerate() {
+            if !(keep > 0.0 && keep <= 1.0) {
+                return Err(err(format!("--densities: {keep} is not in (0, 1]")));
+            }
+            let rows = pulse_sample(&cloud, keep, k as u64);
+            let tag = if keep < 1.0 {
+                format!("{name} (thinned to {:.0} %)", keep * 100.0)
+            } else {
+                name.clone()
+            };
+            set.push(labelled_cloud(&tag, cloud.subset(&rows), &csf).map_err(err)?);
+        }
+    }
+    if set.is_empty() {
+        return Err(err("nothing to train on: give --in FILE or drop --no-sim"));
+    }
     let t1 = Instant::now();
-    let model = train(&set, &TrainParams::default()).map_err(err)?;
+    let params = TrainParams {
+        per_class: a.per_class,
+        ..TrainParams::default()
+    };
+    let model = train(&set, &params).map_err(err)?;
     let train_s = t1.elapsed().as_secs_f64();
     model.save(&a.out).map_err(err)?;
     let bytes = std::fs::metadata(&a.out).map(|m| m.len()).unwrap_or(0);
     Ok(serde_json::json!({
         "out": a.out,
         "clouds": set.iter().map(|c| c.name.clone()).collect::<Vec<_>>(),
+        "trained_on": model.trained_on,
         "points": set.iter().map(|c| c.xyz.len()).sum::<usize>(),
         "seconds": {"simulate": sim_s, "train": train_s},
         "bytes": bytes,

@@ -132,7 +132,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     if a.classify || !labelled {
         let t = Instant::now();
         let c = SceneClassifier::new(Default::default(), load_model("")?).map_err(err)?;
-        cloud.label = Some(c.classify(&cloud.xyz).map_err(err)?.labels);
+        cloud.label = Some(c.classify_cloud(&cloud).map_err(err)?.labels);
         classify_s = t.elapsed().as_secs_f64();
     }
     let footprints = match &a.footprints {

@@ -73,16 +73,14 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             }
             Received::Cloud { msg, decoded } => (msg, decoded),
         };
-        let mut cloud = decoded.cloud;
         let c = classifier.clone();
-        let xyz = std::mem::take(&mut cloud.xyz);
         let result = tokio::task::spawn_blocking(move || {
-            let r = c.classify(&xyz);
-            (xyz, r)
+            let r = c.classify_cloud(&decoded.cloud);
+            (decoded.cloud, r)
         })
         .await
         .map_err(|e| RuntimeError::Node(format!("classifier task: {e}")))?;
-        cloud.xyz = result.0;
+        let mut cloud = result.0;
         let classified = match result.1 {
             Ok(c) => c,
             Err(e) => {

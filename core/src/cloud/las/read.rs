@@ -15,7 +15,8 @@ const MAX_PREALLOC: u64 = 1 << 24;
 
 /// Reads a LAS or LAZ stream (detected from the header).
 ///
-/// Intensity and classification (as `label`) are always present; `building` is
+/// Intensity, classification (as `label`), return number and number of
+/// returns are always present; `building` is
 /// present when the file has our `building` extra-bytes dimension.
 /// Origin per axis: the header's offset when the header bounds lie within
 /// 10 km of it, else [`local_origin`] of the bounds' minimum (or of the first
@@ -32,6 +33,8 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
         intensity: Some(Vec::with_capacity(capacity)),
         label: Some(Vec::with_capacity(capacity)),
         building: building_at.map(|_| Vec::with_capacity(capacity)),
+        return_number: Some(Vec::with_capacity(capacity)),
+        number_of_returns: Some(Vec::with_capacity(capacity)),
         origin: [0.0; 3],
     };
     let mut origin = header_origin(&header);
@@ -115,6 +118,12 @@ fn push_batch(
     }
     if let Some(col) = &mut cloud.label {
         col.extend(batch.classification());
+    }
+    if let Some(col) = &mut cloud.return_number {
+        col.extend(batch.return_number());
+    }
+    if let Some(col) = &mut cloud.number_of_returns {
+        col.extend(batch.number_of_returns());
     }
     if let (Some(col), Some(at)) = (&mut cloud.building, building_at) {
         let records = batch.raw_bytes().chunks_exact(batch.record_len().max(1));

@@ -11,6 +11,8 @@ fn sample_cloud() -> Cloud {
         intensity: Some(vec![0.0, 1234.0, 65535.0]),
         label: Some(vec![2, 6, 12]),
         building: Some(vec![0, 7, u32::MAX]),
+        return_number: Some(vec![1, 2, 1]),
+        number_of_returns: Some(vec![1, 3, 2]),
         origin: [637_000.0, 849_000.5, 100.0],
     }
 }
@@ -36,6 +38,8 @@ fn assert_close(a: &Cloud, b: &Cloud) {
     assert_eq!(a.label, b.label);
     assert_eq!(a.building, b.building);
     assert_eq!(a.intensity, b.intensity);
+    assert_eq!(a.return_number, b.return_number);
+    assert_eq!(a.number_of_returns, b.number_of_returns);
 }
 
 #[test]
@@ -56,6 +60,9 @@ fn missing_attributes_come_back_as_zero_and_no_building() {
     assert_eq!(back.intensity, Some(vec![0.0]));
     assert_eq!(back.label, Some(vec![0]));
     assert_eq!(back.building, None);
+    // A cloud without echoes is written as single returns.
+    assert_eq!(back.return_number, Some(vec![1]));
+    assert_eq!(back.number_of_returns, Some(vec![1]));
     let empty = read(write(&Cloud::default(), true)).unwrap();
     assert!(empty.is_empty());
 }

@@ -18,8 +18,8 @@ const BATCH: usize = 1 << 16;
 /// Coordinates: 1 mm integers with the header offset = `cloud.origin`, so
 /// [`super::read_las`] gives the origin back. Intensity is rounded to u16
 /// (error outside 0..=65535; 0 when absent), label is written as the
-/// classification byte (0 when absent), every point is return 1 of 1 with GPS
-/// time 0. The building id, when present, goes to the `building` extra-bytes
+/// classification byte (0 when absent), return number and number of returns
+/// as given (1 of 1 when absent), GPS time 0. The building id, when present, goes to the `building` extra-bytes
 /// dimension (an Extra Bytes VLR declaring a u32 named `building`). Returns the sink, positioned at its start.
 pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
     sink: W,
@@ -90,8 +90,12 @@ fn encode(out: &mut Vec<u8>, cloud: &Cloud, i: usize) -> Result<(), LasError> {
     };
     out.extend_from_slice(&intensity.to_le_bytes());
     let label = cloud.label.as_ref().and_then(|c| c.get(i)).copied();
-    // return 1 of 1; no flags; classification; user data 0; scan angle 0; source id 0
-    out.extend_from_slice(&[0x11, 0, label.unwrap_or(0), 0, 0, 0, 0, 0]);
+    let echo = |col: &Option<Vec<u8>>| col.as_ref().and_then(|c| c.get(i)).copied();
+    // Format 6 packs the return number in the low and the count in the high nibble.
+    let rn = echo(&cloud.return_number).unwrap_or(1).min(15);
+    let nr = echo(&cloud.number_of_returns).unwrap_or(1).min(15);
+    // returns; no flags; classification; user data 0; scan angle 0; source id 0
+    out.extend_from_slice(&[rn | (nr << 4), 0, label.unwrap_or(0), 0, 0, 0, 0, 0]);
     out.extend_from_slice(&0f64.to_le_bytes());
     if let Some(col) = &cloud.building {
         let id = col.get(i).copied().unwrap_or(0);

@@ -16,6 +16,8 @@ fn sample_cloud() -> Cloud {
         intensity: Some(vec![0.5, 1000.0, 65535.0]),
         label: Some(vec![2, 6, 255]),
         building: Some(vec![0, 7, u32::MAX]),
+        return_number: None,
+        number_of_returns: None,
         origin: [637_000.0, 849_000.5, -12.0],
     }
 }

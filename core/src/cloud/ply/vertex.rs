@@ -117,6 +117,8 @@ pub fn read_vertices<R: Rows>(
         intensity: column(plan, Role::Intensity, capacity),
         label: column(plan, Role::Label, capacity),
         building: column(plan, Role::Building, capacity),
+        return_number: None,
+        number_of_returns: None,
         origin: origin.unwrap_or_default(),
     };
     let mut values = [0.0f64; 6];
