@@ -24,7 +24,7 @@ pub use error::ClassifyError;
 pub use hag::hag_from_ground_points;
 pub use model::{Model, Smoothing};
 pub use pipeline::classify;
-pub use report::{ClassMetrics, ClassReport};
+pub use report::{ClassMetrics, ClassReport, is_scored};
 pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};
 pub use training::{
     TrainParams, TrainingCloud, default_training_set, labelled_cloud, simulated_cloud, train,

@@ -39,7 +39,25 @@ pub struct ClassReport {
     pub points: u64,
 }
 
+/// Producer classes a classification is scored on: ground, vegetation
+/// (3/4/5) and building. The rest (unclassified, water, wires, noise) say
+/// nothing about which of the three a point is.
+pub fn is_scored(truth: u8) -> bool {
+    (GROUND..=BUILDING).contains(&truth)
+}
+
 impl ClassReport {
+    /// [`Self::new`] over the points whose producer class [`is_scored`].
+    pub fn on_scored(truth: &[u8], predicted: &[u8]) -> Result<Self, ClassifyError> {
+        let (t, p): (Vec<u8>, Vec<u8>) = truth
+            .iter()
+            .zip(predicted)
+            .filter(|(t, _)| is_scored(**t))
+            .map(|(t, p)| (*t, *p))
+            .unzip();
+        Self::new(&t, &p)
+    }
+
     /// Compares `predicted` with `truth` (producer LAS codes, folded).
     pub fn new(truth: &[u8], predicted: &[u8]) -> Result<Self, ClassifyError> {
         if truth.len() != predicted.len() {

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use serde::Deserialize;
 use skyground_core::classify::{
-    ClassReport, GroundReport, SceneClassifier, TrainParams, default_training_set, labelled_cloud,
-    train,
+    ClassReport, GroundReport, SceneClassifier, TrainParams, default_training_set, is_scored,
+    labelled_cloud, train,
 };
 use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
 use skyground_core::ground::CsfParams;
@@ -138,9 +138,7 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     if let Some(truth) = &truth {
         // Producers' classes outside 2–6 (unclassified, water, wires, noise)
         // say nothing about ground, vegetation or building: left out.
-        let scored: Vec<usize> = (0..truth.len())
-            .filter(|&i| (2..=6).contains(&truth[i]))
-            .collect();
+        let scored: Vec<usize> = (0..truth.len()).filter(|&i| is_scored(truth[i])).collect();
         let pick = |v: &[u8]| scored.iter().map(|&i| v[i]).collect::<Vec<u8>>();
         let t = pick(truth);
         let report = ClassReport::new(&t, &pick(&classified.labels)).map_err(err)?;
