@@ -92,21 +92,21 @@ pub fn parse_city_model(data: &[u8]) -> Result<CityModel, CityJsonError> {
 /// `urn:ogc:def:crs:EPSG::7415`), else the string itself: the one place
 /// CRS names are compared.
 pub fn crs_key(crs: &str) -> String {
-    let upper = crs.to_ascii_uppercase();
-    match upper.rfind("EPSG") {
-        Some(at) => {
-            let digits: String = upper[at..]
-                .chars()
-                .skip_while(|c| !c.is_ascii_digit())
-                .take_while(char::is_ascii_digit)
-                .collect();
-            if digits.is_empty() {
-                upper
-            } else {
-                format!("EPSG:{digits}")
-            }
-        }
-        None => upper.trim().to_string(),
+    let upper = crs.trim().to_ascii_uppercase();
+    let Some(at) = upper.rfind("EPSG") else {
+        return upper;
+    };
+    // The code is the last run of digits (`EPSG/0/7415`: 0 is the version).
+    let tail = &upper[at..];
+    let digits: String = tail
+        .rsplit(|c: char| !c.is_ascii_digit())
+        .find(|s| !s.is_empty())
+        .unwrap_or_default()
+        .to_string();
+    if digits.is_empty() {
+        upper
+    } else {
+        format!("EPSG:{digits}")
     }
 }
 

@@ -14,7 +14,7 @@
 
 use std::collections::{BTreeSet, HashMap};
 
-use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
+use spade::{DelaunayTriangulation, FloatTriangulation, HasPosition, Point2, Triangulation};
 
 use crate::scene::builder::MeshPart;
 
@@ -200,7 +200,7 @@ fn smooth(
     let near = Buckets::new(footprints, cell);
     let free: Vec<(u32, [Option<u32>; 4])> = ids
         .iter()
-        .filter(|(_, &v)| {
+        .filter(|&(_, &v)| {
             let p = m.vertices[v as usize];
             !near.within(footprints, p[0], p[1], cell)
         })

@@ -69,7 +69,10 @@ pub fn annotated_model(
             .filter(|g| g.surface_depth().is_some())
             .filter_map(|g| {
                 let boundaries = map_indices(&g.boundaries, &mut |i| {
-                    usize::try_from(i).ok().and_then(|i| out.index(i))
+                    usize::try_from(i)
+                        .ok()
+                        .and_then(|i| out.index(i))
+                        .map(|k| k as u64)
                 })?;
                 let mut v = json!({
                     "type": g.kind,
