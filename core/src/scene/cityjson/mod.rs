@@ -319,7 +319,8 @@ fn object_triangles(
         if semantic == Some("GroundSurface") {
             ground_rings.extend(&flat);
         }
-        used.extend(&flat);
+        // Holes (windows, doors) stand on nothing: only outer rings count.
+        used.extend(rings_idx.first().into_iter().flatten());
         let Some(&anchor) = flat.first() else {
             continue;
         };
@@ -349,10 +350,11 @@ fn object_triangles(
     Ok((out, base))
 }
 
-/// The vertices an object without `GroundSurface` semantics stands on: the
-/// lowest vertex at each xy that has a wall above it (another vertex ≥ 1 m
-/// higher at the same xy) in the lower quarter of the object's height, and
-/// every vertex at its lowest z (a LoD0 footprint has no walls).
+/// The vertices an object without `GroundSurface` semantics stands on, of
+/// the vertices of its surfaces' outer rings (`used`): the lowest vertex at
+/// each xy that has a wall above it (another vertex ≥ 1 m higher at the
+/// same xy) in the lower quarter of the object's height, and every vertex
+/// at its lowest z (a LoD0 footprint has no walls).
 fn base_vertices(used: &[usize], vertices: &[[f64; 3]]) -> Vec<usize> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     // Vertices at the same xy, to the centimetre.

@@ -4,11 +4,11 @@
 //!
 //! Height at a grid vertex: inside the convex hull of the base samples, the
 //! Delaunay (barycentric) interpolation of their heights, so the ground
-//! follows a sloped street along the walls; outside, an inverse-distance
-//! blend of the nearby buildings' bases (flat near each building). Vertices
-//! more than a cell away from every footprint box are then smoothed, which
-//! hides the seam between the two. Without samples (or with fewer than
-//! three not in a line) every vertex takes the blend: inside one or more
+//! follows a sloped street along the walls; outside, the height at the
+//! nearest point of the hull (continuous across it). Vertices more than a
+//! cell away from every footprint box are then smoothed. Without samples
+//! (or with fewer than three not in a line) every vertex takes an
+//! inverse-distance blend of the buildings' bases: inside one or more
 //! footprint boxes the highest of their bases, so no wall floats. Buildings
 //! far apart (a city-wide sample) get separate patches.
 
@@ -75,9 +75,12 @@ impl HasPosition for Sample {
     }
 }
 
-/// Heights through base samples (`None` where the triangulation does not reach).
+/// Heights through base samples: Delaunay inside their convex hull, the
+/// nearest point of the hull outside (continuous across it).
 struct Surface {
     tri: DelaunayTriangulation<Sample>,
+    /// Hull edges: ends and their heights.
+    hull: Vec<([f64; 2], f64, [f64; 2], f64)>,
 }
 
 impl Surface {
@@ -93,13 +96,43 @@ impl Surface {
                 });
             }
         }
-        (tri.num_inner_faces() > 0).then_some(Self { tri })
+        if tri.num_inner_faces() == 0 {
+            return None;
+        }
+        let hull = tri
+            .convex_hull()
+            .map(|e| {
+                let [a, b] = e.vertices().map(|v| (v.position(), v.data().z));
+                ([a.0.x, a.0.y], a.1, [b.0.x, b.0.y], b.1)
+            })
+            .collect();
+        Some(Self { tri, hull })
     }
 
-    fn height(&self, x: f64, y: f64) -> Option<f64> {
-        self.tri
+    fn height(&self, x: f64, y: f64) -> f64 {
+        if let Some(z) = self
+            .tri
             .barycentric()
             .interpolate(|v| v.data().z, Point2::new(x, y))
+        {
+            return z;
+        }
+        let mut best = (f64::INFINITY, 0.0);
+        for (a, za, b, zb) in &self.hull {
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let t = if len2 > 0.0 {
+                (((x - a[0]) * d[0] + (y - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let (px, py) = (a[0] + t * d[0] - x, a[1] + t * d[1] - y);
+            let dist2 = px * px + py * py;
+            if dist2 < best.0 {
+                best = (dist2, za + t * (zb - za));
+            }
+        }
+        best.1
     }
 }
 
@@ -162,10 +195,10 @@ pub fn terrain_around(
     let mut vertex = |m: &mut MeshPart, i: i64, j: i64| -> u32 {
         *ids.entry((i, j)).or_insert_with(|| {
             let (x, y) = (x0 + i as f64 * cell, y0 + j as f64 * cell);
-            let z = surface
-                .as_ref()
-                .and_then(|s| s.height(x, y))
-                .unwrap_or_else(|| near.height(footprints, x, y));
+            let z = match &surface {
+                Some(s) => s.height(x, y),
+                None => near.height(footprints, x, y),
+            };
             m.vertex([x, y, z])
         })
     };
