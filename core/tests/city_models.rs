@@ -16,10 +16,7 @@ use skyground_core::scene::{ObjectKind, Scene, SceneError, load_scene, reference
 use skyground_core::vehicle::{Terrain, free_spot};
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "skyground-city-{}-{name}",
-        std::process::id()
-    ));
+    let dir = std::env::temp_dir().join(format!("skyground-city-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -225,7 +222,10 @@ fn city_json_seq_and_tiles_load_as_the_whole_file() {
     std::fs::write(&tiles[1], other.to_string()).unwrap();
     let e = load_scene(&tiles_dir.display().to_string()).unwrap_err();
     assert!(matches!(e, SceneError::TileCrs { .. }), "{e}");
-    assert!(e.to_string().contains("28992") && e.to_string().contains("7415"), "{e}");
+    assert!(
+        e.to_string().contains("28992") && e.to_string().contains("7415"),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&tiles_dir);
 }
@@ -241,7 +241,10 @@ fn files_without_buildings_say_so() {
     let empty = dir.join("empty.city.json");
     std::fs::write(&empty, doc.to_string()).unwrap();
     let e = load_scene(empty.to_str().unwrap()).unwrap_err().to_string();
-    assert!(e.contains("empty.city.json") && e.contains("no Building"), "{e}");
+    assert!(
+        e.contains("empty.city.json") && e.contains("no Building"),
+        "{e}"
+    );
     doc["version"] = json!("3.0");
     std::fs::write(&empty, doc.to_string()).unwrap();
     let e = load_scene(empty.to_str().unwrap()).unwrap_err().to_string();
@@ -279,7 +282,12 @@ fn assert_valid(path: &Path) {
     let report: Value = serde_json::from_str(&text)
         .unwrap_or_else(|e| panic!("{}: no cjval report ({e}): {text}", path.display()));
     assert_eq!(report["valid"], json!(true), "{}: {text}", path.display());
-    assert_eq!(report["has_warnings"], json!(false), "{}: {text}", path.display());
+    assert_eq!(
+        report["has_warnings"],
+        json!(false),
+        "{}: {text}",
+        path.display()
+    );
 }
 
 fn attrs(k: f64) -> Attributes {
@@ -303,7 +311,10 @@ fn completeness_models_are_valid_city_json_2() {
         let src = read_json(&path);
         // Same transform, CRS and vertex integers as 3DBAG wrote them.
         assert_eq!(out["transform"], src["transform"]);
-        assert_eq!(out["metadata"]["referenceSystem"], src["metadata"]["referenceSystem"]);
+        assert_eq!(
+            out["metadata"]["referenceSystem"],
+            src["metadata"]["referenceSystem"]
+        );
         let sorted = |v: &Value| {
             let mut v = v.as_array().unwrap().clone();
             v.sort_by_key(|p| p.to_string());
@@ -334,10 +345,7 @@ fn completeness_models_are_valid_city_json_2() {
             .map(|r| (r.to_string(), attrs(0.5)))
             .collect();
         let out = annotated_model(&model, &by_root, false);
-        assert_eq!(
-            out["CityObjects"].as_object().unwrap().len(),
-            49 + 161
-        );
+        assert_eq!(out["CityObjects"].as_object().unwrap().len(), 49 + 161);
         let file = dir.join("zurich.completeness.city.json");
         std::fs::write(&file, out.to_string()).unwrap();
         assert_valid(&file);

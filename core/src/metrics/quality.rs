@@ -158,6 +158,9 @@ mod tests {
         // Building 2's missing area before: nearly all its samples, 1 m² each.
         let samples = gt.building.iter().filter(|b| **b == 2).count() as f64;
         let missing = get(2, "missing_area_before_m2").as_f64().unwrap_or(0.0);
-        assert!(missing > 0.95 * samples && missing <= samples, "{missing} of {samples}");
+        assert!(
+            missing > 0.95 * samples && missing <= samples,
+            "{missing} of {samples}"
+        );
     }
 }

@@ -41,7 +41,11 @@ pub fn write_completeness(
             Some(c) => c.buildings.iter().map(|b| (b.id, b.name.clone())).collect(),
             None => {
                 let mut m = BTreeMap::new();
-                for o in scene.objects.iter().filter(|o| o.kind == ObjectKind::Building) {
+                for o in scene
+                    .objects
+                    .iter()
+                    .filter(|o| o.kind == ObjectKind::Building)
+                {
                     m.entry(o.building).or_insert_with(|| o.name.clone());
                 }
                 m
@@ -59,7 +63,10 @@ pub fn write_completeness(
         scene_model(scene, &by_id, None)
     };
     let path = dir.join(FILE_NAME);
-    std::fs::write(&path, serde_json::to_vec(&doc).map_err(|e| err(e.to_string()))?)
-        .map_err(|e| err(format!("{}: {e}", path.display())))?;
+    std::fs::write(
+        &path,
+        serde_json::to_vec(&doc).map_err(|e| err(e.to_string()))?,
+    )
+    .map_err(|e| err(format!("{}: {e}", path.display())))?;
     Ok(path)
 }

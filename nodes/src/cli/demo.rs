@@ -439,7 +439,8 @@ fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), Runti
         if let Some(why) = super::crop::too_large(&full) {
             return Err(err(format!(
                 "scene {}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
-                a.scene(), a.crop.crop_size
+                a.scene(),
+                a.crop.crop_size
             )));
         }
         return Ok((a.scene(), full, None));
@@ -589,6 +590,9 @@ fn report(
         w.odometer,
         a.out.join("report.json").display()
     );
-    eprintln!("  per-building figures in the city model: {}", city.display());
+    eprintln!(
+        "  per-building figures in the city model: {}",
+        city.display()
+    );
     Ok(e)
 }

@@ -22,7 +22,7 @@
 //!   minimum floored to whole metres.
 //! - A Ground object `terrain` is added around the buildings
 //!   ([`TerrainOptions`], [`terrain_around`]): a grid over each footprint box
-//!   + 30 m through the buildings' base vertices (their `GroundSurface`, or
+//!   grown by 30 m, through the buildings' base vertices (their `GroundSurface`, or
 //!   the lowest vertex under each wall) and the file's ground surfaces,
 //!   smoothed away from the buildings. Most city models (3DBAG, municipal
 //!   LoD2) ship buildings only: this is the ground the vehicle drives on.
@@ -117,7 +117,11 @@ pub fn scene_of_model(
         if triangles.is_empty() {
             continue;
         }
-        let root = if building { root_of(model, &parents, id) } else { id };
+        let root = if building {
+            root_of(model, &parents, id)
+        } else {
+            id
+        };
         let l = Loaded {
             id,
             root,

@@ -38,10 +38,7 @@ fn highest_lod_parts_merged_holes_triangulated() {
         .map(|o| (o.name.as_str(), o.building))
         .collect();
     // The road is ground; the built terrain sits 5 cm under it.
-    assert_eq!(
-        names,
-        [("b1", 1), ("b1-p", 1), ("road", 0), ("terrain", 0)]
-    );
+    assert_eq!(names, [("b1", 1), ("b1-p", 1), ("road", 0), ("terrain", 0)]);
     assert_eq!(s.origin, [84000.0, 447000.0, 1.0]);
     // LoD2 box: 5 quads (10 triangles) + a wall with a window (8 triangles).
     assert_eq!(s.object_triangles(0).count(), 18);
@@ -67,7 +64,10 @@ fn highest_lod_parts_merged_holes_triangulated() {
     assert_eq!(lo, [0.5, 0.25, 0.0]);
     let (glo, ghi) = s.bounds_of(|k| k == ObjectKind::Ground).unwrap_or_default();
     assert!(glo[0] <= -29.0 && ghi[0] >= 51.0, "{glo:?} {ghi:?}");
-    assert!((glo[2] + 0.05).abs() < 1e-6 && ghi[2] == 0.0, "{glo:?} {ghi:?}");
+    assert!(
+        (glo[2] + 0.05).abs() < 1e-6 && ghi[2] == 0.0,
+        "{glo:?} {ghi:?}"
+    );
     let no_ground = CityJsonOptions { terrain: None };
     let s = parse_cityjson(doc("1.1").as_bytes(), &no_ground).unwrap_or_default();
     // Only the file's own ground (the road), nothing built.
@@ -167,7 +167,10 @@ fn city_json_seq_features_keep_their_own_vertices() {
     assert_eq!(s.building_count(), 2);
     let whole = parse_cityjson(doc("2.0").as_bytes(), &no_ground).unwrap_or_default();
     // b1 and its part as in the whole file; b2 (its own vertex 0) 50 m east.
-    assert_eq!(s.object_triangles(0).count(), whole.object_triangles(0).count());
+    assert_eq!(
+        s.object_triangles(0).count(),
+        whole.object_triangles(0).count()
+    );
     let b2 = s.objects.iter().position(|o| o.name == "b2").unwrap_or(0) as u32;
     let t = s.object_triangles(b2).next().unwrap_or(0);
     let [a, _, _] = s.triangle_corners(t).unwrap_or_default();
@@ -182,10 +185,16 @@ fn city_json_seq_features_keep_their_own_vertices() {
             found: "Feature".into()
         })
     );
-    let past_range = seq("2.0").replace("[[[0, 1, 2]]]", "[[[0, 1, 3]]]").replace("[[[0,1,2]]]", "[[[0,1,3]]]");
+    let past_range = seq("2.0")
+        .replace("[[[0, 1, 2]]]", "[[[0, 1, 3]]]")
+        .replace("[[[0,1,2]]]", "[[[0,1,3]]]");
     assert!(matches!(
         parse_cityjson(past_range.as_bytes(), &no_ground).err(),
-        Some(CityJsonError::VertexIndex { index: 3, vertices: 3, .. })
+        Some(CityJsonError::VertexIndex {
+            index: 3,
+            vertices: 3,
+            ..
+        })
     ));
 }
 
@@ -193,11 +202,22 @@ fn city_json_seq_features_keep_their_own_vertices() {
 fn ground_stands_on_the_base_vertices() {
     // b1's lowest vertices are at z = 1 (stored 0): the ground under and
     // around it is there too.
-    let s = parse_cityjson(doc("2.0").replace("\"road\": {\"type\": \"Road\"", "\"road\": {\"type\": \"Bridge\"").as_bytes(), &CityJsonOptions::default())
-        .unwrap_or_default();
+    let s = parse_cityjson(
+        doc("2.0")
+            .replace(
+                "\"road\": {\"type\": \"Road\"",
+                "\"road\": {\"type\": \"Bridge\"",
+            )
+            .as_bytes(),
+        &CityJsonOptions::default(),
+    )
+    .unwrap_or_default();
     assert_eq!(s.object_count(ObjectKind::Ground), 1);
     let (glo, ghi) = s.bounds_of(|k| k == ObjectKind::Ground).unwrap_or_default();
-    assert!(glo[2].abs() < 1e-6 && ghi[2].abs() < 1e-6, "{glo:?} {ghi:?}");
+    assert!(
+        glo[2].abs() < 1e-6 && ghi[2].abs() < 1e-6,
+        "{glo:?} {ghi:?}"
+    );
 }
 
 #[test]
@@ -223,21 +243,44 @@ fn written_model_keeps_buildings_and_adds_attributes() {
     let model = parse_city_model(text.as_bytes()).unwrap_or_default();
     let mut attrs = std::collections::BTreeMap::new();
     let mut a = Attributes::new();
-    a.insert("skyground_completeness_after".into(), serde_json::json!(0.97));
+    a.insert(
+        "skyground_completeness_after".into(),
+        serde_json::json!(0.97),
+    );
     attrs.insert("b1".to_string(), a);
     let out = annotated_model(&model, &attrs, false);
     assert_eq!(out["version"], "2.0");
-    assert_eq!(out["CityObjects"]["b1"]["attributes"]["skyground_completeness_after"], 0.97);
-    assert_eq!(out["CityObjects"]["b1-p"]["parents"], serde_json::json!(["b1"]));
-    assert_eq!(out["CityObjects"]["b1"]["children"], serde_json::json!(["b1-p"]));
+    assert_eq!(
+        out["CityObjects"]["b1"]["attributes"]["skyground_completeness_after"],
+        0.97
+    );
+    assert_eq!(
+        out["CityObjects"]["b1-p"]["parents"],
+        serde_json::json!(["b1"])
+    );
+    assert_eq!(
+        out["CityObjects"]["b1"]["children"],
+        serde_json::json!(["b1-p"])
+    );
     assert!(out["CityObjects"].get("road").is_none());
     // Both of b1's geometries, same transform: the same integers come back.
-    assert_eq!(out["CityObjects"]["b1"]["geometry"].as_array().map(Vec::len), Some(2));
-    assert_eq!(out["transform"]["translate"], serde_json::json!([84000.5, 447000.25, 1.0]));
-    let again = parse_cityjson(out.to_string().as_bytes(), &CityJsonOptions { terrain: None })
-        .unwrap_or_default();
-    let first = parse_cityjson(text.as_bytes(), &CityJsonOptions { terrain: None })
-        .unwrap_or_default();
+    assert_eq!(
+        out["CityObjects"]["b1"]["geometry"]
+            .as_array()
+            .map(Vec::len),
+        Some(2)
+    );
+    assert_eq!(
+        out["transform"]["translate"],
+        serde_json::json!([84000.5, 447000.25, 1.0])
+    );
+    let again = parse_cityjson(
+        out.to_string().as_bytes(),
+        &CityJsonOptions { terrain: None },
+    )
+    .unwrap_or_default();
+    let first =
+        parse_cityjson(text.as_bytes(), &CityJsonOptions { terrain: None }).unwrap_or_default();
     assert_eq!(again.vertices.len(), first.vertices.len());
     assert_eq!(again.triangles, first.triangles);
     assert_eq!(again.origin, first.origin);
@@ -245,8 +288,14 @@ fn written_model_keeps_buildings_and_adds_attributes() {
 
 #[test]
 fn crs_names_compare_by_code() {
-    assert_eq!(crs_key("https://www.opengis.net/def/crs/EPSG/0/7415"), "EPSG:7415");
+    assert_eq!(
+        crs_key("https://www.opengis.net/def/crs/EPSG/0/7415"),
+        "EPSG:7415"
+    );
     assert_eq!(crs_key("urn:ogc:def:crs:EPSG::7415"), "EPSG:7415");
-    assert_eq!(crs_url("EPSG:2056"), "https://www.opengis.net/def/crs/EPSG/0/2056");
+    assert_eq!(
+        crs_url("EPSG:2056"),
+        "https://www.opengis.net/def/crs/EPSG/0/2056"
+    );
     assert_ne!(crs_key("EPSG:2056"), crs_key("EPSG:7415"));
 }

@@ -46,9 +46,7 @@ pub fn annotated_model(
         .iter()
         .filter(|(_, o)| BUILDING_TYPES.contains(&o.kind.as_str()))
         .map(|(id, _)| id.as_str())
-        .filter(|id| {
-            !only_listed || attributes.contains_key(super::root_of(model, &parents, id))
-        })
+        .filter(|id| !only_listed || attributes.contains_key(super::root_of(model, &parents, id)))
         .collect();
     let mut out = Vertices::new(model.transform, &model.vertices);
     let mut objects = Map::new();
@@ -214,7 +212,8 @@ impl<'a> Vertices<'a> {
             return Some(k);
         }
         let p = self.source.get(i)?;
-        let q = [0, 1, 2].map(|k| ((p[k] - self.transform.translate[k]) / self.transform.scale[k]).round());
+        let q = [0, 1, 2]
+            .map(|k| ((p[k] - self.transform.translate[k]) / self.transform.scale[k]).round());
         if !q.iter().all(|v| v.is_finite() && v.abs() < 9.0e15) {
             return None;
         }
