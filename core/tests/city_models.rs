@@ -302,7 +302,7 @@ fn attrs(k: f64) -> Attributes {
 fn completeness_models_are_valid_city_json_2() {
     let dir = temp_dir("written");
     if let Some(path) = real_file("3dbag_2buildings.city.json") {
-        let model = read_city_model(&[path.clone()]).unwrap();
+        let model = read_city_model(std::slice::from_ref(&path)).unwrap();
         let roots = model.roots();
         let root = roots["NL.IMBAG.Pand.0503100000028341-0"];
         assert_eq!(root, "NL.IMBAG.Pand.0503100000028341");
