@@ -8,6 +8,7 @@
 //!   [`mean_gt_distance`].
 //! - [`accuracy`]: the accuracy term [`mean_cloud_to_mesh`].
 //! - [`evaluation`]: both terms and completeness before/after a mission.
+//! - [`quality`]: per-building attributes of a mission for a city model.
 
 pub mod accuracy;
 pub mod completeness;
@@ -15,6 +16,7 @@ pub mod evaluation;
 mod ground_height;
 pub mod gt;
 mod nearest;
+pub mod quality;
 mod triangle_grid;
 mod winding;
 
@@ -30,3 +32,4 @@ pub use gt::{
     sample_building_surfaces_with,
 };
 pub use nearest::nearest_distances;
+pub use quality::{Mission, building_attributes};

@@ -18,7 +18,7 @@ pub enum SceneError {
         spec: String,
     },
     /// The file's extension names no scene format.
-    #[error("{}: unknown scene format (expected .obj, .ply, .json / .city.json, or `reference`)", path.display())]
+    #[error("{}: unknown scene format (expected .obj, .ply, .json / .city.json, .jsonl / .city.jsonl, a directory or comma list of those, or `reference`)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -49,6 +49,34 @@ pub enum SceneError {
         /// The cause, with its line or row.
         #[source]
         source: PlyMeshError,
+    },
+    /// Two city model tiles name different CRSs.
+    #[error(
+        "{}: its CRS `{crs}` differs from `{first_crs}` of {}: tiles must share one CRS (reproject one, e.g. with cjio's `crs_reproject`)",
+        path.display(),
+        first.display()
+    )]
+    TileCrs {
+        /// The first tile that named a CRS.
+        first: PathBuf,
+        /// Its CRS.
+        first_crs: String,
+        /// The tile that differs.
+        path: PathBuf,
+        /// Its CRS.
+        crs: String,
+    },
+    /// A directory given as a scene holds no city model files.
+    #[error("{}: no .json / .jsonl city model files in this directory", path.display())]
+    NoCityFiles {
+        /// The directory.
+        path: PathBuf,
+    },
+    /// A list of several scene files that are not all city models.
+    #[error("{}: only CityJSON / CityJSONSeq files load together as tiles of one scene", path.display())]
+    NotTile {
+        /// The file that is no city model.
+        path: PathBuf,
     },
     /// The CityJSON file is malformed.
     #[error("{}: {source}", path.display())]

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use super::cityjson::{CityJsonOptions, read_cityjson};
+use super::cityjson::{CityJsonOptions, city_files, is_city_file, read_city_files};
 use super::obj::{ObjOptions, read_obj};
 use super::ply_mesh::read_ply_mesh;
 use super::reference::{REFERENCE_SEED, reference_scene};
@@ -11,7 +11,10 @@ use super::{Scene, SceneError};
 /// Loads a scene from a spec:
 /// - `reference` or `reference:SEED` (decimal u64): the built-in scene;
 /// - otherwise a file path by extension (any case): `.obj`, `.ply`, `.json`
-///   (incl. `.city.json`, CityJSON), read with default options.
+///   (incl. `.city.json`, CityJSON) or `.jsonl` (CityJSONSeq), read with
+///   default options;
+/// - several city model files (tiles) as one scene: a comma-separated list
+///   or a directory of `.json` / `.jsonl` files.
 pub fn load_scene(spec: &str) -> Result<Scene, SceneError> {
     if spec == "reference" {
         return Ok(reference_scene(REFERENCE_SEED));
@@ -25,6 +28,13 @@ pub fn load_scene(spec: &str) -> Result<Scene, SceneError> {
             })?;
         return Ok(reference_scene(seed));
     }
+    if spec.contains(',') || Path::new(spec).is_dir() {
+        let files = city_files(spec)?;
+        if let Some(p) = files.iter().find(|p| !is_city_file(p) && p.exists()) {
+            return Err(SceneError::NotTile { path: p.clone() });
+        }
+        return read_city_files(&files, &CityJsonOptions::default());
+    }
     let path = Path::new(spec);
     let ext = path
         .extension()
@@ -34,7 +44,7 @@ pub fn load_scene(spec: &str) -> Result<Scene, SceneError> {
     match ext.as_str() {
         "obj" => read_obj(path, &ObjOptions::default()),
         "ply" => read_ply_mesh(path),
-        "json" => read_cityjson(path, &CityJsonOptions::default()),
+        "json" | "jsonl" => read_city_files(&[path.to_path_buf()], &CityJsonOptions::default()),
         _ => Err(SceneError::UnknownFormat {
             path: path.to_path_buf(),
         }),

@@ -13,7 +13,7 @@ use serde_json::json;
 use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
-use skyground_core::metrics::{Evaluation, completeness_of_cloud, evaluate};
+use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::scene::{Cropped, Scene, load_scene, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
@@ -24,6 +24,7 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 use tokio::process::{Child, Command};
 
 use super::aerial::survey_of;
+use super::city_model::write_completeness;
 use super::eval::{markdown, write_json};
 use crate::convert::diagnostics::value;
 use crate::convert::markers::markers_to_regions;
@@ -34,9 +35,11 @@ use crate::transport::{CloudSubscription, Received};
 /// Demo options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DemoArgs {
-    /// reference, reference:SEED, or a scene file (.obj, .ply, CityJSON .json).
-    #[arg(long, default_value = "reference")]
-    pub scene: String,
+    /// reference, reference:SEED, or a scene file (.obj, .ply, CityJSON .json,
+    /// CityJSONSeq .jsonl); city model tiles load as one scene: repeat
+    /// --scene, or give a directory or a comma-separated list.
+    #[arg(long = "scene", default_value = "reference")]
+    pub scenes: Vec<String>,
     /// One cluster of buildings of a large scene (written to OUT/scene.obj,
     /// which every node then loads).
     #[command(flatten)]
@@ -63,6 +66,13 @@ pub struct DemoArgs {
     /// Give footprints to the detector: for a CityJSON scene, its own buildings.
     #[arg(long)]
     pub footprints: Option<PathBuf>,
+}
+
+impl DemoArgs {
+    /// The scene spec every process loads (tiles joined by commas).
+    pub fn scene(&self) -> String {
+        self.scenes.join(",")
+    }
 }
 
 struct Proc {
@@ -219,7 +229,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let _ = std::fs::remove_file(&bag);
     eprintln!(
         "skyground demo: scene {}, output {}",
-        a.scene,
+        a.scene(),
         a.out.display()
     );
     let (scene_spec, scene, crop) = mission_scene(&a)?;
@@ -423,16 +433,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
 /// ground graph).
 fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
-    let Some(c) = super::crop::apply(&full, &a.scene, &a.crop)? else {
+    let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
+    let Some(c) = super::crop::apply(&full, &a.scene(), &a.crop)? else {
         // Uncropped yet too large: only `--crop none` gets here.
         if let Some(why) = super::crop::too_large(&full) {
             return Err(err(format!(
                 "scene {}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
-                a.scene, a.crop.crop_size
+                a.scene(),
+                a.crop.crop_size
             )));
         }
-        return Ok((a.scene.clone(), full, None));
+        return Ok((a.scene(), full, None));
     };
     let path = a.out.join("scene.obj");
     write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
@@ -475,10 +486,23 @@ fn report(
     }
     write_cloud(&a.out.join("resampled.las"), &merged).map_err(|e| err(e.to_string()))?;
     let e = evaluate(&prior.scene, &prior.gt, &prior.cloud, &merged, prior.tau);
+    let mission = Mission {
+        targets: &w.targets,
+        rounds: w.rounds_driven(),
+    };
+    let city = write_completeness(
+        &a.out,
+        &a.scene(),
+        &prior.scene,
+        crop,
+        &e,
+        prior.gt.spacing,
+        Some(mission),
+    )?;
     let bag_bytes = std::fs::metadata(a.out.join("mission.mcap")).map_or(0, |m| m.len());
     let wall = t0.elapsed().as_secs_f64();
     let value = json!({
-        "scene": a.scene,
+        "scene": a.scene(),
         "crop": crop.map(super::crop::to_json),
         "finished": finished,
         "ended_because": why,
@@ -509,12 +533,12 @@ fn report(
     let title = match crop {
         Some(c) => format!(
             "skyground demo: {}, crop {} ({} of {} buildings)",
-            a.scene,
+            a.scene(),
             c.window,
             c.buildings.len(),
             c.buildings_total
         ),
-        None => format!("skyground demo: {}", a.scene),
+        None => format!("skyground demo: {}", a.scene()),
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
@@ -565,6 +589,10 @@ fn report(
         w.rounds_driven(),
         w.odometer,
         a.out.join("report.json").display()
+    );
+    eprintln!(
+        "  per-building figures in the city model: {}",
+        city.display()
     );
     Ok(e)
 }

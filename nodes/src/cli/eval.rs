@@ -30,7 +30,7 @@ pub struct EvalArgs {
     /// Spacing of the ground-truth samples, m.
     #[arg(long, default_value_t = 0.25)]
     pub gt_spacing: f32,
-    /// Also write DIR/eval.json and DIR/eval.md.
+    /// Also write DIR/eval.json, DIR/eval.md and DIR/completeness.city.json.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Print the evaluation as JSON on stdout.
@@ -96,6 +96,15 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
             markdown(&e, &format!("skyground eval: {}", a.scene)),
         )
         .map_err(|e| err(format!("{}: {e}", dir.display())))?;
+        super::city_model::write_completeness(
+            dir,
+            &a.scene,
+            scene,
+            crop.as_ref(),
+            &e,
+            gt.spacing,
+            None,
+        )?;
     }
     if !a.json {
         eprintln!("{}", markdown(&e, &format!("skyground eval: {}", a.scene)));

@@ -3,6 +3,7 @@
 
 pub mod aerial;
 pub mod bench;
+pub mod city_model;
 pub mod classify;
 pub mod crop;
 pub mod demo;

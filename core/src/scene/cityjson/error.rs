@@ -21,7 +21,9 @@ pub enum CityJsonError {
         found: String,
     },
     /// A version other than 1.x or 2.x.
-    #[error("unsupported CityJSON version `{version}` (1.0, 1.1 and 2.0 are read)")]
+    #[error(
+        "unsupported CityJSON version `{version}` (1.0, 1.1 and 2.0 are read; cjio upgrades older files)"
+    )]
     Version {
         /// The version found.
         version: String,
@@ -58,6 +60,21 @@ pub enum CityJsonError {
         vertex: usize,
     },
     /// No Building or BuildingPart has usable surface geometry.
-    #[error("no Building/BuildingPart with Solid, MultiSurface or CompositeSurface geometry")]
-    NoBuildings,
+    #[error(
+        "no Building/BuildingPart with Solid, MultiSurface or CompositeSurface geometry ({ground_objects} ground objects): skyground completes buildings, give it a model with buildings"
+    )]
+    NoBuildings {
+        /// Ground objects (roads, land use, relief) found instead.
+        ground_objects: usize,
+    },
+    /// A CityJSONSeq line after the header is not a `CityJSONFeature`.
+    #[error(
+        "line {line}: a CityJSONSeq line after the header must be a CityJSONFeature (type is `{found}`)"
+    )]
+    NotFeature {
+        /// 1-based line.
+        line: usize,
+        /// The `type` found.
+        found: String,
+    },
 }

@@ -5,10 +5,10 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use serde_json::Value;
 
-/// A CityJSON document (unknown members are ignored).
-#[derive(Debug, Deserialize)]
+/// A CityJSON document or one CityJSONSeq line (unknown members are ignored).
+#[derive(Debug, Default, Deserialize)]
 pub struct Document {
-    /// Must be `CityJSON`.
+    /// `CityJSON` (a file, or a CityJSONSeq header) or `CityJSONFeature`.
     #[serde(rename = "type")]
     pub kind: String,
     /// `1.0`, `1.1`, `2.0`.
@@ -23,10 +23,25 @@ pub struct Document {
     /// Vertex decompression.
     #[serde(default)]
     pub transform: Option<Transform>,
+    /// `metadata` as written (`referenceSystem` names the CRS).
+    #[serde(default)]
+    pub metadata: Option<Value>,
+}
+
+impl Document {
+    /// The CRS the file names (`metadata.referenceSystem`), if any.
+    pub fn reference_system(&self) -> Option<&str> {
+        self.metadata
+            .as_ref()?
+            .get("referenceSystem")?
+            .as_str()
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+    }
 }
 
 /// `transform`: real = stored × scale + translate.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, serde::Serialize)]
 pub struct Transform {
     /// Per-axis scale.
     pub scale: [f64; 3],
@@ -35,7 +50,7 @@ pub struct Transform {
 }
 
 /// One city object.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct CityObject {
     /// `Building`, `BuildingPart`, `Road`, ...
     #[serde(rename = "type")]
@@ -49,10 +64,13 @@ pub struct CityObject {
     /// Child ids (a Building's parts).
     #[serde(default)]
     pub children: Vec<String>,
+    /// Attributes as written.
+    #[serde(default)]
+    pub attributes: Option<Value>,
 }
 
 /// One geometry of a city object.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct Geometry {
     /// `Solid`, `MultiSurface`, ...
     #[serde(rename = "type")]
@@ -63,6 +81,9 @@ pub struct Geometry {
     /// Nested arrays of vertex indices.
     #[serde(default)]
     pub boundaries: Value,
+    /// Semantic surfaces (`surfaces` and `values`) as written.
+    #[serde(default)]
+    pub semantics: Option<Value>,
 }
 
 impl Geometry {
@@ -73,6 +94,17 @@ impl Geometry {
             Some(Value::String(s)) => s.trim().parse().unwrap_or(0.0),
             _ => 0.0,
         }
+    }
+
+    /// The semantic type (`RoofSurface`, `GroundSurface`, ...) of semantic
+    /// surface `index`, if any.
+    pub fn semantic_type(&self, index: u64) -> Option<&str> {
+        self.semantics
+            .as_ref()?
+            .get("surfaces")?
+            .get(usize::try_from(index).ok()?)?
+            .get("type")?
+            .as_str()
     }
 
     /// How many array levels sit above the surfaces, for the surface types

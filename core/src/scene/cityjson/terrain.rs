@@ -1,12 +1,20 @@
-//! A ground surface under loaded buildings: a regular grid over each
-//! building's footprint box plus a margin, at the buildings' base heights.
+//! A ground surface around loaded buildings: a regular grid over each
+//! building's footprint box plus a margin, through the buildings' base
+//! vertices (and any ground surface vertices the file has).
 //!
-//! Height at a grid vertex: inside one or more footprint boxes, the highest
-//! of their bases (so no wall floats above the ground); outside, an inverse
-//! distance blend of the nearby bases (flat near each building, smooth in
-//! between). Buildings far apart (a city-wide sample) get separate patches.
+//! Height at a grid vertex: inside the convex hull of the base samples, the
+//! Delaunay (barycentric) interpolation of their heights, so the ground
+//! follows a sloped street along the walls; outside, the height at the
+//! nearest point of the hull (continuous across it). Vertices more than a
+//! cell away from every footprint box are then smoothed. Without samples
+//! (or with fewer than three not in a line) every vertex takes an
+//! inverse-distance blend of the buildings' bases: inside one or more
+//! footprint boxes the highest of their bases, so no wall floats. Buildings
+//! far apart (a city-wide sample) get separate patches.
 
 use std::collections::{BTreeSet, HashMap};
+
+use spade::{DelaunayTriangulation, FloatTriangulation, HasPosition, Point2, Triangulation};
 
 use crate::scene::builder::MeshPart;
 
@@ -36,6 +44,10 @@ pub struct TerrainOptions {
     pub margin: f64,
     /// Grid cell size, metres (grown when the grid would exceed 4 M cells).
     pub cell: f64,
+    /// Smoothing passes over the vertices away from the buildings.
+    pub smoothing: usize,
+    /// The surface is lowered by this much, metres (under a file's own ground).
+    pub drop: f64,
 }
 
 impl Default for TerrainOptions {
@@ -43,15 +55,97 @@ impl Default for TerrainOptions {
         Self {
             margin: 30.0,
             cell: 2.0,
+            smoothing: 8,
+            drop: 0.0,
         }
+    }
+}
+
+/// A base sample for the Delaunay triangulation: its xy and height.
+struct Sample {
+    at: Point2<f64>,
+    z: f64,
+}
+
+impl HasPosition for Sample {
+    type Scalar = f64;
+
+    fn position(&self) -> Point2<f64> {
+        self.at
+    }
+}
+
+/// Heights through base samples: Delaunay inside their convex hull, the
+/// nearest point of the hull outside (continuous across it).
+struct Surface {
+    tri: DelaunayTriangulation<Sample>,
+    /// Hull edges: ends and their heights.
+    hull: Vec<([f64; 2], f64, [f64; 2], f64)>,
+}
+
+impl Surface {
+    /// The triangulation of `samples`, `None` when it has no triangle.
+    fn new(samples: &[[f64; 3]]) -> Option<Self> {
+        let mut tri = DelaunayTriangulation::<Sample>::new();
+        for p in samples {
+            if p.iter().all(|v| v.is_finite()) {
+                // Duplicate xy positions keep one sample: a wall's base.
+                let _ = tri.insert(Sample {
+                    at: Point2::new(p[0], p[1]),
+                    z: p[2],
+                });
+            }
+        }
+        if tri.num_inner_faces() == 0 {
+            return None;
+        }
+        let hull = tri
+            .convex_hull()
+            .map(|e| {
+                let [a, b] = e.vertices().map(|v| (v.position(), v.data().z));
+                ([a.0.x, a.0.y], a.1, [b.0.x, b.0.y], b.1)
+            })
+            .collect();
+        Some(Self { tri, hull })
+    }
+
+    fn height(&self, x: f64, y: f64) -> f64 {
+        if let Some(z) = self
+            .tri
+            .barycentric()
+            .interpolate(|v| v.data().z, Point2::new(x, y))
+        {
+            return z;
+        }
+        let mut best = (f64::INFINITY, 0.0);
+        for (a, za, b, zb) in &self.hull {
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let t = if len2 > 0.0 {
+                (((x - a[0]) * d[0] + (y - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let (px, py) = (a[0] + t * d[0] - x, a[1] + t * d[1] - y);
+            let dist2 = px * px + py * py;
+            if dist2 < best.0 {
+                best = (dist2, za + t * (zb - za));
+            }
+        }
+        best.1
     }
 }
 
 const MAX_CELLS: usize = 4_000_000;
 const BUCKET: f64 = 128.0;
 
-/// The ground mesh under `footprints` (empty when there are none).
-pub fn terrain_around(footprints: &[Footprint], options: &TerrainOptions) -> MeshPart {
+/// The ground mesh around `footprints` through the base `samples` (empty
+/// when there are no footprints).
+pub fn terrain_around(
+    footprints: &[Footprint],
+    samples: &[[f64; 3]],
+    options: &TerrainOptions,
+) -> MeshPart {
     let mut m = MeshPart::default();
     let margin = if options.margin.is_finite() {
         options.margin.max(0.0)
@@ -96,11 +190,16 @@ pub fn terrain_around(footprints: &[Footprint], options: &TerrainOptions) -> Mes
         }
     }
     let near = Buckets::new(footprints, margin + 2.0 * cell);
+    let surface = Surface::new(samples);
     let mut ids: HashMap<(i64, i64), u32> = HashMap::new();
     let mut vertex = |m: &mut MeshPart, i: i64, j: i64| -> u32 {
         *ids.entry((i, j)).or_insert_with(|| {
             let (x, y) = (x0 + i as f64 * cell, y0 + j as f64 * cell);
-            m.vertex([x, y, near.height(footprints, x, y)])
+            let z = match &surface {
+                Some(s) => s.height(x, y),
+                None => near.height(footprints, x, y),
+            };
+            m.vertex([x, y, z])
         })
     };
     for &(j, i) in &cells {
@@ -111,7 +210,54 @@ pub fn terrain_around(footprints: &[Footprint], options: &TerrainOptions) -> Mes
         m.triangle(v00, v10, v11);
         m.triangle(v00, v11, v01);
     }
+    if surface.is_some() {
+        smooth(&mut m, &ids, footprints, cell, options.smoothing);
+    }
+    if options.drop.is_finite() && options.drop > 0.0 {
+        for p in &mut m.vertices {
+            p[2] -= options.drop;
+        }
+    }
     m
+}
+
+/// Averages each grid vertex more than a cell away from every footprint box
+/// with its four neighbours, `passes` times (Jacobi).
+fn smooth(
+    m: &mut MeshPart,
+    ids: &HashMap<(i64, i64), u32>,
+    footprints: &[Footprint],
+    cell: f64,
+    passes: usize,
+) {
+    let near = Buckets::new(footprints, cell);
+    let free: Vec<(u32, [Option<u32>; 4])> = ids
+        .iter()
+        .filter(|&(_, &v)| {
+            let p = m.vertices[v as usize];
+            !near.within(footprints, p[0], p[1], cell)
+        })
+        .map(|(&(i, j), &v)| {
+            let n = [(i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)].map(|k| ids.get(&k).copied());
+            (v, n)
+        })
+        .collect();
+    for _ in 0..passes {
+        let next: Vec<f64> = free
+            .iter()
+            .map(|(v, n)| {
+                let (mut sum, mut count) = (m.vertices[*v as usize][2], 1.0);
+                for k in n.iter().flatten() {
+                    sum += m.vertices[*k as usize][2];
+                    count += 1.0;
+                }
+                sum / count
+            })
+            .collect();
+        for ((v, _), z) in free.iter().zip(next) {
+            m.vertices[*v as usize][2] = z;
+        }
+    }
 }
 
 /// Footprints registered in square buckets, for finding those near a point.
@@ -131,6 +277,14 @@ impl Buckets {
             }
         }
         Self { map }
+    }
+
+    /// True when `(x, y)` lies within `reach` of a registered footprint box.
+    fn within(&self, footprints: &[Footprint], x: f64, y: f64, reach: f64) -> bool {
+        let key = ((x / BUCKET).floor() as i64, (y / BUCKET).floor() as i64);
+        self.map
+            .get(&key)
+            .is_some_and(|c| c.iter().any(|&k| footprints[k].distance(x, y) <= reach))
     }
 
     fn height(&self, footprints: &[Footprint], x: f64, y: f64) -> f64 {
@@ -186,7 +340,7 @@ mod tests {
             max: [10.0, 6.0],
             base: 400.0,
         };
-        let m = terrain_around(&[f], &TerrainOptions::default());
+        let m = terrain_around(&[f], &[], &TerrainOptions::default());
         assert!(!m.triangles.is_empty());
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in &m.vertices {
@@ -198,9 +352,70 @@ mod tests {
         }
         assert!(lo[0] <= -30.0 && lo[1] <= -30.0 && hi[0] >= 40.0 && hi[1] >= 36.0);
         assert!(
-            terrain_around(&[], &TerrainOptions::default())
+            terrain_around(&[], &[], &TerrainOptions::default())
                 .triangles
                 .is_empty()
         );
+    }
+
+    /// A building on a street that climbs 1 m per 10 m in x: its base
+    /// vertices are on the slope.
+    fn sloped() -> (Footprint, Vec<[f64; 3]>) {
+        let f = Footprint {
+            min: [0.0, 0.0],
+            max: [20.0, 10.0],
+            base: 100.0,
+        };
+        let corners = [
+            [0.0, 0.0],
+            [20.0, 0.0],
+            [20.0, 10.0],
+            [0.0, 10.0],
+            [10.0, 0.0],
+            [10.0, 10.0],
+        ];
+        let samples = corners.map(|[x, y]| [x, y, 100.0 + x / 10.0]).to_vec();
+        (f, samples)
+    }
+
+    #[test]
+    fn ground_follows_sloped_base_vertices() {
+        let (f, samples) = sloped();
+        let m = terrain_around(&[f], &samples, &TerrainOptions::default());
+        let at = |x: f64, y: f64| {
+            m.vertices
+                .iter()
+                .find(|p| (p[0] - x).abs() < 1e-9 && (p[1] - y).abs() < 1e-9)
+                .map(|p| p[2])
+        };
+        // Along the walls the ground is at the base vertices' heights.
+        for [x, y, z] in &samples {
+            let g = at(*x, *y).unwrap_or(f64::NAN);
+            assert!((g - z).abs() < 1e-9, "ground {g} at ({x}, {y}), base {z}");
+        }
+        assert!((at(4.0, 0.0).unwrap_or(f64::NAN) - 100.4).abs() < 1e-9);
+        // Far away it stays within the bases' range and changes smoothly.
+        let heights: Vec<f64> = m.vertices.iter().map(|p| p[2]).collect();
+        assert!(heights.iter().all(|z| (99.99..=102.01).contains(z)));
+        for t in &m.triangles {
+            let z = t.map(|i| m.vertices[i as usize][2]);
+            let spread = z.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b))
+                - z.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+            assert!(spread < 0.5, "step of {spread} m in one 2 m cell");
+        }
+    }
+
+    #[test]
+    fn lowered_under_a_files_own_ground() {
+        let (f, samples) = sloped();
+        let options = TerrainOptions {
+            drop: 0.05,
+            ..TerrainOptions::default()
+        };
+        let low = terrain_around(&[f], &samples, &options);
+        let high = terrain_around(&[f], &samples, &TerrainOptions::default());
+        for (a, b) in low.vertices.iter().zip(&high.vertices) {
+            assert!((b[2] - a[2] - 0.05).abs() < 1e-9);
+        }
     }
 }

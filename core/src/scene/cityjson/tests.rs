@@ -37,7 +37,8 @@ fn highest_lod_parts_merged_holes_triangulated() {
         .iter()
         .map(|o| (o.name.as_str(), o.building))
         .collect();
-    assert_eq!(names, [("b1", 1), ("b1-p", 1), ("terrain", 0)]);
+    // The road is ground; the built terrain sits 5 cm under it.
+    assert_eq!(names, [("b1", 1), ("b1-p", 1), ("road", 0), ("terrain", 0)]);
     assert_eq!(s.origin, [84000.0, 447000.0, 1.0]);
     // LoD2 box: 5 quads (10 triangles) + a wall with a window (8 triangles).
     assert_eq!(s.object_triangles(0).count(), 18);
@@ -62,10 +63,16 @@ fn highest_lod_parts_merged_holes_triangulated() {
         .unwrap_or_default();
     assert_eq!(lo, [0.5, 0.25, 0.0]);
     let (glo, ghi) = s.bounds_of(|k| k == ObjectKind::Ground).unwrap_or_default();
-    assert!(glo[0] <= -29.0 && ghi[0] >= 51.0 && glo[2] == 0.0 && ghi[2] == 0.0);
+    assert!(glo[0] <= -29.0 && ghi[0] >= 51.0, "{glo:?} {ghi:?}");
+    assert!(
+        (glo[2] + 0.05).abs() < 1e-6 && ghi[2] == 0.0,
+        "{glo:?} {ghi:?}"
+    );
     let no_ground = CityJsonOptions { terrain: None };
     let s = parse_cityjson(doc("1.1").as_bytes(), &no_ground).unwrap_or_default();
-    assert_eq!(s.object_count(ObjectKind::Ground), 0);
+    // Only the file's own ground (the road), nothing built.
+    assert_eq!(s.object_count(ObjectKind::Ground), 1);
+    assert!(!s.objects.iter().any(|o| o.name == "terrain"));
 }
 
 #[test]
@@ -73,7 +80,7 @@ fn parts_found_through_children_alone() {
     let text = doc("1.1").replace("\"parents\": [\"b1\"], ", "");
     let s = parse_cityjson(text.as_bytes(), &CityJsonOptions { terrain: None }).unwrap_or_default();
     assert_eq!(s.building_count(), 1);
-    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.object_count(ObjectKind::Building), 2);
 }
 
 #[test]
@@ -124,10 +131,171 @@ fn errors_are_typed() {
         Some(CityJsonError::Boundaries { .. })
     ));
     let nothing = r#"{"type": "CityJSON", "version": "2.0", "CityObjects": {}, "vertices": []}"#;
-    assert_eq!(err(nothing), Some(CityJsonError::NoBuildings));
+    assert_eq!(
+        err(nothing),
+        Some(CityJsonError::NoBuildings { ground_objects: 0 })
+    );
     let huge = doc("2.0").replace(
         "\"scale\": [0.001, 0.001, 0.001]",
         "\"scale\": [1e308, 1e308, 1e308]",
     );
     assert!(matches!(err(&huge), Some(CityJsonError::NonFinite { .. })));
+}
+
+/// A CityJSONSeq stream of `doc`: the header, then one feature per building
+/// with its own vertices.
+fn seq(version: &str) -> String {
+    let d: serde_json::Value = serde_json::from_str(&doc(version)).unwrap_or_default();
+    let header = serde_json::json!({"type": "CityJSON", "version": version,
+        "transform": d["transform"], "CityObjects": {}, "vertices": []});
+    let v = d["vertices"].as_array().cloned().unwrap_or_default();
+    let feature = serde_json::json!({"type": "CityJSONFeature", "id": "b1",
+        "CityObjects": {"b1": d["CityObjects"]["b1"], "b1-p": d["CityObjects"]["b1-p"]},
+        "vertices": v});
+    // A second feature whose object indexes its own vertices from 0.
+    let second = serde_json::json!({"type": "CityJSONFeature", "id": "b2",
+        "CityObjects": {"b2": {"type": "Building", "geometry": [
+            {"type": "MultiSurface", "lod": "1.2", "boundaries": [[[0, 1, 2]]]}]}},
+        "vertices": [[50000, 0, 0], [51000, 0, 0], [50000, 1000, 0]]});
+    format!("{header}\n{feature}\n\n{second}\n")
+}
+
+#[test]
+fn city_json_seq_features_keep_their_own_vertices() {
+    let no_ground = CityJsonOptions { terrain: None };
+    let s = parse_cityjson(seq("2.0").as_bytes(), &no_ground).unwrap_or_default();
+    assert_eq!(s.building_count(), 2);
+    let whole = parse_cityjson(doc("2.0").as_bytes(), &no_ground).unwrap_or_default();
+    // b1 and its part as in the whole file; b2 (its own vertex 0) 50 m east.
+    assert_eq!(
+        s.object_triangles(0).count(),
+        whole.object_triangles(0).count()
+    );
+    let b2 = s.objects.iter().position(|o| o.name == "b2").unwrap_or(0) as u32;
+    let t = s.object_triangles(b2).next().unwrap_or(0);
+    let [a, _, _] = s.triangle_corners(t).unwrap_or_default();
+    assert_eq!(a[0], 50.0 + 84000.5 - 84000.0);
+    let mut bad = seq("2.0");
+    let at = bad.rfind("CityJSONFeature").unwrap_or(0);
+    bad.replace_range(at..at + "CityJSONFeature".len(), "Feature");
+    assert_eq!(
+        parse_cityjson(bad.as_bytes(), &no_ground).err(),
+        Some(CityJsonError::NotFeature {
+            line: 4,
+            found: "Feature".into()
+        })
+    );
+    let past_range = seq("2.0")
+        .replace("[[[0, 1, 2]]]", "[[[0, 1, 3]]]")
+        .replace("[[[0,1,2]]]", "[[[0,1,3]]]");
+    assert!(matches!(
+        parse_cityjson(past_range.as_bytes(), &no_ground).err(),
+        Some(CityJsonError::VertexIndex {
+            index: 3,
+            vertices: 3,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn ground_stands_on_the_base_vertices() {
+    // b1's lowest vertices are at z = 1 (stored 0): the ground under and
+    // around it is there too.
+    let s = parse_cityjson(
+        doc("2.0")
+            .replace(
+                "\"road\": {\"type\": \"Road\"",
+                "\"road\": {\"type\": \"Bridge\"",
+            )
+            .as_bytes(),
+        &CityJsonOptions::default(),
+    )
+    .unwrap_or_default();
+    assert_eq!(s.object_count(ObjectKind::Ground), 1);
+    let (glo, ghi) = s.bounds_of(|k| k == ObjectKind::Ground).unwrap_or_default();
+    assert!(
+        glo[2].abs() < 1e-6 && ghi[2].abs() < 1e-6,
+        "{glo:?} {ghi:?}"
+    );
+}
+
+#[test]
+fn base_vertices_are_under_walls() {
+    // A box (0..10, z 0..5) with a tower (4..6, z 5..9) standing on its roof,
+    // and a roof ridge vertex with nothing under it.
+    let v = [
+        [0.0, 0.0, 0.0],
+        [10.0, 0.0, 0.0],
+        [0.0, 0.0, 5.0],
+        [10.0, 0.0, 5.0],
+        [4.0, 4.0, 5.0],
+        [4.0, 4.0, 9.0],
+        [5.0, 5.0, 7.0],
+    ];
+    let used: Vec<usize> = (0..v.len()).collect();
+    assert_eq!(base_vertices(&used, &v), [0, 1]);
+}
+
+#[test]
+fn written_model_keeps_buildings_and_adds_attributes() {
+    let text = doc("1.1").replace("\"type\": \"Road\"", "\"type\": \"Bridge\"");
+    let model = parse_city_model(text.as_bytes()).unwrap_or_default();
+    let mut attrs = std::collections::BTreeMap::new();
+    let mut a = Attributes::new();
+    a.insert(
+        "skyground_completeness_after".into(),
+        serde_json::json!(0.97),
+    );
+    attrs.insert("b1".to_string(), a);
+    let out = annotated_model(&model, &attrs, false);
+    assert_eq!(out["version"], "2.0");
+    assert_eq!(
+        out["CityObjects"]["b1"]["attributes"]["skyground_completeness_after"],
+        0.97
+    );
+    assert_eq!(
+        out["CityObjects"]["b1-p"]["parents"],
+        serde_json::json!(["b1"])
+    );
+    assert_eq!(
+        out["CityObjects"]["b1"]["children"],
+        serde_json::json!(["b1-p"])
+    );
+    assert!(out["CityObjects"].get("road").is_none());
+    // Both of b1's geometries, same transform: the same integers come back.
+    assert_eq!(
+        out["CityObjects"]["b1"]["geometry"]
+            .as_array()
+            .map(Vec::len),
+        Some(2)
+    );
+    assert_eq!(
+        out["transform"]["translate"],
+        serde_json::json!([84000.5, 447000.25, 1.0])
+    );
+    let again = parse_cityjson(
+        out.to_string().as_bytes(),
+        &CityJsonOptions { terrain: None },
+    )
+    .unwrap_or_default();
+    let first =
+        parse_cityjson(text.as_bytes(), &CityJsonOptions { terrain: None }).unwrap_or_default();
+    assert_eq!(again.vertices.len(), first.vertices.len());
+    assert_eq!(again.triangles, first.triangles);
+    assert_eq!(again.origin, first.origin);
+}
+
+#[test]
+fn crs_names_compare_by_code() {
+    assert_eq!(
+        crs_key("https://www.opengis.net/def/crs/EPSG/0/7415"),
+        "EPSG:7415"
+    );
+    assert_eq!(crs_key("urn:ogc:def:crs:EPSG::7415"), "EPSG:7415");
+    assert_eq!(
+        crs_url("EPSG:2056"),
+        "https://www.opengis.net/def/crs/EPSG/0/2056"
+    );
+    assert_ne!(crs_key("EPSG:2056"), crs_key("EPSG:7415"));
 }
