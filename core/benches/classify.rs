@@ -10,9 +10,13 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput};
-use skyground_core::classify::{Model, classify, hag_from_ground_points, simulated_cloud};
+use skyground_core::classify::{
+    Model, SceneClassifier, classify, hag_from_ground_points, simulated_cloud,
+};
 use skyground_core::cloud::class::GROUND;
+use skyground_core::cloud::read_cloud;
 use skyground_core::features::{Echoes, compute};
+use skyground_core::ground::CsfParams;
 use skyground_core::lidar::AirborneConfig;
 use skyground_core::scene::REFERENCE_SEED;
 
@@ -57,6 +61,79 @@ fn benches(c: &mut Criterion) {
     });
     g.bench_function("features_all_1M", |b| {
         b.iter(|| compute(black_box(&xyz), &hag, echoes, &model.feature_params).map(|f| f.len()))
+    });
+    g.finish();
+    real_million(c);
+}
+
+/// 1 M real points: the two AHN3 Delft tiles (848,942 points, in one frame)
+/// and IGN Montpellier's first points set beside them, through the whole
+/// classifier (CSF, features, forest, smoothing) with the shipped model.
+fn real_million(c: &mut Criterion) {
+    let dir = std::env::var_os("SKYGROUND_REAL_DATA").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/real"),
+        PathBuf::from,
+    );
+    let files = [
+        "ahn3_delft_1.laz",
+        "ahn3_delft_2.laz",
+        "ign_montpellier_150x100m.laz",
+    ];
+    let mut clouds = Vec::new();
+    for f in files {
+        match read_cloud(&dir.join(f)) {
+            Ok(cloud) => clouds.push(cloud),
+            Err(e) => {
+                println!("SKIPPED classify_real_1M: {f}: {e}");
+                return;
+            }
+        }
+    }
+    let mut all = clouds[0].clone();
+    for (k, cloud) in clouds.iter().enumerate().skip(1) {
+        // AHN3 tiles share a CRS; Montpellier goes 500 m east of them.
+        let shift: [f32; 3] = std::array::from_fn(|i| {
+            let same_crs = (cloud.origin[i] - all.origin[i]) as f32;
+            if k == 2 {
+                [500.0, 0.0, 0.0][i]
+            } else {
+                same_crs
+            }
+        });
+        let room = POINTS.saturating_sub(all.len());
+        let rows: Vec<usize> = (0..cloud.len().min(room)).collect();
+        let mut part = cloud.subset(&rows);
+        part.xyz
+            .iter_mut()
+            .for_each(|p| (0..3).for_each(|i| p[i] += shift[i]));
+        part.origin = all.origin;
+        all.xyz.extend(part.xyz);
+        for (a, b) in [
+            (&mut all.return_number, part.return_number),
+            (&mut all.number_of_returns, part.number_of_returns),
+            (&mut all.label, part.label),
+        ] {
+            if let (Some(a), Some(b)) = (a.as_mut(), b) {
+                a.extend(b);
+            }
+        }
+    }
+    all.intensity = None;
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    let model = Model::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let classifier =
+        SceneClassifier::new(CsfParams::default(), model).unwrap_or_else(|e| panic!("{e}"));
+    println!("{} real points", all.len());
+    let mut g = c.benchmark_group("classify");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(60));
+    g.throughput(Throughput::Elements(all.len() as u64));
+    g.bench_function("classify_real_1M", |b| {
+        b.iter(|| {
+            classifier
+                .classify_cloud(black_box(&all))
+                .map(|c| c.labels.len())
+        })
     });
     g.finish();
 }
