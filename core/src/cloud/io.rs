@@ -159,6 +159,7 @@ mod tests {
             label: Some(vec![2, 6]),
             building: Some(vec![0, 42]),
             origin: [637_000.0, 849_000.0, 0.0],
+            crs: None,
         }
     }
 

@@ -31,6 +31,7 @@ pub fn tilted_plane(n: usize) -> Cloud {
         label: Some(label),
         building: Some(building),
         origin: [0.0; 3],
+        crs: None,
     }
 }
 

@@ -166,6 +166,7 @@ impl ScanPoints {
             label: Some(self.label.clone()),
             building: Some(self.building.clone()),
             origin,
+            crs: None,
         }
     }
 }

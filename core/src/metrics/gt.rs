@@ -119,6 +119,7 @@ impl GtSamples {
             label: Some(self.kind.iter().map(|k| k.code()).collect()),
             building: Some(self.building.clone()),
             origin: self.origin,
+            crs: None,
         }
     }
 

@@ -17,6 +17,7 @@ fn sample_cloud() -> Cloud {
         label: Some(vec![2, 6, 255]),
         building: Some(vec![0, 7, u32::MAX]),
         origin: [637_000.0, 849_000.5, -12.0],
+        crs: None,
     }
 }
 

@@ -118,6 +118,7 @@ pub fn read_vertices<R: Rows>(
         label: column(plan, Role::Label, capacity),
         building: column(plan, Role::Building, capacity),
         origin: origin.unwrap_or_default(),
+        crs: None,
     };
     let mut values = [0.0f64; 6];
     let mut shift = [0.0f64; 3];
