@@ -32,7 +32,7 @@ pub fn targets_geojson(targets: &TargetSet, detection: &Detection, frame: &Sourc
     let mut features = Vec::new();
     for (i, t) in targets.points.iter().enumerate() {
         let b = building(t.building);
-        let missing: &[MissingPoint] = b.map_or(&[], |b| &b.missing);
+        let missing: &[MissingPoint] = b.map_or(&[][..], |b| b.missing.as_slice());
         let nearest = missing
             .iter()
             .map(|m| {

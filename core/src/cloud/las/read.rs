@@ -36,6 +36,7 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
         label: Some(Vec::with_capacity(capacity)),
         building: building_at.map(|_| Vec::with_capacity(capacity)),
         origin: [0.0; 3],
+        crs: None,
     };
     let mut origin = header_origin(&header);
     let mut index = 0u64;

@@ -83,7 +83,7 @@ fn crs_vlrs(cloud: &Cloud) -> Vec<Vlr> {
         return crs
             .wkt
             .iter()
-            .map(|w| vlr(WKT_RECORD, "OGC WKT", [w.as_bytes(), b"\0"].concat()))
+            .map(|w| vlr(WKT_RECORD, "OGC WKT", [w.as_bytes(), &[0u8][..]].concat()))
             .collect();
     }
     crs.las_records
