@@ -149,10 +149,13 @@ mod tests {
         assert_eq!(nice_length(2.0), 2.0);
     }
 
-    /// Black pixels in row `row` between columns `from..to`.
+    /// The first run of black pixels in row `row` (the bar, before its label).
     fn ink(c: &Canvas, row: u32, from: u32, to: u32) -> Vec<u32> {
-        (from..to)
-            .filter(|&x| c.pixel(x, row) == Some(INK))
+        let start = (from..to)
+            .find(|&x| c.pixel(x, row) == Some(INK))
+            .unwrap_or(to);
+        (start..to)
+            .take_while(|&x| c.pixel(x, row) == Some(INK))
             .collect()
     }
 
@@ -167,13 +170,16 @@ mod tests {
             c.furnish(&[([255, 0, 0], "missing wall")], &unit);
             let s = c.text_scale();
             let (_, h) = c.size();
-            let row = u32::try_from(i64::from(h) - 14 * s).unwrap();
+            // The bar's bottom row: black end to end (the quarters are white above it).
+            let row = u32::try_from(i64::from(h) - 14 * s + 2 * s).unwrap();
             let black = ink(&c, row, 0, 600);
             let (first, last) = (*black.first().unwrap(), *black.last().unwrap());
             let got = f64::from(last - first + 1);
+            // The end ticks stick out half their width (s) on each side.
+            let bar = got - s as f64;
             assert!(
-                (got - want_px).abs() <= 2.0,
-                "{unit}: bar {got} px, want {want_px}"
+                (bar - want_px).abs() <= 1.5,
+                "{unit}: bar {bar} px, want {want_px}"
             );
             // Legend swatch in red near the top left; north arrow's shaft top right.
             let sw = u32::try_from(4 * s + 2 * s + 1).unwrap();

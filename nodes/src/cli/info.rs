@@ -195,7 +195,8 @@ fn scene(path: &Path, crs: Option<JsonCrs>) -> Result<Value, RuntimeError> {
         let min = [0, 1, 2].map(|k| s.origin[k] + f64::from(lo[k]));
         let max = [0, 1, 2].map(|k| s.origin[k] + f64::from(hi[k]));
         let size = [0, 1, 2].map(|k| max[k] - min[k]);
-        json!({"min": min, "max": max, "size": size, "size_m": [0, 1, 2].map(|k| size[k] * f[k])})
+        let size_m = [0, 1, 2].map(|k| size[k] * f[k]);
+        json!({"min": min, "max": max, "size": size, "size_m": size_m})
     });
     Ok(json!({
         "file": path,
