@@ -121,8 +121,8 @@ impl Cloud {
                 p[k] = (f64::from(p[k]) * r[k]) as f32;
             }
         }
-        for k in 0..3 {
-            self.origin[k] *= r[k];
+        for (o, r) in self.origin.iter_mut().zip(r) {
+            *o *= r;
         }
     }
 

@@ -141,8 +141,8 @@ fn same_projection(proj4: &str, method: &str, units: &str, params: &[(&str, f64)
     }
     params.iter().all(|(k, v)| match *k {
         "lat_1" | "lat_2" => true,
-        "x_0" | "y_0" => near(*v, value(*k), LENGTH_TOL),
-        _ => near(*v, value(*k), ANGLE_TOL),
+        "x_0" | "y_0" => near(*v, value(k), LENGTH_TOL),
+        _ => near(*v, value(k), ANGLE_TOL),
     })
 }
 

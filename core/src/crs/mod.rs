@@ -46,6 +46,7 @@ pub enum UnitSource {
     /// The WKT record's `UNIT`/`LENGTHUNIT`.
     Wkt,
     /// GeoTIFF `ProjLinearUnitsGeoKey` / `VerticalUnitsGeoKey`.
+    #[serde(rename = "geotiff")]
     GeoTiff,
     /// The EPSG registry's definition of the file's EPSG code.
     Epsg,

@@ -77,7 +77,7 @@ fn strategy_name(s: Option<Strategy>) -> &'static str {
 }
 
 fn detected(b: &BuildingFigures) -> Option<f64> {
-    (b.skipped.is_none() && b.boundary_points > 0).then(|| 1.0 - b.r_missing)
+    (b.skipped.is_none() && b.boundary_points > 0).then_some(1.0 - b.r_missing)
 }
 
 /// The buildings' outlines with their figures, in the source CRS and unit

@@ -273,7 +273,12 @@ fn text(v: &Value) -> String {
             ),
         );
         if let Some(c) = v["classes"].as_object() {
-            let parts: Vec<String> = c.iter().map(|(k, n)| format!("{k}:{n}")).collect();
+            let mut classes: Vec<(u32, &Value)> = c
+                .iter()
+                .filter_map(|(k, n)| Some((k.parse().ok()?, n)))
+                .collect();
+            classes.sort_by_key(|(k, _)| *k);
+            let parts: Vec<String> = classes.iter().map(|(k, n)| format!("{k}:{n}")).collect();
             line(&mut s, "classes", parts.join(" "));
         }
         if let Some(r) = v["returns"].as_object() {

@@ -87,8 +87,8 @@ fn scale_to_metres(cloud: &mut Cloud) {
             p[k] = (f64::from(p[k]) * f[k]) as f32;
         }
     }
-    for k in 0..3 {
-        cloud.origin[k] *= f[k];
+    for (o, f) in cloud.origin.iter_mut().zip(f) {
+        *o *= f;
     }
 }
 
