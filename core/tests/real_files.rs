@@ -103,8 +103,8 @@ fn autzen_las_classes() {
     assert_extent(&c, [359.1, 171.6, 34.7]);
     // Header offset is 0 there, so the origin is the floored minimum (in feet), in metres.
     let want = [636_001.0 * 0.3048, 848_935.0 * 0.3048, 0.0];
-    for k in 0..3 {
-        assert!((c.origin[k] - want[k]).abs() < 1e-6, "{:?}", c.origin);
+    for (got, want) in c.origin.iter().zip(want) {
+        assert!((got - want).abs() < 1e-6, "{:?}", c.origin);
     }
 }
 
