@@ -98,9 +98,14 @@ fn autzen_las_classes() {
     };
     assert_eq!(c.len(), 110_000);
     assert_eq!(class_counts(&c), BTreeMap::from([(1, 83_893), (2, 26_107)]));
-    assert_extent(&c, [1178.0, 563.0, 114.0]);
-    // Header offset is 0 there, so the origin is the floored minimum.
-    assert_eq!(c.origin, [636_001.0, 848_935.0, 0.0]);
+    // The file is in international feet (its WKT and GeoTIFF keys say so):
+    // 1178 × 563 × 114 ft is read as metres.
+    assert_extent(&c, [359.1, 171.6, 34.7]);
+    // Header offset is 0 there, so the origin is the floored minimum (in feet), in metres.
+    let want = [636_001.0 * 0.3048, 848_935.0 * 0.3048, 0.0];
+    for (got, want) in c.origin.iter().zip(want) {
+        assert!((got - want).abs() < 1e-6, "{:?}", c.origin);
+    }
 }
 
 #[test]

@@ -1,5 +1,7 @@
 //! The in-memory point cloud shared by every step of the pipeline.
 
+use crate::crs::{Crs, LinearUnit, UnitSource};
+
 /// Errors about the shape of a [`Cloud`] itself (not about any file format).
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum CloudError {
@@ -20,6 +22,11 @@ pub enum CloudError {
 /// Coordinates are `f32` relative to `origin` (f64, e.g. a projected CRS offset),
 /// so real-world coordinates of millions of metres keep millimetre precision.
 /// Optional attributes, when present, hold exactly one value per point.
+///
+/// Frame: `xyz` and `origin` are in metres. For a source CRS in other units
+/// (feet), `origin + xyz` is the CRS coordinate times [`Crs::to_metre`] per
+/// axis, i.e. the CRS coordinate is `(origin + xyz) / to_metre`
+/// ([`Cloud::source_coordinates`]); readers scale in, writers scale back.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Cloud {
     /// Point positions in the local frame, metres.
@@ -34,8 +41,10 @@ pub struct Cloud {
     pub return_number: Option<Vec<u8>>,
     /// How many returns its pulse gave (as LAS; 0 = unknown).
     pub number_of_returns: Option<Vec<u8>>,
-    /// The local frame's origin in the source coordinate system.
+    /// The local frame's origin: the source CRS coordinate, scaled to metres.
     pub origin: [f64; 3],
+    /// The source CRS with its records; `None`: unknown CRS, metres assumed.
+    pub crs: Option<Crs>,
 }
 
 impl Cloud {
@@ -115,6 +124,45 @@ impl Cloud {
             return_number: pick(&self.return_number, rows),
             number_of_returns: pick(&self.number_of_returns, rows),
             origin: self.origin,
+            crs: self.crs.clone(),
+        }
+    }
+
+    /// Metres per source unit for x, y, z (1 without a CRS).
+    pub fn to_metre(&self) -> [f64; 3] {
+        self.crs.as_ref().map_or([1.0; 3], Crs::to_metre)
+    }
+
+    /// A local point in the source CRS and unit (what writers put in files).
+    pub fn source_coordinates(&self, p: [f32; 3]) -> [f64; 3] {
+        let f = self.to_metre();
+        [0, 1, 2].map(|k| (self.origin[k] + f64::from(p[k])) / f[k])
+    }
+
+    /// Takes the source coordinates to be in `unit` (a user's `--units` for a
+    /// file that does not say, or says wrongly): rescales points and origin
+    /// from the unit assumed so far, keeps the CRS records.
+    pub fn set_unit(&mut self, unit: LinearUnit) {
+        let old = self.to_metre();
+        let crs = self
+            .crs
+            .get_or_insert_with(|| Crs::user_unit(LinearUnit::Metre));
+        crs.horizontal_unit = unit.clone();
+        crs.vertical_unit = unit;
+        crs.unit_source = UnitSource::User;
+        let new = crs.to_metre();
+        let r = [0, 1, 2].map(|k| new[k] / old[k]);
+        if r == [1.0; 3] {
+            return;
+        }
+        for p in &mut self.xyz {
+            for k in 0..3 {
+                // Local offsets stay small: f32 keeps their precision after scaling.
+                p[k] = (f64::from(p[k]) * r[k]) as f32;
+            }
+        }
+        for (o, r) in self.origin.iter_mut().zip(r) {
+            *o *= r;
         }
     }
 
@@ -156,5 +204,26 @@ mod tests {
         let c = Cloud::from_xyz(vec![[1.0, -2.0, 3.0], [-1.0, 5.0, 0.5]]);
         assert_eq!(c.bounds(), Some(([-1.0, -2.0, 0.5], [1.0, 5.0, 3.0])));
         assert_eq!(Cloud::default().bounds(), None);
+    }
+
+    #[test]
+    fn set_unit_rescales_to_metres_and_source_coordinates_undo_it() {
+        let mut c = Cloud::from_xyz(vec![[10.0, 20.0, 5.0]]);
+        c.origin = [1000.0, 2000.0, 100.0];
+        assert_eq!(c.source_coordinates(c.xyz[0]), [1010.0, 2020.0, 105.0]);
+        c.set_unit(LinearUnit::Foot);
+        assert_eq!(c.to_metre(), [0.3048; 3]);
+        assert!((c.xyz[0][0] - 3.048).abs() < 1e-6);
+        assert!((c.origin[1] - 609.6).abs() < 1e-9);
+        let back = c.source_coordinates(c.xyz[0]);
+        for (b, want) in back.iter().zip([1010.0, 2020.0, 105.0]) {
+            assert!((b - want).abs() < 1e-5, "{back:?}");
+        }
+        c.set_unit(LinearUnit::Metre);
+        assert!((c.xyz[0][2] - 5.0).abs() < 1e-6);
+        assert_eq!(
+            c.crs.as_ref().map(|k| k.unit_source),
+            Some(UnitSource::User)
+        );
     }
 }

@@ -161,6 +161,7 @@ mod tests {
             return_number: None,
             number_of_returns: None,
             origin: [637_000.0, 849_000.0, 0.0],
+            crs: None,
         }
     }
 

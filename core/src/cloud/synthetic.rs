@@ -33,6 +33,7 @@ pub fn tilted_plane(n: usize) -> Cloud {
         return_number: None,
         number_of_returns: None,
         origin: [0.0; 3],
+        crs: None,
     }
 }
 

@@ -168,6 +168,7 @@ impl ScanPoints {
             return_number: None,
             number_of_returns: None,
             origin,
+            crs: None,
         }
     }
 }

@@ -121,6 +121,7 @@ impl GtSamples {
             return_number: None,
             number_of_returns: None,
             origin: self.origin,
+            crs: None,
         }
     }
 

@@ -85,7 +85,8 @@ impl Canvas {
         (col < self.img.width() && row < self.img.height()).then(|| self.img.get_pixel(col, row).0)
     }
 
-    fn put(&mut self, col: i64, row: i64, c: Rgb) {
+    /// Sets one pixel; outside the picture nothing happens.
+    pub(super) fn put(&mut self, col: i64, row: i64, c: Rgb) {
         if col >= 0
             && row >= 0
             && (col as u64) < u64::from(self.img.width())

@@ -5,6 +5,7 @@ use geo::MultiPolygon;
 
 use super::canvas::{Canvas, PlotError};
 use super::color::{Rgb, ramp};
+use crate::crs::LinearUnit;
 use crate::missing::Detection;
 use crate::targets::TargetSet;
 
@@ -36,14 +37,42 @@ fn bounds(points: impl Iterator<Item = [f64; 2]>) -> Option<([f64; 2], [f64; 2])
     (lo[0] < hi[0] && lo[1] < hi[1]).then_some((lo, hi))
 }
 
-/// Detection of a scene from above: building points grey, contours black,
-/// skeletons blue, collected boundary points green, missing ones red,
-/// target points purple, regions orange.
+const DETECTION_LEGEND: [(Rgb, &str); 7] = [
+    (GREY, "building points"),
+    (CONTOUR, "outline"),
+    (SKELETON, "skeleton"),
+    (COLLECTED, "wall seen"),
+    (MISSING, "wall missing"),
+    (TARGET, "ground target"),
+    (REGION, "region to explore"),
+];
+
+/// [`detection_picture_in`] with a scale bar in metres.
 pub fn detection_picture(
     building_points: &[[f32; 3]],
     detection: &Detection,
     targets: Option<&TargetSet>,
     max_px: u32,
+) -> Result<Canvas, PlotError> {
+    detection_picture_in(
+        building_points,
+        detection,
+        targets,
+        max_px,
+        &LinearUnit::Metre,
+    )
+}
+
+/// Detection of a scene from above: building points grey, contours black,
+/// skeletons blue, collected boundary points green, missing ones red,
+/// target points purple, regions orange; legend, north arrow and a scale
+/// bar in `unit` (the input's).
+pub fn detection_picture_in(
+    building_points: &[[f32; 3]],
+    detection: &Detection,
+    targets: Option<&TargetSet>,
+    max_px: u32,
+    unit: &LinearUnit,
 ) -> Result<Canvas, PlotError> {
     let xy = building_points
         .iter()
@@ -91,6 +120,7 @@ pub fn detection_picture(
             c.dot([f64::from(p.xyz[0]), f64::from(p.xyz[1])], 2, TARGET);
         }
     }
+    c.furnish(&DETECTION_LEGEND, unit);
     Ok(c)
 }
 
@@ -102,8 +132,7 @@ pub struct BuildingGain {
     pub gain: f64,
 }
 
-/// A mission from above: buildings coloured by completeness gain (blue no
-/// gain → red `full_scale` or more), the driven route, targets and regions.
+/// [`mission_picture_in`] with a scale bar in metres.
 pub fn mission_picture(
     extent: ([f64; 2], [f64; 2]),
     buildings: &[BuildingGain],
@@ -111,6 +140,29 @@ pub fn mission_picture(
     route: &[[f32; 3]],
     targets: &TargetSet,
     max_px: u32,
+) -> Result<Canvas, PlotError> {
+    mission_picture_in(
+        extent,
+        buildings,
+        full_scale,
+        route,
+        targets,
+        max_px,
+        &LinearUnit::Metre,
+    )
+}
+
+/// A mission from above: buildings coloured by completeness gain (blue no
+/// gain → red `full_scale` or more), the driven route, targets and regions;
+/// legend (with the gain ramp's ends), north arrow, scale bar in `unit`.
+pub fn mission_picture_in(
+    extent: ([f64; 2], [f64; 2]),
+    buildings: &[BuildingGain],
+    full_scale: f64,
+    route: &[[f32; 3]],
+    targets: &TargetSet,
+    max_px: u32,
+    unit: &LinearUnit,
 ) -> Result<Canvas, PlotError> {
     let mut c = Canvas::new(extent.0, extent.1, 5.0, max_px)?;
     for b in buildings {
@@ -135,5 +187,16 @@ pub fn mission_picture(
     for p in &targets.points {
         c.dot([f64::from(p.xyz[0]), f64::from(p.xyz[1])], 2, TARGET);
     }
+    let full = format!("gain {:.0} % or more", 100.0 * full_scale);
+    let half = format!("gain {:.0} %", 50.0 * full_scale);
+    let legend = [
+        (ramp(0.0), "no gain"),
+        (ramp(0.5), half.as_str()),
+        (ramp(1.0), full.as_str()),
+        (ROUTE, "route driven"),
+        (TARGET, "ground target"),
+        (REGION, "region explored"),
+    ];
+    c.furnish(&legend, unit);
     Ok(c)
 }

@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use skyground_nodes::cli::{
-    self, aerial, bench, classify, demo, detect, echo, eval, plan, play, record, sink,
+    self, aerial, bench, classify, demo, detect, echo, eval, info, plan, play, record, sink,
 };
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
@@ -32,6 +32,8 @@ enum Cmd {
     Classify(classify::ClassifyArgs),
     /// Train the classifier's model on simulated scenes.
     Train(classify::TrainArgs),
+    /// What a file holds: points or objects, extent, CRS and unit, density, classes, returns.
+    Info(info::InfoArgs),
     /// Find where buildings' walls are missing and make ground targets (with a PNG).
     Detect(detect::DetectArgs),
     /// Build the ground graph and route over the targets of `skyground detect`.
@@ -117,6 +119,7 @@ fn main() -> ExitCode {
         Cmd::Eval(a) => offline("eval", a.json, false, eval::run(&a)),
         Cmd::Classify(a) => offline("classify", a.json, false, classify::run(&a)),
         Cmd::Train(a) => offline("train", a.json, true, classify::run_train(&a)),
+        Cmd::Info(a) => offline("info", a.json, false, info::run(&a)),
         Cmd::Detect(a) => offline("detect", a.json, false, detect::run(&a)),
         Cmd::Plan(a) => offline("plan", a.json, false, plan::run(&a)),
         Cmd::Node { name } => skyground_nodes::node::run_by_name(&name, ros).unwrap_or_else(|| {

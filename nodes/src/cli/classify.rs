@@ -33,6 +33,9 @@ pub struct ClassifyArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
+    #[arg(long, value_parser = super::info::parse_unit)]
+    pub units: Option<skyground_core::crs::LinearUnit>,
 }
 
 /// Options of `skyground train`.
@@ -107,6 +110,9 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
     let t0 = Instant::now();
     let mut cloud = read_cloud(&a.input).map_err(err)?;
+    if let Some(u) = &a.units {
+        cloud.set_unit(u.clone());
+    }
     let read_s = t0.elapsed().as_secs_f64();
     let classified = classifier
         .classify_cloud(&cloud)

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use futures::StreamExt;
 use serde_json::json;
 use skyground_core::cloud::{Cloud, class, write_cloud};
+use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
@@ -574,6 +575,22 @@ fn report(
             .and_then(|c| c.save(&a.out.join("overview.png")))
             .map_err(|e| err(e.to_string()))?;
     }
+    let frame = SourceFrame::new(prior.cloud.origin, super::field::scene_crs(a.scenes.first().map_or("", String::as_str)));
+    let rows: Vec<super::field::MissionBuilding> = outlines
+        .iter()
+        .map(|f| {
+            let row = e.buildings.iter().find(|r| r.building == f.id);
+            super::field::MissionBuilding {
+                building: f.id,
+                outline: &f.polygon,
+                before_after: (
+                    row.and_then(|r| r.coverage_before),
+                    row.and_then(|r| r.coverage_after),
+                ),
+            }
+        })
+        .collect();
+    super::field::write_mission(&a.out, &frame, &rows, &w.route, w.odometer, &w.targets)?;
     let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.2} %", v * 100.0));
     eprintln!(
         "\nskyground demo: {} in {wall:.1} s — coverage {} → {}, mean GT distance {:.3} → {:.3} m, {} rounds, {:.0} m driven; report {}",

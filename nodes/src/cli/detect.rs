@@ -12,7 +12,7 @@ use skyground_core::cloud::{Cloud, class, read_cloud, write_cloud};
 use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints};
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::missing::{DetectParams, detect_scene, evaluate, shift_missing};
-use skyground_core::plot::detection_picture;
+use skyground_core::plot::detection_picture_in;
 use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, generate};
 
@@ -45,6 +45,9 @@ pub struct DetectArgs {
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
+    #[arg(long, value_parser = super::info::parse_unit)]
+    pub units: Option<skyground_core::crs::LinearUnit>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -124,6 +127,9 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let t0 = Instant::now();
     let mut cloud: Cloud = read_cloud(&a.input).map_err(err)?;
+    if let Some(u) = &a.units {
+        cloud.set_unit(u.clone());
+    }
     let labelled = cloud
         .label
         .as_ref()
@@ -179,12 +185,20 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
             .collect(),
     );
     missing.origin = cloud.origin;
+    missing.crs = cloud.crs.clone();
     write_cloud(&a.out.join("classified.las"), &cloud).map_err(err)?;
     write_cloud(&a.out.join("missing.las"), &missing).map_err(err)?;
     let targets_json = json!({"origin": cloud.origin, "targets": targets});
     std::fs::write(a.out.join("targets.json"), format!("{targets_json:#}\n")).map_err(err)?;
+    let field = super::field::write_detection(&a.out, &cloud, &detection, &targets)?;
     let png = a.out.join("detection.png");
-    detection_picture(&bpts, &detection, Some(&targets), 2400)
+    let unit = cloud
+        .crs
+        .as_ref()
+        .map_or(skyground_core::crs::LinearUnit::Metre, |c| {
+            c.horizontal_unit.clone()
+        });
+    detection_picture_in(&bpts, &detection, Some(&targets), 2400, &unit)
         .and_then(|c| c.save(&png))
         .map_err(err)?;
 
@@ -234,7 +248,8 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "dropped": dropped,
         "footprints_used": used.len(),
         "seconds": {"read": t1.duration_since(t0).as_secs_f64() - classify_s, "classify": classify_s, "detect": detect_s, "targets": targets_s},
-        "outputs": {"dir": a.out, "png": png},
+        "outputs": {"dir": a.out, "png": png, "field": field},
+        "crs": super::info::crs_json(cloud.crs.as_ref()),
         "per_building": per_building,
     });
     if let Some(spec) = &a.gt {

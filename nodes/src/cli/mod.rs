@@ -10,6 +10,8 @@ pub mod demo;
 pub mod detect;
 pub mod echo;
 pub mod eval;
+pub mod field;
+pub mod info;
 pub mod plan;
 pub mod play;
 pub mod record;

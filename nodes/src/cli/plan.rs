@@ -113,6 +113,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     });
     let file = json!({"summary": out, "route": route});
     std::fs::write(a.input.join("route.json"), format!("{file:#}\n")).map_err(err)?;
+    super::field::write_route(&a.input, &cloud, &route, &targets)?;
     if !a.json {
         eprintln!(
             "graph: {} nodes, {} edges ({:.2} s); targets reachable: {} of {} points, {} of {} regions; tours: greedy {:.0} m, TSP {:.0} m ({:.2}×) ({:.2} s)",

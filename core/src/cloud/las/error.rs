@@ -1,6 +1,7 @@
 //! Everything that can go wrong reading or writing LAS/LAZ.
 
 use crate::cloud::CloudError;
+use crate::crs::CrsError;
 
 /// A LAS/LAZ file could not be read or written.
 #[derive(Debug, thiserror::Error)]
@@ -56,6 +57,9 @@ pub enum LasError {
         /// The coordinate.
         value: f64,
     },
+    /// The file's CRS records cannot be used.
+    #[error("{0}")]
+    Crs(#[from] CrsError),
     /// The cloud to write is inconsistent.
     #[error("cannot write cloud: {0}")]
     InvalidCloud(#[from] CloudError),

@@ -7,6 +7,7 @@ use ::las::{Header, PointData, Reader};
 use super::{LasError, extra_bytes, preflight};
 use crate::cloud::Cloud;
 use crate::cloud::origin::{SMALL_COORDINATE, local_origin, to_local};
+use crate::crs::{Crs, CrsRecord, LAS_PROJECTION};
 
 /// Points decoded per batch (bounds the temporary record buffer).
 const BATCH: u64 = 1 << 16;
@@ -21,6 +22,8 @@ const MAX_PREALLOC: u64 = 1 << 24;
 /// Origin per axis: the header's offset when the header bounds lie within
 /// 10 km of it, else [`local_origin`] of the bounds' minimum (or of the first
 /// point when the bounds are not usable).
+/// The CRS records (WKT, GeoTIFF keys) go to `crs`; coordinates in feet are
+/// scaled to metres (see [`Cloud`]'s frame).
 pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result<Cloud, LasError> {
     let preflight = preflight::check(&mut source)?;
     let mut reader = Reader::new(source)?;
@@ -36,6 +39,7 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
         return_number: Some(Vec::with_capacity(capacity)),
         number_of_returns: Some(Vec::with_capacity(capacity)),
         origin: [0.0; 3],
+        crs: None,
     };
     let mut origin = header_origin(&header);
     let mut index = 0u64;
@@ -55,7 +59,40 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
         index += batch.len() as u64;
     }
     cloud.origin = origin.unwrap_or_default();
+    cloud.crs = crs_of(&header)?;
+    scale_to_metres(&mut cloud);
     Ok(cloud)
+}
+
+/// The CRS stated by the header's `LASF_Projection` (E)VLRs.
+fn crs_of(header: &Header) -> Result<Option<Crs>, LasError> {
+    let records = header
+        .all_vlrs()
+        .filter(|v| v.user_id == LAS_PROJECTION)
+        .map(|v| CrsRecord {
+            record_id: v.record_id,
+            description: v.description.clone(),
+            data: v.data.clone(),
+        })
+        .collect();
+    Ok(Crs::from_las_records(records)?)
+}
+
+/// Points and origin were read in the file's unit: scale them to metres.
+fn scale_to_metres(cloud: &mut Cloud) {
+    let f = cloud.to_metre();
+    if f == [1.0; 3] {
+        return;
+    }
+    for p in &mut cloud.xyz {
+        for k in 0..3 {
+            // Offsets from a nearby origin: f32 keeps sub-millimetre precision.
+            p[k] = (f64::from(p[k]) * f[k]) as f32;
+        }
+    }
+    for (o, f) in cloud.origin.iter_mut().zip(f) {
+        *o *= f;
+    }
 }
 
 /// The origin from the header, or `None` when its bounds are unusable.

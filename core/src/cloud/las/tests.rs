@@ -14,6 +14,7 @@ fn sample_cloud() -> Cloud {
         return_number: Some(vec![1, 2, 1]),
         number_of_returns: Some(vec![1, 3, 2]),
         origin: [637_000.0, 849_000.5, 100.0],
+        crs: None,
     }
 }
 

@@ -3,12 +3,13 @@
 use std::io::{Seek, Write};
 
 use ::las::point::Format;
-use ::las::{Builder, PointDataBuilder, Transform, Vector, Writer};
+use ::las::{Builder, PointDataBuilder, Transform, Vector, Vlr, Writer};
 
 use super::{LasError, extra_bytes};
 use crate::cloud::Cloud;
+use crate::crs::{LAS_PROJECTION, WKT_RECORD};
 
-/// Coordinate resolution of written files, metres.
+/// Coordinate resolution of written files, in the file's unit (mm, or 0.001 ft).
 pub const SCALE: f64 = 0.001;
 /// Points encoded per batch.
 const BATCH: usize = 1 << 16;
@@ -19,8 +20,12 @@ const BATCH: usize = 1 << 16;
 /// [`super::read_las`] gives the origin back. Intensity is rounded to u16
 /// (error outside 0..=65535; 0 when absent), label is written as the
 /// classification byte (0 when absent), return number and number of returns
-/// as given (1 of 1 when absent), GPS time 0. The building id, when present, goes to the `building` extra-bytes
-/// dimension (an Extra Bytes VLR declaring a u32 named `building`). Returns the sink, positioned at its start.
+/// as given (1 of 1 when absent), GPS time 0. The building id, when present,
+/// goes to the `building` extra-bytes dimension (an Extra Bytes VLR declaring
+/// a u32 named `building`).
+/// With a `crs`, coordinates go back to its unit and its LAS records are
+/// written unchanged (a CRS known only by EPSG code gets the registry's WKT).
+/// Returns the sink, positioned at its start.
 pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
     sink: W,
     cloud: &Cloud,
@@ -40,9 +45,11 @@ pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
         builder.point_format.extra_bytes = extra_bytes::LEN;
         builder.vlrs.push(extra_bytes::building_vlr());
     }
-    let [x, y, z] = cloud.origin.map(|offset| Transform {
+    builder.vlrs.extend(crs_vlrs(cloud));
+    let f = cloud.to_metre();
+    let [x, y, z] = [0, 1, 2].map(|k| Transform {
         scale: SCALE,
-        offset,
+        offset: cloud.origin[k] / f[k],
     });
     builder.transforms = Vector { x, y, z };
     let mut writer = Writer::new(sink, builder.into_header()?)?;
@@ -62,11 +69,36 @@ pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
     Ok(writer.into_inner()?)
 }
 
+/// The CRS records to write: those read, else a WKT record of the known WKT.
+fn crs_vlrs(cloud: &Cloud) -> Vec<Vlr> {
+    let Some(crs) = &cloud.crs else {
+        return Vec::new();
+    };
+    let vlr = |record_id, description: &str, data: Vec<u8>| Vlr {
+        user_id: LAS_PROJECTION.into(),
+        record_id,
+        description: description.into(),
+        data,
+    };
+    if crs.las_records.is_empty() {
+        return crs
+            .wkt
+            .iter()
+            .map(|w| vlr(WKT_RECORD, "OGC WKT", [w.as_bytes(), &[0u8][..]].concat()))
+            .collect();
+    }
+    crs.las_records
+        .iter()
+        .map(|r| vlr(r.record_id, &r.description, r.data.clone()))
+        .collect()
+}
+
 /// Appends point `i` as a format 6 record (+ building u32 when present).
 fn encode(out: &mut Vec<u8>, cloud: &Cloud, i: usize) -> Result<(), LasError> {
     let p = cloud.xyz.get(i).copied().unwrap_or_default();
-    for (axis, value) in ["x", "y", "z"].into_iter().zip(p) {
-        let scaled = (f64::from(value) / SCALE).round();
+    let f = cloud.to_metre();
+    for ((axis, value), f) in ["x", "y", "z"].into_iter().zip(p).zip(f) {
+        let scaled = (f64::from(value) / f / SCALE).round();
         if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&scaled) {
             return Err(LasError::CoordinateRange {
                 index: i,

@@ -19,6 +19,7 @@ fn sample_cloud() -> Cloud {
         return_number: None,
         number_of_returns: None,
         origin: [637_000.0, 849_000.5, -12.0],
+        crs: None,
     }
 }
 

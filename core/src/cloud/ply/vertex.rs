@@ -120,6 +120,7 @@ pub fn read_vertices<R: Rows>(
         return_number: None,
         number_of_returns: None,
         origin: origin.unwrap_or_default(),
+        crs: None,
     };
     let mut values = [0.0f64; 6];
     let mut shift = [0.0f64; 3];

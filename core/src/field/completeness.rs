@@ -1,0 +1,147 @@
+//! `completeness.geojson` and `completeness.csv`: one row per building with
+//! its outline and how complete its walls are.
+
+use geo::{Centroid, MultiPolygon};
+use serde_json::{Value, json};
+
+use super::geojson::{feature, feature_collection, multipolygon};
+use crate::crs::SourceFrame;
+use crate::missing::{Detection, Strategy};
+use crate::targets::TargetSet;
+
+/// One building's figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildingFigures {
+    /// Building id.
+    pub building: u32,
+    /// Outline, local frame (metres).
+    pub outline: MultiPolygon<f64>,
+    /// Building points in the prior.
+    pub points: usize,
+    /// Why it was not analysed, when it was not.
+    pub skipped: Option<String>,
+    /// Boundary points of its global contour.
+    pub boundary_points: usize,
+    /// Boundary points detected as missing wall.
+    pub missing_points: usize,
+    /// R_missing = missing / boundary.
+    pub r_missing: f64,
+    /// Point- or region-based, when analysed.
+    pub strategy: Option<Strategy>,
+    /// Point targets made for it.
+    pub target_points: usize,
+    /// Regions made for it.
+    pub target_regions: usize,
+    /// Measured completeness before the mission (0–1), when known.
+    pub before: Option<f64>,
+    /// Measured completeness after the mission (0–1), when known.
+    pub after: Option<f64>,
+}
+
+/// The figures detection gives: detected completeness is 1 − R_missing.
+pub fn detection_figures(detection: &Detection, targets: &TargetSet) -> Vec<BuildingFigures> {
+    detection
+        .buildings
+        .iter()
+        .map(|b| BuildingFigures {
+            building: b.building,
+            outline: b.global_contour.clone(),
+            points: b.points,
+            skipped: b.skipped.as_ref().map(ToString::to_string),
+            boundary_points: b.boundary.len(),
+            missing_points: b.missing.len(),
+            r_missing: f64::from(b.r_missing),
+            strategy: b.skipped.is_none().then_some(b.strategy),
+            target_points: targets
+                .points
+                .iter()
+                .filter(|t| t.building == b.building)
+                .count(),
+            target_regions: targets
+                .regions
+                .iter()
+                .filter(|r| r.building == b.building)
+                .count(),
+            before: None,
+            after: None,
+        })
+        .collect()
+}
+
+fn strategy_name(s: Option<Strategy>) -> &'static str {
+    match s {
+        Some(Strategy::PointBased) => "point_based",
+        Some(Strategy::RegionBased) => "region_based",
+        None => "",
+    }
+}
+
+fn detected(b: &BuildingFigures) -> Option<f64> {
+    (b.skipped.is_none() && b.boundary_points > 0).then_some(1.0 - b.r_missing)
+}
+
+/// The buildings' outlines with their figures, in the source CRS and unit
+/// (buildings without an outline are left out of the GeoJSON, not the CSV).
+pub fn completeness_geojson(rows: &[BuildingFigures], frame: &SourceFrame) -> Value {
+    let features = rows
+        .iter()
+        .filter(|b| !b.outline.0.is_empty())
+        .map(|b| {
+            feature(
+                multipolygon(frame, &b.outline),
+                json!({
+                    "building": b.building,
+                    "points": b.points,
+                    "skipped": b.skipped,
+                    "boundary_points": b.boundary_points,
+                    "missing_points": b.missing_points,
+                    "r_missing": b.r_missing,
+                    "detected_completeness": detected(b),
+                    "strategy": strategy_name(b.strategy),
+                    "target_points": b.target_points,
+                    "target_regions": b.target_regions,
+                    "completeness_before": b.before,
+                    "completeness_after": b.after,
+                }),
+            )
+        })
+        .collect();
+    feature_collection(frame, "completeness", features)
+}
+
+/// The same figures as CSV, with each outline's centroid in the source CRS.
+pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String {
+    let sym = frame.unit().symbol().to_string();
+    let mut out = format!(
+        "building,centroid_x_{sym},centroid_y_{sym},points,skipped,boundary_points,missing_points,r_missing,detected_completeness,strategy,target_points,target_regions,completeness_before,completeness_after\n"
+    );
+    let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
+    for b in rows {
+        let c = b
+            .outline
+            .centroid()
+            .map(|c| frame.to_source_xy([c.x(), c.y()]));
+        let (cx, cy) = c.map_or((String::new(), String::new()), |c| {
+            (format!("{:.3}", c[0]), format!("{:.3}", c[1]))
+        });
+        let skipped = b
+            .skipped
+            .as_deref()
+            .map_or(String::new(), |s| format!("\"{}\"", s.replace('"', "\"\"")));
+        out.push_str(&format!(
+            "{},{cx},{cy},{},{skipped},{},{},{:.4},{},{},{},{},{},{}\n",
+            b.building,
+            b.points,
+            b.boundary_points,
+            b.missing_points,
+            b.r_missing,
+            opt(detected(b)),
+            strategy_name(b.strategy),
+            b.target_points,
+            b.target_regions,
+            opt(b.before),
+            opt(b.after),
+        ));
+    }
+    out
+}

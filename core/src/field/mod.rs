@@ -1,0 +1,165 @@
+//! What a survey team takes to the field: targets, the route and each
+//! building's completeness as GeoJSON in the input's CRS and unit (named by
+//! GeoJSON's legacy `crs` member, which GDAL and QGIS read), and the
+//! completeness as CSV.
+
+mod completeness;
+mod geojson;
+mod route;
+mod targets;
+
+pub use completeness::{
+    BuildingFigures, completeness_csv, completeness_geojson, detection_figures,
+};
+pub use geojson::feature_collection;
+pub use route::{path_geojson, route_geojson};
+pub use targets::targets_geojson;
+
+#[cfg(test)]
+mod tests {
+    use geo::{MultiPolygon, polygon};
+
+    use super::*;
+    use crate::crs::{Crs, SourceFrame};
+    use crate::missing::{
+        BoundaryPoint, BuildingDetection, Detection, MissingPoint, SkipReason, Strategy,
+    };
+    use crate::route::{Route, Stop};
+    use crate::targets::{Region, TargetPoint, TargetSet};
+
+    const FT: f64 = 0.3048;
+
+    /// Autzen-like frame: EPSG:2994 (NAD83(HARN) / Oregon GIC Lambert, feet).
+    fn frame() -> SourceFrame {
+        SourceFrame::new(
+            [636_000.0 * FT, 849_000.0 * FT, 0.0],
+            Some(Crs::from_epsg(2994).unwrap()),
+        )
+    }
+
+    /// One 20 m square building, 4 boundary points, 1 missing (on its east wall).
+    fn detection() -> Detection {
+        let mut b =
+            BuildingDetection::skipped(3, 500, SkipReason::TooFewPoints { points: 0, min: 0 });
+        b.skipped = None;
+        b.global_contour = MultiPolygon(vec![
+            polygon![(x: 0.0, y: 0.0), (x: 20.0, y: 0.0), (x: 20.0, y: 20.0), (x: 0.0, y: 20.0)],
+        ]);
+        let q = |x: f32, y: f32, collected| BoundaryPoint {
+            xyz: [x, y, 5.0],
+            normal: [1.0, 0.0],
+            skeleton: [10.0, 10.0],
+            coverage: 0.0,
+            collected,
+            slice: 0,
+        };
+        b.boundary = vec![
+            q(20.0, 10.0, false),
+            q(10.0, 20.0, true),
+            q(0.0, 10.0, true),
+            q(10.0, 0.0, true),
+        ];
+        b.missing = vec![MissingPoint {
+            xyz: [20.0, 10.0, 5.0],
+            building: 3,
+            normal: [1.0, 0.0],
+            skeleton: [10.0, 10.0],
+        }];
+        b.r_missing = 0.25;
+        b.strategy = Strategy::PointBased;
+        Detection { buildings: vec![b] }
+    }
+
+    fn targets() -> TargetSet {
+        TargetSet {
+            points: vec![TargetPoint {
+                xyz: [28.0, 10.0, 0.0],
+                building: 3,
+            }],
+            regions: vec![Region {
+                building: 3,
+                polygon: vec![[18.0, 5.0], [25.0, 5.0], [25.0, 15.0], [18.0, 15.0]],
+                z: 0.0,
+            }],
+        }
+    }
+
+    #[test]
+    fn targets_are_in_feet_with_building_and_why() {
+        let fc = targets_geojson(&targets(), &detection(), &frame());
+        assert_eq!(
+            fc["crs"]["properties"]["name"],
+            "urn:ogc:def:crs:EPSG::2994"
+        );
+        assert_eq!(fc["units"]["horizontal"], "foot");
+        let p = &fc["features"][0];
+        let c = p["geometry"]["coordinates"].as_array().unwrap();
+        assert!(
+            (c[0].as_f64().unwrap() - (636_000.0 + 28.0 / FT)).abs() < 1e-3,
+            "{c:?}"
+        );
+        assert!((c[1].as_f64().unwrap() - (849_000.0 + 10.0 / FT)).abs() < 1e-3);
+        assert_eq!(p["properties"]["building"], 3);
+        // 8 m to the missing point = 26.247 ft, 5 m up = 16.404 ft.
+        assert!((p["properties"]["gap_distance"].as_f64().unwrap() - 8.0 / FT).abs() < 1e-3);
+        assert!((p["properties"]["gap_height"].as_f64().unwrap() - 5.0 / FT).abs() < 1e-3);
+        assert!(
+            p["properties"]["why"]
+                .as_str()
+                .unwrap()
+                .contains("building 3")
+        );
+        let r = &fc["features"][1];
+        assert_eq!(r["geometry"]["type"], "Polygon");
+        let ring = r["geometry"]["coordinates"][0].as_array().unwrap();
+        assert_eq!(ring.len(), 5, "closed ring");
+        assert_eq!(ring[0], ring[4]);
+        assert_eq!(r["properties"]["gap_points"], 1);
+        assert!((r["properties"]["area"].as_f64().unwrap() - 70.0 / (FT * FT)).abs() < 1e-2);
+    }
+
+    #[test]
+    fn route_is_a_linestring_in_feet_with_ordered_stops() {
+        let route = Route {
+            order: vec![Stop::Point(0)],
+            waypoints: vec![[0.0, -5.0, 0.0], [28.0, -5.0, 0.0], [28.0, 10.0, 0.0]],
+            arrivals: vec![2],
+            length_m: 43.0,
+            unreachable_points: vec![],
+            unreachable_regions: vec![0],
+            greedy_length_m: 43.0,
+            tsp_length_m: 43.0,
+        };
+        let fc = route_geojson(&route, &targets(), &frame());
+        let line = &fc["features"][0];
+        assert_eq!(line["geometry"]["type"], "LineString");
+        assert_eq!(line["geometry"]["coordinates"].as_array().unwrap().len(), 3);
+        assert!((line["properties"]["length"].as_f64().unwrap() - 43.0 / FT).abs() < 1e-3);
+        let stop = &fc["features"][1];
+        assert_eq!(stop["properties"]["order"], 1);
+        assert_eq!(stop["properties"]["building"], 3);
+    }
+
+    #[test]
+    fn completeness_rows_as_geojson_and_csv() {
+        let rows = detection_figures(&detection(), &targets());
+        assert_eq!(rows[0].target_points, 1);
+        let fc = completeness_geojson(&rows, &frame());
+        let f = &fc["features"][0];
+        assert_eq!(f["geometry"]["type"], "MultiPolygon");
+        assert_eq!(f["properties"]["detected_completeness"], 0.75);
+        let csv = completeness_csv(&rows, &frame());
+        let lines: Vec<&str> = csv.lines().collect();
+        assert!(
+            lines[0].starts_with("building,centroid_x_ft,centroid_y_ft,"),
+            "{}",
+            lines[0]
+        );
+        let cells: Vec<&str> = lines[1].split(',').collect();
+        assert_eq!(cells[0], "3");
+        let cx: f64 = cells[1].parse().unwrap();
+        assert!((cx - (636_000.0 + 10.0 / FT)).abs() < 1e-2, "{cx}");
+        assert_eq!(cells[8], "0.7500");
+        assert_eq!(cells[9], "point_based");
+    }
+}

@@ -1,0 +1,135 @@
+//! Writing what a survey team takes to the field (targets, route,
+//! completeness) next to the outputs of `skyground detect` and `plan`.
+
+use std::path::{Path, PathBuf};
+
+use skyground_core::cloud::Cloud;
+use skyground_core::crs::SourceFrame;
+use skyground_core::field::{
+    completeness_csv, completeness_geojson, detection_figures, route_geojson, targets_geojson,
+};
+use skyground_core::missing::Detection;
+use skyground_core::route::Route;
+use skyground_core::targets::TargetSet;
+
+use crate::runtime::RuntimeError;
+
+fn write(path: PathBuf, text: String) -> Result<PathBuf, RuntimeError> {
+    std::fs::write(&path, text)
+        .map_err(|e| RuntimeError::Node(format!("{}: {e}", path.display())))?;
+    Ok(path)
+}
+
+/// `targets.geojson`, `completeness.geojson` and `completeness.csv` in `dir`,
+/// in the cloud's CRS and unit.
+pub fn write_detection(
+    dir: &Path,
+    cloud: &Cloud,
+    detection: &Detection,
+    targets: &TargetSet,
+) -> Result<Vec<PathBuf>, RuntimeError> {
+    let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
+    let rows = detection_figures(detection, targets);
+    Ok(vec![
+        write(
+            dir.join("targets.geojson"),
+            format!("{:#}\n", targets_geojson(targets, detection, &frame)),
+        )?,
+        write(
+            dir.join("completeness.geojson"),
+            format!("{:#}\n", completeness_geojson(&rows, &frame)),
+        )?,
+        write(
+            dir.join("completeness.csv"),
+            completeness_csv(&rows, &frame),
+        )?,
+    ])
+}
+
+/// `route.geojson` in `dir`, in the cloud's CRS and unit.
+pub fn write_route(
+    dir: &Path,
+    cloud: &Cloud,
+    route: &Route,
+    targets: &TargetSet,
+) -> Result<PathBuf, RuntimeError> {
+    let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
+    write(
+        dir.join("route.geojson"),
+        format!("{:#}\n", route_geojson(route, targets, &frame)),
+    )
+}
+
+/// The CRS of a scene spec: a CityJSON file's `metadata.referenceSystem`
+/// (None for other scenes, or when it names no CRS we resolve).
+pub fn scene_crs(spec: &str) -> Option<skyground_core::crs::Crs> {
+    use skyground_core::crs::{JsonCrs, cityjson_crs};
+    if !spec.to_ascii_lowercase().ends_with(".json") {
+        return None;
+    }
+    let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(spec).ok()?).ok()?;
+    match cityjson_crs(&doc).ok()? {
+        JsonCrs::Epsg(c) => Some(c),
+        _ => None,
+    }
+}
+
+/// One building of a mission: outline and measured completeness before/after.
+pub struct MissionBuilding<'a> {
+    /// Building id.
+    pub building: u32,
+    /// Footprint, local frame.
+    pub outline: &'a geo::MultiPolygon<f64>,
+    /// Completeness before and after (walls + roofs), 0–1.
+    pub before_after: (Option<f64>, Option<f64>),
+}
+
+/// The demo's field outputs: `route.geojson` (the driven path) and each
+/// building's completeness (`completeness.geojson`, `.csv`) with the measured
+/// before/after and the last round's target counts.
+pub fn write_mission(
+    dir: &Path,
+    frame: &SourceFrame,
+    buildings: &[MissionBuilding<'_>],
+    path: &[[f32; 3]],
+    length_m: f64,
+    targets: &TargetSet,
+) -> Result<Vec<PathBuf>, RuntimeError> {
+    use skyground_core::field::{BuildingFigures, path_geojson};
+    let rows: Vec<BuildingFigures> = buildings
+        .iter()
+        .map(|b| BuildingFigures {
+            building: b.building,
+            outline: b.outline.clone(),
+            points: 0,
+            skipped: None,
+            boundary_points: 0,
+            missing_points: 0,
+            r_missing: 0.0,
+            strategy: None,
+            target_points: targets
+                .points
+                .iter()
+                .filter(|t| t.building == b.building)
+                .count(),
+            target_regions: targets
+                .regions
+                .iter()
+                .filter(|r| r.building == b.building)
+                .count(),
+            before: b.before_after.0,
+            after: b.before_after.1,
+        })
+        .collect();
+    Ok(vec![
+        write(
+            dir.join("route.geojson"),
+            format!("{:#}\n", path_geojson(path, length_m, frame)),
+        )?,
+        write(
+            dir.join("completeness.geojson"),
+            format!("{:#}\n", completeness_geojson(&rows, frame)),
+        )?,
+        write(dir.join("completeness.csv"), completeness_csv(&rows, frame))?,
+    ])
+}

@@ -1,0 +1,89 @@
+"""CRS and units end to end on the real files in feet: `skyground classify`
+and `skyground detect` write LAS whose CRS (laspy `parse_crs()`, pyproj)
+equals the input's and whose coordinates are in the input's feet; the
+GeoJSON outputs name the CRS and hold coordinates in feet too; `skyground
+info` reports the unit. No DDS: these are offline commands."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import BIN, real_file
+
+FEET = ["laspy_nebraska_ftus.las", "autzen_trim.las"]
+
+
+def run(*args, timeout=600):
+    p = subprocess.run([str(BIN / "skyground"), *map(str, args)], capture_output=True, text=True,
+                       timeout=timeout)
+    assert p.returncode == 0, p.stderr[-3000:]
+    return p
+
+
+def assert_same_crs_and_feet(src, out):
+    import laspy
+
+    a, b = laspy.read(str(src)), laspy.read(str(out))
+    crs_in, crs_out = a.header.parse_crs(), b.header.parse_crs()
+    assert crs_in is not None
+    assert crs_out == crs_in, f"{out}: {crs_out!r} != {crs_in!r}"
+    # Same points in the same unit: the extents agree to the written resolution.
+    for axis in "xyz":
+        got, want = np.asarray(getattr(b, axis)), np.asarray(getattr(a, axis))
+        assert abs(got.min() - want.min()) < 0.01 and abs(got.max() - want.max()) < 0.01, axis
+    assert len(b.points) == len(a.points)
+    np.testing.assert_allclose(np.asarray(b.x), np.asarray(a.x), atol=0.002)
+
+
+@pytest.mark.parametrize("name", FEET)
+def test_classify_output_keeps_crs_and_feet(tmp_path, name):
+    src = real_file(name)
+    out = tmp_path / "classified.las"
+    run("classify", "--in", src, "--out", out, "--json")
+    assert_same_crs_and_feet(src, out)
+
+
+@pytest.mark.parametrize("name", FEET)
+def test_detect_outputs_keep_crs_and_feet(tmp_path, name):
+    import laspy
+
+    src = real_file(name)
+    out = tmp_path / "detect"
+    summary = json.loads(run("detect", "--in", src, "--out", out, "--classify", "--json").stdout)
+    assert summary["crs"]["unit"] in ("foot", "US survey foot"), summary["crs"]
+    assert_same_crs_and_feet(src, out / "classified.las")
+    crs_in = laspy.read(str(src)).header.parse_crs()
+    missing = laspy.read(str(out / "missing.las"))
+    assert missing.header.parse_crs() == crs_in
+    hdr = laspy.read(str(src)).header
+    lo, hi = hdr.mins - 100, hdr.maxs + 100
+    for f in ["targets.geojson", "completeness.geojson"]:
+        doc = json.loads((out / f).read_text())
+        assert doc["units"]["horizontal"] == summary["crs"]["unit"]
+        assert "crs" in doc, f
+        for feat in doc["features"]:
+            g = feat["geometry"]
+            pts = {"Point": lambda c: [c], "Polygon": lambda c: c[0],
+                   "MultiPolygon": lambda c: [p for poly in c for p in poly[0]]}[g["type"]](g["coordinates"])
+            for p in pts:
+                assert lo[0] <= p[0] <= hi[0] and lo[1] <= p[1] <= hi[1], (f, p)
+    csv = (out / "completeness.csv").read_text().splitlines()
+    assert csv[0].startswith("building,centroid_x_ft"), csv[0]
+
+
+@pytest.mark.parametrize("name,unit", [("laspy_nebraska_ftus.las", "US survey foot"), ("autzen_trim.las", "foot"),
+                                       ("sample_c.las", "metre")])
+def test_info_reports_unit_and_extent_in_both(name, unit):
+    import laspy
+
+    src = real_file(name)
+    info = json.loads(run("info", src, "--json").stdout)
+    assert info["crs"]["unit"] == unit
+    hdr = laspy.read(str(src)).header
+    size = hdr.maxs - hdr.mins
+    np.testing.assert_allclose(info["extent"]["size"], size, atol=0.01)
+    np.testing.assert_allclose(info["extent"]["size_m"], size * info["crs"]["to_metre"], atol=0.01)
+    assert info["points"] == hdr.point_count
+    assert sum(info["classes"].values()) == hdr.point_count
+    assert sum(info["returns"].values()) == hdr.point_count
