@@ -15,7 +15,7 @@ pub mod evaluation;
 mod ground_height;
 pub mod gt;
 mod nearest;
-mod triangle_grid;
+pub(crate) mod triangle_grid;
 mod winding;
 
 pub use accuracy::{cloud_to_mesh_distances, mean_cloud_to_mesh};

@@ -11,6 +11,7 @@ pub mod echo;
 pub mod eval;
 pub mod plan;
 pub mod play;
+pub mod reconstruct;
 pub mod record;
 pub mod sink;
 
