@@ -15,6 +15,10 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 step "build (debug: tests; the codec and algorithms build optimized even here)"
 cargo build --workspace --all-targets --locked
 
+step "cjval (validates the reconstruction's CityJSON; installed once into .tools)"
+[ -x .tools/bin/cjval ] || cargo install --locked cjval --version 0.10.0 --features build-binary --root .tools
+export SKYGROUND_CJVAL="$root/.tools/bin/cjval"
+
 step "rclpy peer venv (.venv, pinned ros-kilted wheels)"
 tests/setup_venv.sh
 

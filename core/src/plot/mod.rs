@@ -4,8 +4,10 @@
 
 mod canvas;
 mod color;
+mod models;
 mod scene;
 
 pub use canvas::{Canvas, PlotError};
 pub use color::{Rgb, ramp};
+pub use models::{ModelView, models_picture};
 pub use scene::{BuildingGain, detection_picture, mission_picture};

@@ -43,6 +43,10 @@ pub struct ModelScore {
     pub watertight: bool,
     /// ... and has no degenerate face.
     pub valid: bool,
+    /// The model's samples (scene frame xy) and their distance to the truth, m
+    /// (for pictures; not serialised).
+    #[serde(skip)]
+    pub samples: Vec<([f64; 2], f64)>,
 }
 
 /// All buildings of a scene against one reconstruction.
@@ -186,6 +190,7 @@ pub fn evaluate_models(
             footprint_iou: None,
             watertight: !ms.is_empty() && checks.iter().all(|c| c.watertight()),
             valid: !ms.is_empty() && checks.iter().all(|c| c.valid()),
+            samples: Vec::new(),
         };
         if ms.is_empty() {
             without_model.push(f.id);
@@ -224,6 +229,11 @@ pub fn evaluate_models(
         let to_gt: Vec<f64> = model_pts
             .par_iter()
             .map(|p| gt_grid.nearest(*p, FAR, |_| true).map_or(FAR, |(d2, _)| d2.sqrt()))
+            .collect();
+        score.samples = model_pts
+            .iter()
+            .zip(&to_gt)
+            .map(|(p, d)| ([p[0], p[1]], *d))
             .collect();
         let a: Vec<f64> = to_model.iter().map(|d| d.0).collect();
         let roof: Vec<f64> = to_model.iter().map(|d| d.1).filter(|v| !v.is_nan()).collect();

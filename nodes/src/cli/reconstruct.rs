@@ -31,6 +31,10 @@ pub struct ReconstructArgs {
     /// Ground truth to measure against: reference, reference:SEED, or a scene file.
     #[arg(long)]
     pub gt: Option<String>,
+    /// A cloud from before (e.g. the aerial prior; needs --gt): also writes
+    /// models_before.* / models_after.*, a before/after table (models.md) and models.png.
+    #[arg(long, requires = "gt")]
+    pub before: Option<PathBuf>,
     /// The cloud's CRS for the CityJSON metadata (e.g. EPSG:7415).
     #[arg(long)]
     pub crs: Option<String>,
@@ -175,6 +179,29 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         }
         None => None,
     };
+    let before_after = match (&a.before, &a.gt) {
+        (Some(b), Some(s)) => {
+            let scene = skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+            let prior = read_cloud(b).map_err(err)?;
+            let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
+            let pictured = write_picture(&a.out.join("models.png"), &scene, &mb, &ma, 3)?;
+            let md = format!(
+                "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?}, before left, after right, coloured by distance to the truth 0 → 0.5 m.\n\n{}",
+                b.display(),
+                a.input.display(),
+                table(&mb, Some(&ma))
+            );
+            std::fs::write(a.out.join("models.md"), &md).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+            if !a.json {
+                eprintln!("{md}");
+            }
+            Some(serde_json::json!({
+                "model_dist_before": mb.mean, "model_dist_after": ma.mean,
+                "models_before": mb, "models_after": ma, "models_pictured": pictured,
+            }))
+        }
+        _ => None,
+    };
     let models: Vec<serde_json::Value> = rec
         .models
         .iter()
@@ -200,6 +227,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         "building_points": pts.len(),
         "seconds": seconds,
         "evaluation": eval,
+        "before_after": before_after,
         "per_model": models,
     });
     std::fs::write(a.out.join("reconstruct.json"), format!("{value:#}\n"))
@@ -235,4 +263,42 @@ pub fn before_after(
         evaluate_against(scene, &before, spacing),
         evaluate_against(scene, &after, spacing),
     ))
+}
+
+/// Writes `models.png`: the `n` buildings whose models improved most,
+/// before and after, coloured by distance to the truth (0 → 0.5 m).
+pub fn write_picture(
+    path: &Path,
+    scene: &Scene,
+    before: &ModelEvaluation,
+    after: &ModelEvaluation,
+    n: usize,
+) -> Result<Vec<u32>, RuntimeError> {
+    let outlines = skyground_core::footprint::footprints_of_scene(scene);
+    let mut gains: Vec<(f64, u32)> = before
+        .buildings
+        .iter()
+        .filter_map(|b| {
+            let a = after.buildings.iter().find(|a| a.building == b.building)?;
+            Some((b.mean? - a.mean?, b.building))
+        })
+        .collect();
+    gains.sort_by(|x, y| y.0.total_cmp(&x.0));
+    let chosen: Vec<u32> = gains.iter().take(n).map(|g| g.1).collect();
+    let views: Vec<skyground_core::plot::ModelView> = chosen
+        .iter()
+        .filter_map(|id| {
+            let b = before.buildings.iter().find(|b| b.building == *id)?;
+            let a = after.buildings.iter().find(|a| a.building == *id)?;
+            Some(skyground_core::plot::ModelView {
+                before: b.samples.clone(),
+                after: a.samples.clone(),
+                outline: outlines.iter().find(|f| f.id == *id)?.polygon.clone(),
+            })
+        })
+        .collect();
+    skyground_core::plot::models_picture(&views, 0.5, 1800)
+        .and_then(|c| c.save(path))
+        .map_err(err)?;
+    Ok(chosen)
 }
