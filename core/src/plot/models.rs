@@ -65,7 +65,12 @@ pub fn models_picture(
             let at = |p: [f64; 2]| [p[0] + off[0], p[1] + off[1]];
             let (x0, y0) = (col as f64 * (w + gap), -row * (h + gap));
             c.polyline(
-                &[[x0 - 1.0, y0 - 1.0], [x0 + w + 1.0, y0 - 1.0], [x0 + w + 1.0, y0 + h + 1.0], [x0 - 1.0, y0 + h + 1.0]],
+                &[
+                    [x0 - 1.0, y0 - 1.0],
+                    [x0 + w + 1.0, y0 - 1.0],
+                    [x0 + w + 1.0, y0 + h + 1.0],
+                    [x0 - 1.0, y0 + h + 1.0],
+                ],
                 true,
                 1,
                 FRAME,
@@ -90,7 +95,12 @@ pub fn models_picture(
     for k in 0..n {
         let t = k as f64 / n as f64;
         let x = t * w;
-        c.line([x, y], [x + w / n as f64, y], ((0.25 * gap * c.scale()) as i64).max(3), ramp(t));
+        c.line(
+            [x, y],
+            [x + w / n as f64, y],
+            ((0.25 * gap * c.scale()) as i64).max(3),
+            ramp(t),
+        );
     }
     for t in [0.0, 0.5, 1.0] {
         c.line([t * w, y - gap * 0.25], [t * w, y + gap * 0.2], 1, OUTLINE);
@@ -105,8 +115,18 @@ pub fn models_picture(
     let (nx, ny) = (2.0 * w + gap * 0.6, h + gap * 0.1);
     let len = gap * 0.6;
     c.line([nx, ny], [nx, ny + len], 2, OUTLINE);
-    c.line([nx - len * 0.25, ny + len * 0.7], [nx, ny + len], 2, OUTLINE);
-    c.line([nx + len * 0.25, ny + len * 0.7], [nx, ny + len], 2, OUTLINE);
+    c.line(
+        [nx - len * 0.25, ny + len * 0.7],
+        [nx, ny + len],
+        2,
+        OUTLINE,
+    );
+    c.line(
+        [nx + len * 0.25, ny + len * 0.7],
+        [nx, ny + len],
+        2,
+        OUTLINE,
+    );
     Ok(c)
 }
 
@@ -118,7 +138,13 @@ mod tests {
     #[test]
     fn errors_are_coloured_and_outline_drawn() {
         let sq = Polygon::new(
-            LineString::from(vec![(0.0, 0.0), (20.0, 0.0), (20.0, 10.0), (0.0, 10.0), (0.0, 0.0)]),
+            LineString::from(vec![
+                (0.0, 0.0),
+                (20.0, 0.0),
+                (20.0, 10.0),
+                (0.0, 10.0),
+                (0.0, 0.0),
+            ]),
             vec![],
         );
         let v = ModelView {

@@ -86,7 +86,10 @@ pub(crate) fn reconstruct_building(
     let min_cells = (params.min_region_m2 / (cell * cell)).ceil() as usize;
     let (region, region_code) = regions(&grid, &mut codes, min_cells.max(1));
     let mut part = trace(&grid, &region, region_code.len() as u32, params.simplify_m);
-    let region_plane: Vec<RoofPlane> = region_code.iter().map(|&c| planes[c as usize - 1]).collect();
+    let region_plane: Vec<RoofPlane> = region_code
+        .iter()
+        .map(|&c| planes[c as usize - 1])
+        .collect();
     let (base, open_base) = base_height(
         xyz,
         &nb.normal,
@@ -102,9 +105,10 @@ pub(crate) fn reconstruct_building(
         if r == 0 {
             return base;
         }
-        region_plane
-            .get(r as usize - 1)
-            .map_or(base, |pl| pl.z_at(q[0], q[1]).clamp(base + 0.5, top.max(base + 0.5) + 1.0))
+        region_plane.get(r as usize - 1).map_or(base, |pl| {
+            pl.z_at(q[0], q[1])
+                .clamp(base + 0.5, top.max(base + 0.5) + 1.0)
+        })
     };
     let wall: Vec<usize> = (0..xyz.len())
         .filter(|&i| nb.normal[i][2].abs() <= params.wall_max_nz && label[i] == NO_PLANE)

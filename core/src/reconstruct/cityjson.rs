@@ -41,32 +41,58 @@ pub fn to_cityjson(rec: &Reconstruction, crs: Option<&str>) -> Value {
         hi = [0.0; 3];
     }
     let translate = lo.map(|v| (v / SCALE).floor() * SCALE);
+    // Vertices merged by their integer position (two corners snapped onto
+    // one spot become one vertex; zero-length edges they leave are dropped).
     let mut vertices: Vec<[i64; 3]> = Vec::new();
+    let mut index: std::collections::HashMap<[i64; 3], usize> = Default::default();
     let mut objects = serde_json::Map::new();
     for m in &rec.models {
-        let base = vertices.len();
-        vertices.extend(m.shell.vertices.iter().map(|v| {
-            let w = world(*v);
-            [0, 1, 2].map(|k| ((w[k] - translate[k]) / SCALE).round() as i64)
-        }));
+        let ids: Vec<usize> = m
+            .shell
+            .vertices
+            .iter()
+            .map(|v| {
+                let w = world(*v);
+                let q = [0, 1, 2].map(|k| ((w[k] - translate[k]) / SCALE).round() as i64);
+                *index.entry(q).or_insert_with(|| {
+                    vertices.push(q);
+                    vertices.len() - 1
+                })
+            })
+            .collect();
+        let mut kinds = Vec::new();
         let surfaces: Vec<Value> = m
             .shell
             .faces
             .iter()
-            .map(|f| {
-                Value::from(
-                    f.rings
-                        .iter()
-                        .map(|r| r.iter().map(|&v| base + v as usize).collect::<Vec<_>>())
-                        .collect::<Vec<_>>(),
-                )
+            .filter_map(|f| {
+                let rings: Vec<Vec<usize>> = f
+                    .rings
+                    .iter()
+                    .map(|r| {
+                        let mut out: Vec<usize> = r.iter().map(|&v| ids[v as usize]).collect();
+                        out.dedup();
+                        while out.len() > 1 && out.first() == out.last() {
+                            out.pop();
+                        }
+                        out
+                    })
+                    .filter(|r| r.len() >= 3)
+                    .collect();
+                let outer_ok = f.rings.first().is_some_and(|r| {
+                    let mut o: Vec<usize> = r.iter().map(|&v| ids[v as usize]).collect();
+                    o.dedup();
+                    o.len() >= 3
+                });
+                (outer_ok && !rings.is_empty()).then(|| {
+                    kinds.push(f.kind);
+                    Value::from(rings)
+                })
             })
             .collect();
-        let values: Vec<usize> = m
-            .shell
-            .faces
+        let values: Vec<usize> = kinds
             .iter()
-            .map(|f| match f.kind {
+            .map(|k| match k {
                 super::SurfaceType::RoofSurface => 0,
                 super::SurfaceType::WallSurface => 1,
                 super::SurfaceType::GroundSurface => 2,

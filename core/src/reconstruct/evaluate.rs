@@ -89,10 +89,7 @@ fn sample_triangle(t: &[[f64; 3]; 3], spacing: f64, out: &mut Vec<[f64; 3]>) {
     // R2 sequence (plastic number).
     let (a1, a2) = (0.754_877_666_246_692_8, 0.569_840_290_998_053_3);
     for k in 0..n {
-        let (mut u, mut v) = (
-            (0.5 + a1 * k as f64).fract(),
-            (0.5 + a2 * k as f64).fract(),
-        );
+        let (mut u, mut v) = ((0.5 + a1 * k as f64).fract(), (0.5 + a2 * k as f64).fract());
         if u + v > 1.0 {
             (u, v) = (1.0 - u, 1.0 - v);
         }
@@ -155,12 +152,15 @@ pub fn evaluate_models(
             tags.push(m as u32 * 2 + u32::from(kind == SurfaceType::RoofSurface));
         }
     }
-    let model_tris: Vec<([[f64; 3]; 3], u32)> = tris.iter().copied().zip(tags.iter().copied()).collect();
+    let model_tris: Vec<([[f64; 3]; 3], u32)> =
+        tris.iter().copied().zip(tags.iter().copied()).collect();
     let model_grid = TriangleGrid::new(tris, tags);
     let mut gt_tris = Vec::new();
     let mut gt_tags = Vec::new();
     for t in 0..scene.triangles.len() {
-        let Some(o) = scene.triangle_kind(t) else { continue };
+        let Some(o) = scene.triangle_kind(t) else {
+            continue;
+        };
         if o.kind != ObjectKind::Building {
             continue;
         }
@@ -205,7 +205,9 @@ pub fn evaluate_models(
         let to_model: Vec<(f64, f64)> = samples
             .par_iter()
             .map(|(p, roof)| {
-                let d = model_grid.nearest(*p, FAR, in_model).map_or(FAR, |(d2, _)| d2.sqrt());
+                let d = model_grid
+                    .nearest(*p, FAR, in_model)
+                    .map_or(FAR, |(d2, _)| d2.sqrt());
                 let r = if *roof {
                     model_grid
                         .nearest(*p, FAR, |t| t % 2 == 1 && in_model(t))
@@ -228,7 +230,11 @@ pub fn evaluate_models(
             .collect();
         let to_gt: Vec<f64> = model_pts
             .par_iter()
-            .map(|p| gt_grid.nearest(*p, FAR, |_| true).map_or(FAR, |(d2, _)| d2.sqrt()))
+            .map(|p| {
+                gt_grid
+                    .nearest(*p, FAR, |_| true)
+                    .map_or(FAR, |(d2, _)| d2.sqrt())
+            })
             .collect();
         score.samples = model_pts
             .iter()
@@ -236,7 +242,11 @@ pub fn evaluate_models(
             .map(|(p, d)| ([p[0], p[1]], *d))
             .collect();
         let a: Vec<f64> = to_model.iter().map(|d| d.0).collect();
-        let roof: Vec<f64> = to_model.iter().map(|d| d.1).filter(|v| !v.is_nan()).collect();
+        let roof: Vec<f64> = to_model
+            .iter()
+            .map(|d| d.1)
+            .filter(|v| !v.is_nan())
+            .collect();
         score.gt_to_model = mean(&a);
         score.model_to_gt = mean(&to_gt);
         score.roof_error = mean(&roof);
@@ -267,9 +277,28 @@ pub fn evaluate_models(
     }
 }
 
-/// Mean distance from `points` (local frame of `rec`) to the nearest model
-/// face: City3D's measure of fit.
-pub fn points_to_models(rec: &Reconstruction, points: &[[f32; 3]]) -> Option<f64> {
+/// Mean distance from the points of `points` (local frame of `rec`) that
+/// lie on a model's footprint (within 0.5 m of it) to the nearest model
+/// face: City3D's measure of fit. Also returns how many points that was.
+pub fn points_to_models(rec: &Reconstruction, points: &[[f32; 3]]) -> Option<(f64, usize)> {
+    let fps: Vec<crate::footprint::Footprint> = rec
+        .models
+        .iter()
+        .enumerate()
+        .map(|(k, m)| crate::footprint::Footprint {
+            id: k as u32 + 1,
+            polygon: m.outline.clone(),
+            name: m.name.clone(),
+        })
+        .collect();
+    let ids =
+        crate::footprint::split(points, &fps, &crate::footprint::SplitParams::default()).ok()?;
+    let mine: Vec<[f32; 3]> = points
+        .iter()
+        .zip(&ids)
+        .filter(|(_, id)| **id != 0)
+        .map(|(p, _)| *p)
+        .collect();
     let tris: Vec<[[f64; 3]; 3]> = rec
         .models
         .iter()
@@ -277,14 +306,14 @@ pub fn points_to_models(rec: &Reconstruction, points: &[[f32; 3]]) -> Option<f64
         .collect();
     let n = tris.len();
     let grid = TriangleGrid::new(tris, vec![0; n]);
-    let d: Vec<f64> = points
+    let d: Vec<f64> = mine
         .par_iter()
         .map(|p| {
             grid.nearest(p.map(f64::from), FAR, |_| true)
                 .map_or(FAR, |(d2, _)| d2.sqrt())
         })
         .collect();
-    mean(&d)
+    mean(&d).map(|m| (m, d.len()))
 }
 
 #[cfg(test)]
@@ -297,10 +326,16 @@ mod tests {
         let mut out = Vec::new();
         sample_triangle(&t, 0.25, &mut out);
         assert_eq!(out.len(), 128);
-        assert!(out.iter().all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[0] + p[1] <= 4.0));
+        assert!(
+            out.iter()
+                .all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[0] + p[1] <= 4.0)
+        );
         let near_origin = out.iter().filter(|p| p[0] + p[1] < 2.0).count();
         // A quarter of the area lies within x + y < 2.
-        assert!((near_origin as f64 / 128.0 - 0.25).abs() < 0.05, "{near_origin}");
+        assert!(
+            (near_origin as f64 / 128.0 - 0.25).abs() < 0.05,
+            "{near_origin}"
+        );
         let mut d = vec![1.0, 2.0, 3.0, 4.0];
         let (m, r, p) = stats(&mut d);
         assert_eq!((m, p), (Some(2.5), Some(4.0)));

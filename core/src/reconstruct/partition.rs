@@ -117,10 +117,7 @@ pub(crate) fn regions(grid: &Grid, labels: &mut [u32], min_cells: usize) -> (Vec
             region_of_comp[c] = region_code.len() as u32;
         }
     }
-    let region: Vec<u32> = comp
-        .iter()
-        .map(|&c| region_of_comp[c as usize])
-        .collect();
+    let region: Vec<u32> = comp.iter().map(|&c| region_of_comp[c as usize]).collect();
     (region, region_code)
 }
 
@@ -178,9 +175,7 @@ fn remove_diagonals(grid: &Grid, labels: &mut [u32]) {
                 if labels[p] == labels[s] && labels[q] != labels[p] && labels[r] != labels[p] {
                     labels[q] = labels[p];
                     changed = true;
-                } else if labels[q] == labels[r]
-                    && labels[p] != labels[q]
-                    && labels[s] != labels[q]
+                } else if labels[q] == labels[r] && labels[p] != labels[q] && labels[s] != labels[q]
                 {
                     labels[p] = labels[q];
                     changed = true;
@@ -239,9 +234,9 @@ pub(crate) fn trace(grid: &Grid, region: &[u32], regions: u32, tol: f64) -> Part
     }
     let mut raw: Vec<(Vec<(isize, isize)>, u32, u32)> = Vec::new();
     let walk = |start: (isize, isize),
-                    first: (usize, (isize, isize), u32, u32),
-                    used: &mut Vec<bool>,
-                    is_node: &Vec<bool>| {
+                first: (usize, (isize, isize), u32, u32),
+                used: &mut Vec<bool>,
+                is_node: &Vec<bool>| {
         let (e, mut at, left, right) = first;
         used[e] = true;
         let mut pts = vec![start, at];
@@ -341,11 +336,9 @@ fn simplify(p: &[[f64; 2]], tol: f64) -> Vec<usize> {
         dp(p, far, n - 1, tol, &mut keep);
         if keep.iter().filter(|k| **k).count() < 4 {
             // A ring needs three distinct vertices.
-            let third = (1..n - 1)
-                .filter(|&k| k != far)
-                .max_by(|&a, &b| {
-                    line_dist(p[a], p[0], p[far]).total_cmp(&line_dist(p[b], p[0], p[far]))
-                });
+            let third = (1..n - 1).filter(|&k| k != far).max_by(|&a, &b| {
+                line_dist(p[a], p[0], p[far]).total_cmp(&line_dist(p[b], p[0], p[far]))
+            });
             if let Some(t) = third {
                 keep[t] = true;
             }

@@ -106,7 +106,8 @@ pub(crate) fn grow_planes(
                     continue;
                 }
                 let nj = nb.normal[j];
-                let cos = nj[0] * plane.normal[0] + nj[1] * plane.normal[1] + nj[2] * plane.normal[2];
+                let cos =
+                    nj[0] * plane.normal[0] + nj[1] * plane.normal[1] + nj[2] * plane.normal[2];
                 let p = wide(xyz[j]);
                 if cos < cos_max || plane.distance(p).abs() > params.grow_dist_m {
                     continue;

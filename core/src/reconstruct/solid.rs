@@ -184,7 +184,9 @@ pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) 
     let mut vid = |v: u32, level: usize, shell: &mut Shell| -> u32 {
         *ids.entry((v, level)).or_insert_with(|| {
             let xy = p.verts[v as usize];
-            shell.vertices.push([xy[0], xy[1], levels[v as usize][level]]);
+            shell
+                .vertices
+                .push([xy[0], xy[1], levels[v as usize][level]]);
             (shell.vertices.len() - 1) as u32
         })
     };
@@ -194,7 +196,11 @@ pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) 
         for group in group_rings(p, p.rings(r), 1.0) {
             let rings = group
                 .iter()
-                .map(|ring| ring.iter().map(|&v| vid(v, level(v, r), &mut shell)).collect())
+                .map(|ring| {
+                    ring.iter()
+                        .map(|&v| vid(v, level(v, r), &mut shell))
+                        .collect()
+                })
                 .collect();
             shell.faces.push(ModelFace {
                 kind: SurfaceType::RoofSurface,
@@ -206,7 +212,11 @@ pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) 
     for group in group_rings(p, p.rings(0), -1.0) {
         let rings = group
             .iter()
-            .map(|ring| ring.iter().map(|&v| vid(v, level(v, 0), &mut shell)).collect())
+            .map(|ring| {
+                ring.iter()
+                    .map(|&v| vid(v, level(v, 0), &mut shell))
+                    .collect()
+            })
             .collect();
         shell.faces.push(ModelFace {
             kind: SurfaceType::GroundSurface,
@@ -217,7 +227,12 @@ pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) 
     for c in &p.chains {
         for w in c.verts.windows(2) {
             let (a, b) = (w[0], w[1]);
-            let (la, ra, lb, rb) = (level(a, c.left), level(a, c.right), level(b, c.left), level(b, c.right));
+            let (la, ra, lb, rb) = (
+                level(a, c.left),
+                level(a, c.right),
+                level(b, c.left),
+                level(b, c.right),
+            );
             if la == ra && lb == rb {
                 continue;
             }
@@ -368,7 +383,11 @@ mod tests {
         let gable = 10.0 * 8.0 * 8.0 + 10.0 * 8.0 * 2.0 * 0.5;
         // The tower replaces 3 × 2 m of roof (heights 8.5..9.5 at y 2..4) by 15 m.
         let tower = 3.0 * 2.0 * (15.0 - 9.0);
-        assert!((vol - gable - tower).abs() < 1e-6, "{vol} vs {}", gable + tower);
+        assert!(
+            (vol - gable - tower).abs() < 1e-6,
+            "{vol} vs {}",
+            gable + tower
+        );
         let o = outline(&p);
         assert!((geo::Area::unsigned_area(&o) - 80.0).abs() < 1e-9);
     }

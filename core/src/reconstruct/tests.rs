@@ -9,7 +9,10 @@ use crate::scene::{MeshPart, ObjectKind, Scene, SceneBuilder};
 
 fn scene() -> Scene {
     let mut g = MeshPart::default();
-    let r = g.ring(&[[-30.0, -30.0], [70.0, -30.0], [70.0, 70.0], [-30.0, 70.0]], 0.0);
+    let r = g.ring(
+        &[[-30.0, -30.0], [70.0, -30.0], [70.0, 70.0], [-30.0, 70.0]],
+        0.0,
+    );
     g.quad(r[0], r[1], r[2], r[3]);
     let mut b = SceneBuilder::new([0.0; 3]);
     b.add("terrain", ObjectKind::Ground, 0, &g);
@@ -19,8 +22,20 @@ fn scene() -> Scene {
         1,
         &gable_house(Rect::at(0.0, 0.0, 16.0, 10.0), -0.5, 6.0, 9.0, true),
     );
-    let l = [[25.0, 0.0], [45.0, 0.0], [45.0, 8.0], [33.0, 8.0], [33.0, 20.0], [25.0, 20.0]];
-    b.add("building_02_l", ObjectKind::Building, 2, &prism(&l, &[], -0.5, 10.0));
+    let l = [
+        [25.0, 0.0],
+        [45.0, 0.0],
+        [45.0, 8.0],
+        [33.0, 8.0],
+        [33.0, 20.0],
+        [25.0, 20.0],
+    ];
+    b.add(
+        "building_02_l",
+        ObjectKind::Building,
+        2,
+        &prism(&l, &[], -0.5, 10.0),
+    );
     b.add(
         "building_03_podium",
         ObjectKind::Building,
@@ -72,7 +87,8 @@ fn cloud(scene: &Scene, keep: impl Fn([f32; 3], [f32; 3]) -> bool) -> Cloud {
 #[test]
 fn complete_cloud_gives_closed_accurate_models() {
     let s = scene();
-    let rec = reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
+    let rec =
+        reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
     assert_eq!(rec.models.len(), 3, "skipped: {:?}", rec.skipped);
     for m in &rec.models {
         let c = m.shell.check();
@@ -88,7 +104,8 @@ fn complete_cloud_gives_closed_accurate_models() {
     }
     assert!(e.all_valid && e.without_model.is_empty() && e.unmatched_models.is_empty());
     let pts: Vec<[f32; 3]> = gt.xyz.clone();
-    assert!(evaluate::points_to_models(&rec, &pts).unwrap() < 0.06);
+    let (d, n) = evaluate::points_to_models(&rec, &pts).unwrap();
+    assert!(d < 0.06 && n == pts.len(), "{d} {n}");
 }
 
 #[test]
@@ -99,11 +116,24 @@ fn missing_walls_leave_the_model_less_accurate() {
     let before = cloud(&s, |_, n| n[1] > -0.5 && n[0] < 0.5);
     let after = cloud(&s, |_, _| true);
     let gt = sample_building_surfaces(&s, 0.25);
-    let eb = evaluate_models(&s, &gt, &reconstruct_cloud(&before, None, &params).unwrap(), 0.25);
-    let ea = evaluate_models(&s, &gt, &reconstruct_cloud(&after, None, &params).unwrap(), 0.25);
+    let eb = evaluate_models(
+        &s,
+        &gt,
+        &reconstruct_cloud(&before, None, &params).unwrap(),
+        0.25,
+    );
+    let ea = evaluate_models(
+        &s,
+        &gt,
+        &reconstruct_cloud(&after, None, &params).unwrap(),
+        0.25,
+    );
     assert!(eb.all_watertight && ea.all_watertight);
     for (b, a) in eb.buildings.iter().zip(&ea.buildings) {
-        assert!(a.mean.unwrap() < b.mean.unwrap(), "after {a:?}\nbefore {b:?}");
+        assert!(
+            a.mean.unwrap() < b.mean.unwrap(),
+            "after {a:?}\nbefore {b:?}"
+        );
     }
 }
 
@@ -125,7 +155,8 @@ fn bad_input_is_typed() {
 #[test]
 fn cityjson_has_one_solid_per_building_with_semantics() {
     let s = scene();
-    let rec = reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
+    let rec =
+        reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
     let v = cityjson::to_cityjson(&rec, Some("EPSG:28992"));
     assert_eq!(v["version"], "2.0");
     assert_eq!(

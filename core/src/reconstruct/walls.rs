@@ -93,7 +93,9 @@ pub(crate) fn snap_walls(
             }
             let za = [height(c.left, a), height(c.right, a)];
             let zb = [height(c.left, b), height(c.right, b)];
-            if (za[0] - za[1]).abs() < params.min_step_m || (zb[0] - zb[1]).abs() < params.min_step_m {
+            if (za[0] - za[1]).abs() < params.min_step_m
+                || (zb[0] - zb[1]).abs() < params.min_step_m
+            {
                 continue;
             }
             fit.segments += 1;
@@ -119,7 +121,10 @@ pub(crate) fn snap_walls(
                     let zl = za[0].min(za[1]) * (1.0 - t) + zb[0].min(zb[1]) * t;
                     let zh = za[0].max(za[1]) * (1.0 - t) + zb[0].max(zb[1]) * t;
                     let nq = support.wall_normal[k];
-                    if q[2] < zl + 0.2 || q[2] > zh - 0.2 || (nq[0] * u[0] + nq[1] * u[1]).abs() > 0.5 {
+                    if q[2] < zl + 0.2
+                        || q[2] > zh - 0.2
+                        || (nq[0] * u[0] + nq[1] * u[1]).abs() > 0.5
+                    {
                         return;
                     }
                     across.push(off);
@@ -146,9 +151,13 @@ pub(crate) fn snap_walls(
                 (across.len() >= 3).then(|| median(&mut across)).flatten()
             };
             let chosen = if support.outline_first {
-                from_outline().map(|o| (o, false)).or_else(|| from_walls().map(|o| (o, true)))
+                from_outline()
+                    .map(|o| (o, false))
+                    .or_else(|| from_walls().map(|o| (o, true)))
             } else {
-                from_walls().map(|o| (o, true)).or_else(|| from_outline().map(|o| (o, false)))
+                from_walls()
+                    .map(|o| (o, true))
+                    .or_else(|| from_outline().map(|o| (o, false)))
             };
             let Some((off, on_wall)) = chosen else {
                 continue;
@@ -193,7 +202,10 @@ fn meet(x: [f64; 2], ls: &[([f64; 2], f64)]) -> Option<[f64; 2]> {
     if let Some((_, i, j)) = best {
         let ((n1, c1), (n2, c2)) = (ls[i], ls[j]);
         let det = n1[0] * n2[1] - n1[1] * n2[0];
-        return Some([(c1 * n2[1] - c2 * n1[1]) / det, (n1[0] * c2 - n2[0] * c1) / det]);
+        return Some([
+            (c1 * n2[1] - c2 * n1[1]) / det,
+            (n1[0] * c2 - n2[0] * c1) / det,
+        ]);
     }
     let mut s = [0.0; 2];
     for (n, c) in ls {

@@ -153,7 +153,10 @@ pub fn evaluate_against(scene: &Scene, rec: &Reconstruction, spacing: f32) -> Mo
 /// Runs the reconstruction.
 pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
     if !(a.gt_spacing > 0.0) {
-        return Err(err(format!("--gt-spacing ({}) must be positive", a.gt_spacing)));
+        return Err(err(format!(
+            "--gt-spacing ({}) must be positive",
+            a.gt_spacing
+        )));
     }
     let cloud = read_cloud(&a.input).map_err(err)?;
     let loaded = match &a.footprints {
@@ -171,17 +174,20 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
     let seconds = t0.elapsed().as_secs_f64();
     let pts = building_points(&cloud, cloud.origin);
     let fit = points_to_models(&rec, &pts);
+    let (fit, fit_points) = (fit.map(|f| f.0), fit.map_or(0, |f| f.1));
     let checks: Vec<_> = rec.models.iter().map(|m| m.shell.check()).collect();
     let eval = match &a.gt {
         Some(s) => {
-            let scene = skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+            let scene =
+                skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             Some(evaluate_against(&scene, &rec, a.gt_spacing))
         }
         None => None,
     };
     let before_after = match (&a.before, &a.gt) {
         (Some(b), Some(s)) => {
-            let scene = skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+            let scene =
+                skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = read_cloud(b).map_err(err)?;
             let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
             let pictured = write_picture(&a.out.join("models.png"), &scene, &mb, &ma, 3)?;
@@ -191,7 +197,8 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
                 a.input.display(),
                 table(&mb, Some(&ma))
             );
-            std::fs::write(a.out.join("models.md"), &md).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+            std::fs::write(a.out.join("models.md"), &md)
+                .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
             if !a.json {
                 eprintln!("{md}");
             }
@@ -225,6 +232,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         "all_valid": checks.iter().all(|c| c.valid()),
         "points_to_model_mean": fit,
         "building_points": pts.len(),
+        "points_on_models": fit_points,
         "seconds": seconds,
         "evaluation": eval,
         "before_after": before_after,
@@ -234,11 +242,12 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     if !a.json {
         eprintln!(
-            "{} models ({} skipped) in {seconds:.2} s, all watertight: {}; mean points → model distance {} m",
+            "{} models ({} skipped) in {seconds:.2} s, all watertight: {}; mean points → model distance {} m ({fit_points} of {} points lie on the models' footprints)",
             rec.models.len(),
             rec.skipped.len(),
             checks.iter().all(|c| c.watertight()),
-            metres(fit)
+            metres(fit),
+            pts.len()
         );
         if let Some(e) = &eval {
             eprintln!("{}", table(e, None));
