@@ -155,8 +155,8 @@ fn bounds(mp: &MultiPolygon<f64>) -> Option<[f64; 4]> {
     b.iter().all(|v| v.is_finite()).then_some(b)
 }
 
-/// Per cell: the plane (1-based code) most of its roof points lie on
-/// (ties to the higher plane), cells without points the nearest labelled
+/// Per cell: the highest plane (1-based code) holding at least a quarter
+/// as many of its points as the best-supported one, cells without points the nearest labelled
 /// cell's plane, 0 outside the mask.
 fn roof_labels(
     xyz: &[[f32; 3]],
@@ -179,8 +179,8 @@ fn roof_labels(
     let mut k = 0;
     while k < votes.len() {
         let c = votes[k].0;
-        let (mut best, mut best_n, mut best_z) = (0u32, 0usize, f64::MIN);
         let q = grid.centre(c % grid.nx, c / grid.nx);
+        let mut here: Vec<(u32, usize, f64)> = Vec::new();
         while k < votes.len() && votes[k].0 == c {
             let l = votes[k].1;
             let mut n = 0;
@@ -188,11 +188,17 @@ fn roof_labels(
                 n += 1;
                 k += 1;
             }
-            let z = planes[l as usize].z_at(q[0], q[1]);
-            if n > best_n || (n == best_n && z > best_z) {
-                (best, best_n, best_z) = (l + 1, n, z);
-            }
+            here.push((l, n, planes[l as usize].z_at(q[0], q[1])));
         }
+        // The top surface is the roof: the highest plane with real support
+        // wins, not the most points (a slab's underside scanned densely
+        // from below must not replace the roof above it).
+        let most = here.iter().map(|h| h.1).max().unwrap_or(0);
+        let best = here
+            .iter()
+            .filter(|h| h.1 >= 2 && 4 * h.1 >= most)
+            .max_by(|a, b| a.2.total_cmp(&b.2))
+            .map_or(0, |h| h.0 + 1);
         code[c] = best;
     }
     // Multi-source breadth-first fill inside the mask.
