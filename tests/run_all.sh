@@ -15,6 +15,10 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 step "build (debug: tests; the codec and algorithms build optimized even here)"
 cargo build --workspace --all-targets --locked
 
+step "cjval (CityJSON 2.0 validator for the models and completeness.city.json; installed once into .tools)"
+[ -x .tools/bin/cjval ] || cargo install --locked cjval --version 0.10.0 --features build-binary --root .tools
+export SKYGROUND_CJVAL="$root/.tools/bin/cjval"
+
 step "rclpy peer venv (.venv, pinned ros-kilted wheels)"
 tests/setup_venv.sh
 
@@ -24,11 +28,6 @@ export SKYGROUND_ROS_SHARE="$root/.venv/share"
 export SKYGROUND_SAMPLE_BAG_CMD="$root/target/debug/examples/sample_bag"
 export SKYGROUND_REAL_DATA="${SKYGROUND_REAL_DATA:-$root/../shared/data/real}"
 [ -d "$SKYGROUND_REAL_DATA" ] || echo "NOTE: $SKYGROUND_REAL_DATA not found: tests that need real data will say SKIPPED"
-
-step "cjval (CityJSON schema validator: the completeness model is checked with it; skipped when installed)"
-if [ ! -x .tools/bin/cjval ] && ! command -v cjval >/dev/null 2>&1; then
-    cargo install --locked cjval --version 0.10.0 --features build-binary --root .tools
-fi
 
 step "Rust tests (inside a loopback-only network namespace)"
 tests/netns.sh cargo test --workspace --offline --locked

@@ -20,6 +20,7 @@ pub mod lidar;
 pub mod metrics;
 pub mod missing;
 pub mod plot;
+pub mod reconstruct;
 pub mod route;
 pub mod scene;
 pub mod skeleton;

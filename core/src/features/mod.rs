@@ -16,7 +16,7 @@ pub mod compute;
 pub mod echo;
 pub mod error;
 pub mod params;
-mod shape;
+pub(crate) mod shape;
 mod voxel;
 
 pub use compute::{FEATURE_NAMES, Features, compute, compute_subset};

@@ -17,7 +17,7 @@ mod ground_height;
 pub mod gt;
 mod nearest;
 pub mod quality;
-mod triangle_grid;
+pub(crate) mod triangle_grid;
 mod winding;
 
 pub use accuracy::{cloud_to_mesh_distances, mean_cloud_to_mesh};

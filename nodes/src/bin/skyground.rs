@@ -4,7 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use skyground_nodes::cli::{
-    self, aerial, bench, classify, demo, detect, echo, eval, info, plan, play, record, sink,
+    self, aerial, bench, classify, demo, detect, echo, eval, info, plan, play, reconstruct, record,
+    sink,
 };
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
@@ -40,6 +41,8 @@ enum Cmd {
     Plan(plan::PlanArgs),
     /// Measure an aerial cloud and a merged cloud against a scene's buildings.
     Eval(eval::EvalArgs),
+    /// Reconstruct LoD2 building models (CityJSON 2.0, OBJ); with --gt, their accuracy.
+    Reconstruct(reconstruct::ReconstructArgs),
     /// Republish a recorded bag with its timing (like `ros2 bag play`).
     Play(play::PlayArgs),
     /// Record topics into a rosbag2-compatible MCAP file.
@@ -117,6 +120,7 @@ fn main() -> ExitCode {
         }
         Cmd::Aerial(a) => offline("aerial", a.json, true, aerial::run(&a)),
         Cmd::Eval(a) => offline("eval", a.json, false, eval::run(&a)),
+        Cmd::Reconstruct(a) => offline("reconstruct", a.json, false, reconstruct::run(&a)),
         Cmd::Classify(a) => offline("classify", a.json, false, classify::run(&a)),
         Cmd::Train(a) => offline("train", a.json, true, classify::run_train(&a)),
         Cmd::Info(a) => offline("info", a.json, false, info::run(&a)),

@@ -18,7 +18,7 @@
 
 mod buildings;
 pub(crate) mod rng;
-mod solids;
+pub(crate) mod solids;
 mod terrain;
 mod trees;
 

@@ -1,0 +1,302 @@
+//! One building: planes → roof raster → partition → walls → closed solid.
+
+use geo::{Contains, Coord, MultiPolygon};
+
+use super::error::Skip;
+use super::normals::neighbourhoods;
+use super::params::ReconstructParams;
+use super::partition::{Grid, regions, trace};
+use super::planes::{NO_PLANE, RoofPlane, grow_planes};
+use super::solid::{Shell, build_shell, outline, split_crossings};
+use super::walls::{Support, WallFit, snap_ridges, snap_walls};
+use crate::missing::GroundGrid;
+
+/// One building's LoD2 model (local frame of the cloud it came from).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Model {
+    /// Building id (the footprint's).
+    pub id: u32,
+    /// Name (the footprint's).
+    pub name: String,
+    /// The closed solid.
+    pub shell: Shell,
+    /// The model's footprint.
+    pub outline: MultiPolygon<f64>,
+    /// Height of the base, m (local frame).
+    pub base: f64,
+    /// The base was raised to an underside seen in the points (open ground floor).
+    pub open_base: bool,
+    /// Roof planes found.
+    pub planes: usize,
+    /// Points used (after thinning).
+    pub points: usize,
+    /// Boundary segments fitted to wall points or to the outline.
+    pub walls: WallFit,
+}
+
+/// What one building's reconstruction is given besides its points.
+pub(crate) struct Inputs<'a> {
+    /// Id and name of the building.
+    pub id: u32,
+    /// Name.
+    pub name: &'a str,
+    /// Its footprint.
+    pub footprint: &'a MultiPolygon<f64>,
+    /// The footprint was given (not derived from the points).
+    pub given: bool,
+    /// Terrain from the cloud's ground points, when it has any.
+    pub ground: Option<&'a GroundGrid>,
+}
+
+/// Reconstructs one building from its points `xyz` (local frame).
+pub(crate) fn reconstruct_building(
+    xyz: &[[f32; 3]],
+    inp: &Inputs,
+    params: &ReconstructParams,
+) -> Result<Model, Skip> {
+    if xyz.len() < params.min_plane_points.max(params.k + 1) {
+        return Err(Skip::TooFewPoints);
+    }
+    let nb = neighbourhoods(xyz, params.k);
+    let (planes, label) = grow_planes(xyz, &nb, params);
+    if planes.is_empty() {
+        return Err(Skip::NoRoofPlane);
+    }
+    let bounds = bounds(inp.footprint).ok_or(Skip::EmptyFootprint)?;
+    let cell = params.cell_m;
+    let pad = 2.0 * cell;
+    let grid = Grid {
+        lo: [bounds[0] - pad, bounds[1] - pad],
+        cell,
+        nx: ((bounds[2] - bounds[0] + 2.0 * pad) / cell).ceil() as usize,
+        ny: ((bounds[3] - bounds[1] + 2.0 * pad) / cell).ceil() as usize,
+    };
+    let ncell = grid.nx * grid.ny;
+    let mask: Vec<bool> = (0..ncell)
+        .map(|c| {
+            let q = grid.centre(c % grid.nx, c / grid.nx);
+            inp.footprint.contains(&Coord { x: q[0], y: q[1] })
+        })
+        .collect();
+    if !mask.iter().any(|m| *m) {
+        return Err(Skip::EmptyFootprint);
+    }
+    let code = roof_labels(xyz, &label, &planes, &grid, &mask);
+    let mut codes = code;
+    let min_cells = (params.min_region_m2 / (cell * cell)).ceil() as usize;
+    let (region, region_code) = regions(&grid, &mut codes, min_cells.max(1));
+    let mut part = trace(&grid, &region, region_code.len() as u32, params.simplify_m);
+    let region_plane: Vec<RoofPlane> = region_code
+        .iter()
+        .map(|&c| planes[c as usize - 1])
+        .collect();
+    let (base, open_base) = base_height(
+        xyz,
+        &nb.normal,
+        inp,
+        &grid,
+        &mask,
+        &region,
+        &region_plane,
+        params.open_base_share,
+    );
+    let top = xyz.iter().map(|p| f64::from(p[2])).fold(f64::MIN, f64::max);
+    let height = |r: u32, q: [f64; 2]| -> f64 {
+        if r == 0 {
+            return base;
+        }
+        region_plane.get(r as usize - 1).map_or(base, |pl| {
+            pl.z_at(q[0], q[1])
+                .clamp(base + 0.5, top.max(base + 0.5) + 1.0)
+        })
+    };
+    let wall: Vec<usize> = (0..xyz.len())
+        .filter(|&i| nb.normal[i][2].abs() <= params.wall_max_nz && label[i] == NO_PLANE)
+        .collect();
+    let wall_xyz: Vec<[f64; 3]> = wall.iter().map(|&i| xyz[i].map(f64::from)).collect();
+    let wall_normal: Vec<[f64; 3]> = wall.iter().map(|&i| nb.normal[i]).collect();
+    let outline_samples = outline_samples(inp.footprint, 0.25);
+    let fit = snap_walls(
+        &mut part,
+        &height,
+        &Support {
+            wall: &wall_xyz,
+            wall_normal: &wall_normal,
+            outline: &outline_samples,
+            outline_first: inp.given,
+        },
+        params,
+    );
+    let plane_of = |r: u32| -> Option<[f64; 3]> {
+        let pl = region_plane.get((r as usize).checked_sub(1)?)?;
+        let n = pl.normal;
+        Some([-n[0] / n[2], -n[1] / n[2], -pl.d / n[2]])
+    };
+    snap_ridges(&mut part, &plane_of, 1.5 * cell);
+    split_crossings(&mut part, &height);
+    let shell = build_shell(&part, &height);
+    Ok(Model {
+        id: inp.id,
+        name: inp.name.to_string(),
+        shell,
+        outline: outline(&part),
+        base,
+        open_base,
+        planes: region_plane.len(),
+        points: xyz.len(),
+        walls: fit,
+    })
+}
+
+fn bounds(mp: &MultiPolygon<f64>) -> Option<[f64; 4]> {
+    use geo::BoundingRect;
+    let r = mp.bounding_rect()?;
+    let b = [r.min().x, r.min().y, r.max().x, r.max().y];
+    b.iter().all(|v| v.is_finite()).then_some(b)
+}
+
+/// Per cell: the highest plane (1-based code) holding at least a quarter
+/// as many of its points as the best-supported one, cells without points the nearest labelled
+/// cell's plane, 0 outside the mask.
+fn roof_labels(
+    xyz: &[[f32; 3]],
+    label: &[u32],
+    planes: &[RoofPlane],
+    grid: &Grid,
+    mask: &[bool],
+) -> Vec<u32> {
+    let mut votes: Vec<(usize, u32)> = xyz
+        .iter()
+        .zip(label)
+        .filter(|(_, l)| **l != NO_PLANE)
+        .filter_map(|(p, &l)| {
+            let c = grid.cell_of(f64::from(p[0]), f64::from(p[1]))?;
+            mask[c].then_some((c, l))
+        })
+        .collect();
+    votes.sort_unstable();
+    let mut code = vec![0u32; mask.len()];
+    let mut k = 0;
+    while k < votes.len() {
+        let c = votes[k].0;
+        let q = grid.centre(c % grid.nx, c / grid.nx);
+        let mut here: Vec<(u32, usize, f64)> = Vec::new();
+        while k < votes.len() && votes[k].0 == c {
+            let l = votes[k].1;
+            let mut n = 0;
+            while k < votes.len() && votes[k] == (c, l) {
+                n += 1;
+                k += 1;
+            }
+            here.push((l, n, planes[l as usize].z_at(q[0], q[1])));
+        }
+        // The top surface is the roof: the highest plane with real support
+        // wins, not the most points (a slab's underside scanned densely
+        // from below must not replace the roof above it).
+        let most = here.iter().map(|h| h.1).max().unwrap_or(0);
+        let best = here
+            .iter()
+            .filter(|h| h.1 >= 2 && 4 * h.1 >= most)
+            .max_by(|a, b| a.2.total_cmp(&b.2))
+            .map_or(0, |h| h.0 + 1);
+        code[c] = best;
+    }
+    // Multi-source breadth-first fill inside the mask.
+    let mut queue: std::collections::VecDeque<usize> =
+        (0..code.len()).filter(|&c| code[c] != 0).collect();
+    while let Some(c) = queue.pop_front() {
+        let (i, j) = (c % grid.nx, c / grid.nx);
+        let nbs = [
+            (i > 0).then(|| c - 1),
+            (i + 1 < grid.nx).then(|| c + 1),
+            (j > 0).then(|| c - grid.nx),
+            (j + 1 < grid.ny).then(|| c + grid.nx),
+        ];
+        for n in nbs.into_iter().flatten() {
+            if mask[n] && code[n] == 0 {
+                code[n] = code[c];
+                queue.push_back(n);
+            }
+        }
+    }
+    code
+}
+
+/// The base: the lowest terrain under the footprint (the lowest point when
+/// the cloud has no ground); raised to the underside when horizontal points
+/// between the ground and the roof cover much of the footprint (a slab on
+/// pillars, seen from below: only a ground sensor sees it).
+fn base_height(
+    xyz: &[[f32; 3]],
+    normal: &[[f64; 3]],
+    inp: &Inputs,
+    grid: &Grid,
+    mask: &[bool],
+    region: &[u32],
+    planes: &[RoofPlane],
+    open_share: f64,
+) -> (f64, bool) {
+    let lowest = xyz.iter().map(|p| f64::from(p[2])).fold(f64::MAX, f64::min);
+    let Some(ground) = inp.ground else {
+        return (lowest, false);
+    };
+    let mut base = f64::MAX;
+    for c in (0..mask.len()).filter(|&c| mask[c]) {
+        let q = grid.centre(c % grid.nx, c / grid.nx);
+        if let Some(z) = ground.at(q[0], q[1]) {
+            base = base.min(f64::from(z));
+        }
+    }
+    if base == f64::MAX {
+        return (lowest, false);
+    }
+    // Horizontal points at least 1 m above the ground and 1 m below their roof.
+    let mut cells = vec![false; mask.len()];
+    let mut under: Vec<f64> = xyz
+        .iter()
+        .zip(normal)
+        .filter(|(_, n)| n[2] > 0.9)
+        .filter_map(|(p, _)| {
+            let (x, y, z) = (f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+            let c = grid.cell_of(x, y)?;
+            let r = region[c];
+            let roof = planes.get((r as usize).checked_sub(1)?)?.z_at(x, y);
+            let g = f64::from(ground.at(x, y)?);
+            let hit = z > g + 1.0 && z < roof - 1.0;
+            if hit {
+                cells[c] = true;
+            }
+            hit.then_some(z)
+        })
+        .collect();
+    let inside = mask.iter().filter(|m| **m).count();
+    let covered = cells.iter().filter(|c| **c).count();
+    if (covered as f64) < open_share * inside as f64 {
+        return (base, false);
+    }
+    under.sort_by(f64::total_cmp);
+    (under[under.len() / 10].max(base), true)
+}
+
+/// Points every `step` m along the footprint's rings with the ring's direction there.
+fn outline_samples(mp: &MultiPolygon<f64>, step: f64) -> Vec<([f64; 2], [f64; 2])> {
+    let mut out = Vec::new();
+    for poly in &mp.0 {
+        for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+            for l in ring.lines() {
+                let d = [l.end.x - l.start.x, l.end.y - l.start.y];
+                let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+                if len <= 0.0 {
+                    continue;
+                }
+                let u = [d[0] / len, d[1] / len];
+                let n = (len / step).ceil() as usize;
+                for k in 0..n {
+                    let t = (k as f64 + 0.5) / n as f64;
+                    out.push(([l.start.x + t * d[0], l.start.y + t * d[1]], u));
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,174 @@
+//! CityJSON 2.0 output: one Building per model, its LoD 2.2 Solid with
+//! RoofSurface / WallSurface / GroundSurface semantics, integer vertices
+//! under a millimetre transform, in the source coordinates of the cloud.
+
+use std::path::Path;
+
+use serde_json::{Value, json};
+
+use super::{ReconstructError, Reconstruction};
+
+/// Millimetre vertex precision.
+const SCALE: f64 = 0.001;
+
+/// The CityJSON `referenceSystem` URL of `crs` ("EPSG:2056", "2056" or a URL).
+fn reference_system(crs: &str) -> String {
+    let c = crs.trim();
+    if c.starts_with("http") {
+        return c.to_string();
+    }
+    let code = c.rsplit(':').next().unwrap_or(c);
+    format!("https://www.opengis.net/def/crs/EPSG/0/{code}")
+}
+
+/// The reconstruction as a CityJSON 2.0 document; `crs` (e.g. "EPSG:7415")
+/// goes to `metadata.referenceSystem` when known.
+pub fn to_cityjson(rec: &Reconstruction, crs: Option<&str>) -> Value {
+    let world = |p: [f64; 3]| [0, 1, 2].map(|k| p[k] + rec.origin[k]);
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for m in &rec.models {
+        for v in &m.shell.vertices {
+            let w = world(*v);
+            for k in 0..3 {
+                lo[k] = lo[k].min(w[k]);
+                hi[k] = hi[k].max(w[k]);
+            }
+        }
+    }
+    if !lo[0].is_finite() {
+        lo = [0.0; 3];
+        hi = [0.0; 3];
+    }
+    let translate = lo.map(|v| (v / SCALE).floor() * SCALE);
+    // Vertices merged by their integer position (two corners snapped onto
+    // one spot become one vertex; zero-length edges they leave are dropped).
+    let mut vertices: Vec<[i64; 3]> = Vec::new();
+    let mut index: std::collections::HashMap<[i64; 3], usize> = Default::default();
+    let mut objects = serde_json::Map::new();
+    for m in &rec.models {
+        let ids: Vec<usize> = m
+            .shell
+            .vertices
+            .iter()
+            .map(|v| {
+                let w = world(*v);
+                let q = [0, 1, 2].map(|k| ((w[k] - translate[k]) / SCALE).round() as i64);
+                *index.entry(q).or_insert_with(|| {
+                    vertices.push(q);
+                    vertices.len() - 1
+                })
+            })
+            .collect();
+        let mut kinds = Vec::new();
+        let surfaces: Vec<Value> = m
+            .shell
+            .faces
+            .iter()
+            .filter_map(|f| {
+                let rings: Vec<Vec<usize>> = f
+                    .rings
+                    .iter()
+                    .map(|r| {
+                        let mut out: Vec<usize> = r.iter().map(|&v| ids[v as usize]).collect();
+                        out.dedup();
+                        while out.len() > 1 && out.first() == out.last() {
+                            out.pop();
+                        }
+                        out
+                    })
+                    .filter(|r| r.len() >= 3)
+                    .collect();
+                let outer_ok = f.rings.first().is_some_and(|r| {
+                    let mut o: Vec<usize> = r.iter().map(|&v| ids[v as usize]).collect();
+                    o.dedup();
+                    o.len() >= 3
+                });
+                (outer_ok && !rings.is_empty()).then(|| {
+                    kinds.push(f.kind);
+                    Value::from(rings)
+                })
+            })
+            .collect();
+        let values: Vec<usize> = kinds
+            .iter()
+            .map(|k| match k {
+                super::SurfaceType::RoofSurface => 0,
+                super::SurfaceType::WallSurface => 1,
+                super::SurfaceType::GroundSurface => 2,
+            })
+            .collect();
+        objects.insert(
+            format!("building_{}", m.id),
+            json!({
+                "type": "Building",
+                "attributes": {
+                    "name": m.name,
+                    "roof_planes": m.planes,
+                    "walls_on_points": m.walls.on_wall_points,
+                    "walls_on_outline": m.walls.on_outline,
+                    "open_ground_floor": m.open_base,
+                },
+                "geometry": [{
+                    "type": "Solid",
+                    "lod": "2.2",
+                    "boundaries": [surfaces],
+                    "semantics": {
+                        "surfaces": [
+                            {"type": "RoofSurface"},
+                            {"type": "WallSurface"},
+                            {"type": "GroundSurface"}
+                        ],
+                        "values": [values]
+                    }
+                }]
+            }),
+        );
+    }
+    let mut metadata = json!({
+        "geographicalExtent": [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]],
+        "title": "skyground LoD2 reconstruction",
+    });
+    if let Some(c) = crs {
+        metadata["referenceSystem"] = Value::from(reference_system(c));
+    }
+    json!({
+        "type": "CityJSON",
+        "version": "2.0",
+        "transform": {"scale": [SCALE, SCALE, SCALE], "translate": translate},
+        "metadata": metadata,
+        "CityObjects": objects,
+        "vertices": vertices,
+    })
+}
+
+/// Writes [`to_cityjson`] to `path`.
+pub fn write_cityjson(
+    path: &Path,
+    rec: &Reconstruction,
+    crs: Option<&str>,
+) -> Result<(), ReconstructError> {
+    std::fs::write(path, to_cityjson(rec, crs).to_string()).map_err(|source| {
+        ReconstructError::Write {
+            what: path.display().to_string(),
+            source,
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reference_system_urls() {
+        assert_eq!(
+            reference_system("EPSG:2056"),
+            "https://www.opengis.net/def/crs/EPSG/0/2056"
+        );
+        assert_eq!(
+            reference_system("7415"),
+            "https://www.opengis.net/def/crs/EPSG/0/7415"
+        );
+    }
+}

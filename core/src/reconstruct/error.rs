@@ -1,0 +1,45 @@
+//! What can go wrong when reconstructing, in terms a user can act on.
+
+use crate::footprint::ParamsError;
+
+/// Errors of [`super::reconstruct_cloud`] and the writers.
+#[derive(Debug, thiserror::Error)]
+pub enum ReconstructError {
+    /// A reconstruction parameter is out of range.
+    #[error("reconstruction parameter `{name}` = {value} is out of range: expected {expected}")]
+    Param {
+        /// Parameter name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The accepted range.
+        expected: String,
+    },
+    /// A footprint parameter is out of range.
+    #[error(transparent)]
+    Footprint(#[from] ParamsError),
+    /// The cloud has no building points (label 6) to reconstruct from.
+    #[error(
+        "the cloud has no building points (LAS class 6): classify it first (`skyground classify`)"
+    )]
+    NoBuildingPoints,
+    /// Writing an output failed.
+    #[error("writing {what}: {source}")]
+    Write {
+        /// What was being written.
+        what: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+}
+
+/// Why one building got no model (the others still do).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Skip {
+    /// Fewer points than a plane needs.
+    TooFewPoints,
+    /// No roof plane was found in its points.
+    NoRoofPlane,
+    /// Its footprint covers no raster cell.
+    EmptyFootprint,
+}

@@ -1,0 +1,115 @@
+//! Per-point normals and neighbour lists (PCA of the k nearest neighbours).
+
+use std::num::NonZeroUsize;
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use rayon::prelude::*;
+
+use crate::features::shape::Moments;
+
+/// Normals (unit, z ≥ 0), curvature and the k nearest neighbours of points.
+pub(crate) struct Neighbourhoods {
+    /// Unit normal per point, turned upward (n_z ≥ 0).
+    pub normal: Vec<[f64; 3]>,
+    /// λ3 / (λ1 + λ2 + λ3) per point: 0 on a plane.
+    pub curvature: Vec<f64>,
+    /// `k` neighbour indices per point (the point itself left out).
+    pub knn: Vec<u32>,
+    /// Neighbours per point in `knn`.
+    pub k: usize,
+}
+
+impl Neighbourhoods {
+    /// The neighbours of point `i`.
+    pub fn of(&self, i: usize) -> &[u32] {
+        &self.knn[i * self.k..(i + 1) * self.k]
+    }
+}
+
+/// Computes neighbourhoods of `xyz` with `k` neighbours (fewer points than
+/// `k + 1` give empty lists).
+pub(crate) fn neighbourhoods(xyz: &[[f32; 3]], k: usize) -> Neighbourhoods {
+    let n = xyz.len();
+    if n <= k {
+        return Neighbourhoods {
+            normal: vec![[0.0, 0.0, 1.0]; n],
+            curvature: vec![1.0; n],
+            knn: Vec::new(),
+            k: 0,
+        };
+    }
+    let tree = match ImmutableKdTree::<f32, 3>::new_from_slice(xyz) {
+        Ok(t) => t,
+        Err(_) => {
+            return Neighbourhoods {
+                normal: vec![[0.0, 0.0, 1.0]; n],
+                curvature: vec![1.0; n],
+                knn: Vec::new(),
+                k: 0,
+            };
+        }
+    };
+    let kk = NonZeroUsize::new(k + 1).unwrap_or(NonZeroUsize::MIN);
+    let rows: Vec<([f64; 3], f64, Vec<u32>)> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let p = xyz[i];
+            let near = tree
+                .query(&p)
+                .nearest_n::<SquaredEuclidean<f32>>(kk)
+                .execute();
+            let mut m = Moments::default();
+            let mut ids = Vec::with_capacity(k);
+            for nb in &near {
+                let q = xyz[nb.item as usize];
+                m.add(std::array::from_fn(|c| f64::from(q[c]) - f64::from(p[c])));
+                if nb.item as usize != i && ids.len() < k {
+                    ids.push(nb.item as u32);
+                }
+            }
+            while ids.len() < k {
+                ids.push(i as u32);
+            }
+            let s = m.shape();
+            let mut nrm = s.normal;
+            if nrm[2] < 0.0 {
+                nrm = nrm.map(|v| -v);
+            }
+            (nrm, s.curvature, ids)
+        })
+        .collect();
+    let mut out = Neighbourhoods {
+        normal: Vec::with_capacity(n),
+        curvature: Vec::with_capacity(n),
+        knn: Vec::with_capacity(n * k),
+        k,
+    };
+    for (nrm, c, ids) in rows {
+        out.normal.push(nrm);
+        out.curvature.push(c);
+        out.knn.extend(ids);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plane_normals_point_up_and_walls_sideways() {
+        let mut pts = Vec::new();
+        for i in 0..30 {
+            for j in 0..30 {
+                pts.push([i as f32 * 0.3, j as f32 * 0.3, 10.0 + 0.5 * i as f32 * 0.3]);
+                pts.push([50.0, i as f32 * 0.3, j as f32 * 0.3]);
+            }
+        }
+        let nb = neighbourhoods(&pts, 10);
+        let roof = nb.normal[0];
+        assert!((roof[2] - 1.0 / 1.25f64.sqrt()).abs() < 1e-3, "{roof:?}");
+        assert!(nb.normal[1][2].abs() < 1e-3 && nb.normal[1][0].abs() > 0.999);
+        assert!(nb.of(0).iter().all(|&j| j % 2 == 0));
+        assert_eq!(neighbourhoods(&pts[..5], 10).k, 0);
+    }
+}

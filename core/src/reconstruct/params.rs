@@ -1,0 +1,104 @@
+//! Tunables of building reconstruction, each default with its reason.
+
+use crate::footprint::{DeriveParams, SplitParams};
+
+/// How buildings are reconstructed ([`super::reconstruct_cloud`]).
+#[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ReconstructParams {
+    /// Points are thinned to one per voxel of this size (m) first: bounds the
+    /// cost on dense merged clouds; a fifth of the roof cell keeps every plane.
+    pub voxel_m: f64,
+    /// Neighbours per point for normals and region growing.
+    pub k: usize,
+    /// Points whose normal has at least this |z| may belong to a roof plane
+    /// (60° slopes and flatter).
+    pub roof_min_nz: f64,
+    /// Points whose normal has at most this |z| are wall points (within ~17°
+    /// of vertical).
+    pub wall_max_nz: f64,
+    /// A neighbour joins a growing plane when its normal is within this angle (°).
+    pub grow_angle_deg: f64,
+    /// ... and it lies within this distance (m) of the plane.
+    pub grow_dist_m: f64,
+    /// Planes with fewer points are dropped (chimneys, clutter).
+    pub min_plane_points: usize,
+    /// Cell (m) of the raster on which roof planes are assigned to the footprint.
+    pub cell_m: f64,
+    /// Roof regions smaller than this (m²) merge into a neighbour.
+    pub min_region_m2: f64,
+    /// Douglas–Peucker tolerance (m) for the region boundaries (above half the
+    /// cell diagonal, so raster staircases become straight lines).
+    pub simplify_m: f64,
+    /// Wall points within this distance (m) of an outline edge may move it
+    /// onto their plane.
+    pub wall_band_m: f64,
+    /// An edge moves onto its wall points only with at least this many.
+    pub min_wall_points: usize,
+    /// Boundaries between parts whose heights differ by more (m) are walls.
+    pub min_step_m: f64,
+    /// Share of the footprint's cells holding horizontal points between the
+    /// ground and the roof above which the base is raised to that underside
+    /// (a slab on pillars, seen from below).
+    pub open_base_share: f64,
+    /// Footprints derived from the points when none are given.
+    pub derive: DeriveParams,
+    /// Points to footprints.
+    pub split: SplitParams,
+}
+
+impl Default for ReconstructParams {
+    fn default() -> Self {
+        Self {
+            voxel_m: 0.1,
+            k: 12,
+            roof_min_nz: 0.5,
+            wall_max_nz: 0.3,
+            grow_angle_deg: 12.0,
+            grow_dist_m: 0.2,
+            min_plane_points: 30,
+            cell_m: 0.5,
+            min_region_m2: 3.0,
+            simplify_m: 0.45,
+            wall_band_m: 1.0,
+            min_wall_points: 12,
+            min_step_m: 1.0,
+            open_base_share: 0.3,
+            derive: DeriveParams::default(),
+            split: SplitParams::default(),
+        }
+    }
+}
+
+impl ReconstructParams {
+    /// Checks ranges, naming the first bad value.
+    pub fn validate(&self) -> Result<(), super::ReconstructError> {
+        let checks: [(&'static str, f64, f64, f64); 13] = [
+            ("voxel_m", self.voxel_m, 0.0, 10.0),
+            ("k", self.k as f64, 3.0, 100.0),
+            ("roof_min_nz", self.roof_min_nz, 0.0, 1.0),
+            ("wall_max_nz", self.wall_max_nz, 0.0, 1.0),
+            ("grow_angle_deg", self.grow_angle_deg, 0.1, 90.0),
+            ("grow_dist_m", self.grow_dist_m, 0.001, 10.0),
+            ("min_plane_points", self.min_plane_points as f64, 3.0, 1e9),
+            ("cell_m", self.cell_m, 0.05, 10.0),
+            ("min_region_m2", self.min_region_m2, 0.0, 1e6),
+            ("simplify_m", self.simplify_m, 0.0, 10.0),
+            ("wall_band_m", self.wall_band_m, 0.0, 10.0),
+            ("min_step_m", self.min_step_m, 0.0, 100.0),
+            ("open_base_share", self.open_base_share, 0.0, 1.0),
+        ];
+        for (name, value, lo, hi) in checks {
+            if !(value.is_finite() && value >= lo && value <= hi) {
+                return Err(super::ReconstructError::Param {
+                    name,
+                    value,
+                    expected: format!("{lo} ≤ value ≤ {hi}"),
+                });
+            }
+        }
+        self.derive.validate()?;
+        self.split.validate()?;
+        Ok(())
+    }
+}

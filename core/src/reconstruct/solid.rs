@@ -1,0 +1,394 @@
+//! The closed LoD2 solid on a planar partition: a roof face per region at
+//! its plane's height, a vertical face along every boundary segment whose
+//! two sides differ in height (down to the base on the outline), and the
+//! base as the ground face. Heights met at a 2D vertex become shared
+//! levels, so every edge is used by exactly two faces, in opposite
+//! directions, by construction.
+
+use std::collections::HashMap;
+
+use geo::{Coord, LineString, MultiPolygon, Polygon};
+
+use super::partition::Partition;
+
+/// Two heights at one 2D vertex closer than this (m) are one vertex.
+const LEVEL_EPS: f64 = 0.02;
+
+/// What a face of a model is (CityJSON semantic surface).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+pub enum SurfaceType {
+    /// A roof face.
+    RoofSurface,
+    /// A vertical face.
+    WallSurface,
+    /// The base.
+    GroundSurface,
+}
+
+/// One planar face: outer ring then holes, indices into the model's
+/// vertices, counter-clockwise seen from outside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelFace {
+    /// Roof, wall or ground.
+    pub kind: SurfaceType,
+    /// Outer ring, then holes (first vertex not repeated).
+    pub rings: Vec<Vec<u32>>,
+}
+
+/// Vertices and faces of one closed solid.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Shell {
+    /// Vertex positions, local frame.
+    pub vertices: Vec<[f64; 3]>,
+    /// Faces.
+    pub faces: Vec<ModelFace>,
+}
+
+/// Edge-use counts of a shell (see [`Shell::check`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+pub struct SolidCheck {
+    /// Undirected edges used by one face only (holes in the surface).
+    pub boundary_edges: usize,
+    /// Undirected edges used by more than two faces.
+    pub non_manifold_edges: usize,
+    /// Edges used twice in the same direction (faces turned inconsistently).
+    pub misoriented_edges: usize,
+    /// Faces with fewer than three distinct vertices.
+    pub degenerate_faces: usize,
+}
+
+impl SolidCheck {
+    /// Closed: every edge used by exactly two faces, in opposite directions.
+    pub fn watertight(&self) -> bool {
+        self.boundary_edges == 0 && self.non_manifold_edges == 0 && self.misoriented_edges == 0
+    }
+
+    /// Watertight with no degenerate face.
+    pub fn valid(&self) -> bool {
+        self.watertight() && self.degenerate_faces == 0
+    }
+}
+
+impl Shell {
+    /// Counts how each edge of the face rings is used.
+    pub fn check(&self) -> SolidCheck {
+        let mut uses: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
+        let mut out = SolidCheck::default();
+        for f in &self.faces {
+            let mut distinct: Vec<u32> = f.rings.iter().flatten().copied().collect();
+            distinct.sort_unstable();
+            distinct.dedup();
+            if distinct.len() < 3 {
+                out.degenerate_faces += 1;
+            }
+            for r in &f.rings {
+                for k in 0..r.len() {
+                    let (a, b) = (r[k], r[(k + 1) % r.len()]);
+                    if a == b {
+                        continue;
+                    }
+                    let e = uses.entry((a.min(b), a.max(b))).or_default();
+                    if a < b {
+                        e.0 += 1;
+                    } else {
+                        e.1 += 1;
+                    }
+                }
+            }
+        }
+        for (fwd, back) in uses.values() {
+            match fwd + back {
+                1 => out.boundary_edges += 1,
+                2 if *fwd != 1 => out.misoriented_edges += 1,
+                2 => {}
+                _ => out.non_manifold_edges += 1,
+            }
+        }
+        out
+    }
+
+    /// The faces as triangles with their kind.
+    pub fn triangles(&self) -> Vec<([[f64; 3]; 3], SurfaceType)> {
+        let mut out = Vec::new();
+        for f in &self.faces {
+            let rings: Vec<Vec<[f64; 3]>> = f
+                .rings
+                .iter()
+                .map(|r| r.iter().map(|&v| self.vertices[v as usize]).collect())
+                .collect();
+            let refs: Vec<&[[f64; 3]]> = rings.iter().map(|r| r.as_slice()).collect();
+            let flat: Vec<[f64; 3]> = rings.iter().flatten().copied().collect();
+            for t in crate::scene::polygon::triangulate_3d(&refs) {
+                out.push((t.map(|i| flat[i]), f.kind));
+            }
+        }
+        out
+    }
+}
+
+/// Inserts a vertex where a boundary segment's two sides swap which is
+/// higher (two roof planes crossing), so no wall face twists.
+pub(crate) fn split_crossings(p: &mut Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) {
+    for c in 0..p.chains.len() {
+        let (l, r) = (p.chains[c].left, p.chains[c].right);
+        let mut k = 0;
+        while k + 1 < p.chains[c].verts.len() {
+            let (a, b) = (p.chains[c].verts[k], p.chains[c].verts[k + 1]);
+            let (pa, pb) = (p.verts[a as usize], p.verts[b as usize]);
+            let fa = height(l, pa) - height(r, pa);
+            let fb = height(l, pb) - height(r, pb);
+            if fa.abs() > LEVEL_EPS && fb.abs() > LEVEL_EPS && (fa > 0.0) != (fb > 0.0) {
+                let t = fa / (fa - fb);
+                p.verts
+                    .push([pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])]);
+                p.chains[c].verts.insert(k + 1, (p.verts.len() - 1) as u32);
+                k += 1;
+            }
+            k += 1;
+        }
+    }
+}
+
+/// Builds the shell on `p`: region r's surface at `height(r, xy)`, the
+/// outside (region 0) at `height(0, xy)` (the base).
+pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) -> Shell {
+    // Regions meeting at each 2D vertex.
+    let mut at: Vec<Vec<u32>> = vec![Vec::new(); p.verts.len()];
+    for c in &p.chains {
+        for &v in &c.verts {
+            for r in [c.left, c.right] {
+                if !at[v as usize].contains(&r) {
+                    at[v as usize].push(r);
+                }
+            }
+        }
+    }
+    // Sorted, merged levels per vertex, and each region's level there.
+    let mut levels: Vec<Vec<f64>> = Vec::with_capacity(at.len());
+    let mut level_of: HashMap<(u32, u32), usize> = HashMap::new();
+    for (v, regions) in at.iter().enumerate() {
+        let xy = p.verts[v];
+        let mut zs: Vec<(f64, u32)> = regions.iter().map(|&r| (height(r, xy), r)).collect();
+        zs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut lv: Vec<f64> = Vec::new();
+        for (z, r) in zs {
+            if lv.last().is_none_or(|last| z - last > LEVEL_EPS) {
+                lv.push(z);
+            }
+            level_of.insert((v as u32, r), lv.len() - 1);
+        }
+        levels.push(lv);
+    }
+    let mut shell = Shell::default();
+    let mut ids: HashMap<(u32, usize), u32> = HashMap::new();
+    let mut vid = |v: u32, level: usize, shell: &mut Shell| -> u32 {
+        *ids.entry((v, level)).or_insert_with(|| {
+            let xy = p.verts[v as usize];
+            shell
+                .vertices
+                .push([xy[0], xy[1], levels[v as usize][level]]);
+            (shell.vertices.len() - 1) as u32
+        })
+    };
+    let level = |v: u32, r: u32| level_of.get(&(v, r)).copied().unwrap_or(0);
+    // Roofs: region rings at the region's level.
+    for r in 1..=p.regions {
+        for group in group_rings(p, p.rings(r), 1.0) {
+            let rings = group
+                .iter()
+                .map(|ring| {
+                    ring.iter()
+                        .map(|&v| vid(v, level(v, r), &mut shell))
+                        .collect()
+                })
+                .collect();
+            shell.faces.push(ModelFace {
+                kind: SurfaceType::RoofSurface,
+                rings,
+            });
+        }
+    }
+    // Base: the outside's rings (clockwise from above = counter-clockwise from below).
+    for group in group_rings(p, p.rings(0), -1.0) {
+        let rings = group
+            .iter()
+            .map(|ring| {
+                ring.iter()
+                    .map(|&v| vid(v, level(v, 0), &mut shell))
+                    .collect()
+            })
+            .collect();
+        shell.faces.push(ModelFace {
+            kind: SurfaceType::GroundSurface,
+            rings,
+        });
+    }
+    // Walls: a vertical face per segment whose sides differ.
+    for c in &p.chains {
+        for w in c.verts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let (la, ra, lb, rb) = (
+                level(a, c.left),
+                level(a, c.right),
+                level(b, c.left),
+                level(b, c.right),
+            );
+            if la == ra && lb == rb {
+                continue;
+            }
+            let left_higher = la > ra || lb > rb;
+            let (top_a, bot_a) = (la.max(ra), la.min(ra));
+            let (top_b, bot_b) = (lb.max(rb), lb.min(rb));
+            let mut ring = Vec::new();
+            for l in (bot_a..=top_a).rev() {
+                ring.push(vid(a, l, &mut shell));
+            }
+            for l in bot_b..=top_b {
+                ring.push(vid(b, l, &mut shell));
+            }
+            if !left_higher {
+                ring.reverse();
+            }
+            shell.faces.push(ModelFace {
+                kind: SurfaceType::WallSurface,
+                rings: vec![ring],
+            });
+        }
+    }
+    shell
+}
+
+/// Groups rings into faces: rings whose signed area has the sign of
+/// `outer_sign` are outer rings, the others holes of the outer ring that
+/// holds them.
+fn group_rings(p: &Partition, rings: Vec<Vec<u32>>, outer_sign: f64) -> Vec<Vec<Vec<u32>>> {
+    let (outers, holes): (Vec<_>, Vec<_>) = rings
+        .into_iter()
+        .partition(|r| p.ring_area(r) * outer_sign > 0.0);
+    let mut groups: Vec<Vec<Vec<u32>>> = outers.into_iter().map(|o| vec![o]).collect();
+    for h in holes {
+        let q = p.verts[h[0] as usize];
+        // A hole's vertex lies on its outer ring's boundary only at a
+        // node, so test the hole's centroid-ish point: its first edge's midpoint nudged inward.
+        let q2 = p.verts[h[1 % h.len()] as usize];
+        let mid = [(q[0] + q2[0]) * 0.5, (q[1] + q2[1]) * 0.5];
+        let best = groups
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| contains(p, &g[0], mid))
+            .min_by(|a, b| {
+                p.ring_area(&a.1[0])
+                    .abs()
+                    .total_cmp(&p.ring_area(&b.1[0]).abs())
+            })
+            .map(|(k, _)| k);
+        if let Some(k) = best {
+            groups[k].push(h);
+        }
+    }
+    groups
+}
+
+/// Even-odd point-in-ring test.
+fn contains(p: &Partition, ring: &[u32], q: [f64; 2]) -> bool {
+    let mut inside = false;
+    for k in 0..ring.len() {
+        let a = p.verts[ring[k] as usize];
+        let b = p.verts[ring[(k + 1) % ring.len()] as usize];
+        if (a[1] > q[1]) != (b[1] > q[1]) {
+            let x = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if q[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// The partition's footprint: the outside's rings turned into polygons.
+pub(crate) fn outline(p: &Partition) -> MultiPolygon<f64> {
+    let ls = |ring: &Vec<u32>| {
+        let mut c: Vec<Coord<f64>> = ring
+            .iter()
+            .rev()
+            .map(|&v| Coord {
+                x: p.verts[v as usize][0],
+                y: p.verts[v as usize][1],
+            })
+            .collect();
+        if let Some(&f) = c.first() {
+            c.push(f);
+        }
+        LineString::new(c)
+    };
+    MultiPolygon::new(
+        group_rings(p, p.rings(0), -1.0)
+            .iter()
+            .map(|g| Polygon::new(ls(&g[0]), g[1..].iter().map(ls).collect()))
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::partition::{Grid, regions, trace};
+    use super::*;
+
+    #[test]
+    fn gable_and_tower_shells_are_closed() {
+        let g = Grid {
+            lo: [0.0, 0.0],
+            cell: 1.0,
+            nx: 12,
+            ny: 10,
+        };
+        let mut labels = vec![0u32; 120];
+        for j in 1..9 {
+            for i in 1..11 {
+                // Two gable halves (1, 2) and a tower (3) on the south half.
+                labels[j * 12 + i] = if (7..10).contains(&i) && (2..4).contains(&j) {
+                    3
+                } else if j < 5 {
+                    1
+                } else {
+                    2
+                };
+            }
+        }
+        let (region, code) = regions(&g, &mut labels, 1);
+        let mut p = trace(&g, &region, code.len() as u32, 0.3);
+        let h = move |r: u32, xy: [f64; 2]| match r {
+            0 => 0.0,
+            r => match code[r as usize - 1] {
+                1 => 10.0 - 0.5 * (5.0 - xy[1]),
+                2 => 10.0 - 0.5 * (xy[1] - 5.0),
+                _ => 15.0,
+            },
+        };
+        split_crossings(&mut p, &h);
+        let s = build_shell(&p, &h);
+        let check = s.check();
+        assert!(check.valid(), "{check:?}");
+        // Volume by the divergence theorem: gable box 10 × 8 × (8..10) plus the tower.
+        let vol: f64 = s
+            .triangles()
+            .iter()
+            .map(|(t, _)| {
+                let [a, b, c] = *t;
+                (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                    + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                    / 6.0
+            })
+            .sum();
+        let gable = 10.0 * 8.0 * 8.0 + 10.0 * 8.0 * 2.0 * 0.5;
+        // The tower replaces 3 × 2 m of roof (heights 8.5..9.5 at y 2..4) by 15 m.
+        let tower = 3.0 * 2.0 * (15.0 - 9.0);
+        assert!(
+            (vol - gable - tower).abs() < 1e-6,
+            "{vol} vs {}",
+            gable + tower
+        );
+        let o = outline(&p);
+        assert!((geo::Area::unsigned_area(&o) - 80.0).abs() < 1e-9);
+    }
+}

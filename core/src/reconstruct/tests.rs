@@ -1,0 +1,190 @@
+//! Synthetic buildings with known truth: a gable house and an L-shaped
+//! block with a courtyard-free tower, sampled as a cloud (complete, and
+//! with the south walls missing).
+
+use super::*;
+use crate::metrics::sample_building_surfaces;
+use crate::scene::reference::solids::{Rect, gable_house, podium_with_towers, prism};
+use crate::scene::{MeshPart, ObjectKind, Scene, SceneBuilder};
+
+fn scene() -> Scene {
+    let mut g = MeshPart::default();
+    let r = g.ring(
+        &[[-30.0, -30.0], [70.0, -30.0], [70.0, 70.0], [-30.0, 70.0]],
+        0.0,
+    );
+    g.quad(r[0], r[1], r[2], r[3]);
+    let mut b = SceneBuilder::new([0.0; 3]);
+    b.add("terrain", ObjectKind::Ground, 0, &g);
+    b.add(
+        "building_01_gable",
+        ObjectKind::Building,
+        1,
+        &gable_house(Rect::at(0.0, 0.0, 16.0, 10.0), -0.5, 6.0, 9.0, true),
+    );
+    let l = [
+        [25.0, 0.0],
+        [45.0, 0.0],
+        [45.0, 8.0],
+        [33.0, 8.0],
+        [33.0, 20.0],
+        [25.0, 20.0],
+    ];
+    b.add(
+        "building_02_l",
+        ObjectKind::Building,
+        2,
+        &prism(&l, &[], -0.5, 10.0),
+    );
+    b.add(
+        "building_03_podium",
+        ObjectKind::Building,
+        3,
+        &podium_with_towers(
+            Rect::at(0.0, 30.0, 30.0, 20.0),
+            -0.5,
+            5.0,
+            &[(Rect::at(4.0, 34.0, 8.0, 8.0), 20.0)],
+        ),
+    );
+    b.finish()
+}
+
+/// The scene's building surfaces as a cloud with ±3 cm noise, plus ground
+/// points; `keep` decides which building samples (position, normal) stay.
+fn cloud(scene: &Scene, keep: impl Fn([f32; 3], [f32; 3]) -> bool) -> Cloud {
+    let gt = sample_building_surfaces(scene, 0.3);
+    let mut xyz = Vec::new();
+    let mut label = Vec::new();
+    for (k, (p, n)) in gt.xyz.iter().zip(&gt.normal).enumerate() {
+        if !keep(*p, *n) {
+            continue;
+        }
+        let h = |s: usize| ((k * 7919 + s * 104_729) % 1000) as f32 / 1000.0 * 0.06 - 0.03;
+        xyz.push([p[0] + h(1), p[1] + h(2), p[2] + h(3)]);
+        label.push(class::BUILDING);
+    }
+    let fp = crate::footprint::footprints_of_scene(scene);
+    for i in 0..200 {
+        for j in 0..200 {
+            let (x, y) = (-30.0 + i as f64 * 0.5, -30.0 + j as f64 * 0.5);
+            let inside = fp
+                .iter()
+                .any(|f| geo::Contains::contains(&f.polygon, &geo::Coord { x, y }));
+            if !inside {
+                xyz.push([x as f32, y as f32, 0.0]);
+                label.push(class::GROUND);
+            }
+        }
+    }
+    Cloud {
+        xyz,
+        label: Some(label),
+        ..Cloud::default()
+    }
+}
+
+#[test]
+fn complete_cloud_gives_closed_accurate_models() {
+    let s = scene();
+    let rec =
+        reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
+    assert_eq!(rec.models.len(), 3, "skipped: {:?}", rec.skipped);
+    for m in &rec.models {
+        let c = m.shell.check();
+        assert!(c.valid(), "building {}: {c:?}", m.id);
+    }
+    let gt = sample_building_surfaces(&s, 0.25);
+    let e = evaluate_models(&s, &gt, &rec, 0.25);
+    for b in &e.buildings {
+        assert!(b.mean.unwrap() < 0.08, "{b:?}");
+        assert!(b.footprint_iou.unwrap() > 0.97, "{b:?}");
+        assert!(b.roof_error.unwrap() < 0.06, "{b:?}");
+        assert!(b.watertight);
+    }
+    assert!(e.all_valid && e.without_model.is_empty() && e.unmatched_models.is_empty());
+    let pts: Vec<[f32; 3]> = gt.xyz.clone();
+    let (d, n) = evaluate::points_to_models(&rec, &pts).unwrap();
+    assert!(d < 0.06 && n == pts.len(), "{d} {n}");
+}
+
+#[test]
+fn missing_walls_leave_the_model_less_accurate() {
+    let s = scene();
+    let params = ReconstructParams::default();
+    // Before: no south- or east-facing wall points (occluded from the flight lines).
+    let before = cloud(&s, |_, n| n[1] > -0.5 && n[0] < 0.5);
+    let after = cloud(&s, |_, _| true);
+    let gt = sample_building_surfaces(&s, 0.25);
+    let eb = evaluate_models(
+        &s,
+        &gt,
+        &reconstruct_cloud(&before, None, &params).unwrap(),
+        0.25,
+    );
+    let ea = evaluate_models(
+        &s,
+        &gt,
+        &reconstruct_cloud(&after, None, &params).unwrap(),
+        0.25,
+    );
+    assert!(eb.all_watertight && ea.all_watertight);
+    for (b, a) in eb.buildings.iter().zip(&ea.buildings) {
+        assert!(
+            a.mean.unwrap() < b.mean.unwrap(),
+            "after {a:?}\nbefore {b:?}"
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_typed() {
+    let empty = Cloud::from_xyz(Vec::new());
+    assert!(matches!(
+        reconstruct_cloud(&empty, None, &ReconstructParams::default()),
+        Err(ReconstructError::NoBuildingPoints)
+    ));
+    let bad = ReconstructParams {
+        cell_m: 0.0,
+        ..ReconstructParams::default()
+    };
+    let e = reconstruct_cloud(&Cloud::from_xyz(vec![[0.0; 3]; 10]), None, &bad).unwrap_err();
+    assert!(e.to_string().contains("cell_m"), "{e}");
+}
+
+#[test]
+fn cityjson_has_one_solid_per_building_with_semantics() {
+    let s = scene();
+    let rec =
+        reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
+    let v = cityjson::to_cityjson(&rec, Some("EPSG:28992"));
+    assert_eq!(v["version"], "2.0");
+    assert_eq!(
+        v["metadata"]["referenceSystem"],
+        "https://www.opengis.net/def/crs/EPSG/0/28992"
+    );
+    let objs = v["CityObjects"].as_object().unwrap();
+    assert_eq!(objs.len(), 3);
+    let nv = v["vertices"].as_array().unwrap().len();
+    for o in objs.values() {
+        let g = &o["geometry"][0];
+        assert_eq!(g["type"], "Solid");
+        assert_eq!(g["lod"], "2.2");
+        let shell = g["boundaries"][0].as_array().unwrap();
+        let values = g["semantics"]["values"][0].as_array().unwrap();
+        assert_eq!(shell.len(), values.len());
+        for kind in [0, 1, 2] {
+            assert!(values.iter().any(|x| x == kind), "surface {kind} missing");
+        }
+        let max = shell
+            .iter()
+            .flat_map(|s| s.as_array().unwrap())
+            .flat_map(|r| r.as_array().unwrap())
+            .map(|i| i.as_u64().unwrap())
+            .max()
+            .unwrap();
+        assert!((max as usize) < nv);
+    }
+    let text = obj::obj_text(&rec);
+    assert_eq!(text.matches("\no building_").count(), 3);
+}

@@ -1,0 +1,313 @@
+//! `skyground reconstruct`: LoD2 models of a cloud's buildings
+//! (DESIGN.md step 10), written as CityJSON 2.0 and OBJ; with `--gt`,
+//! their accuracy against a scene's buildings.
+
+use std::path::{Path, PathBuf};
+
+use skyground_core::cloud::{Cloud, read_cloud};
+use skyground_core::footprint::load_footprints;
+use skyground_core::metrics::{building_points, sample_building_surfaces};
+use skyground_core::reconstruct::evaluate::points_to_models;
+use skyground_core::reconstruct::{
+    ModelEvaluation, ReconstructParams, Reconstruction, cityjson, evaluate_models, obj,
+    reconstruct_cloud,
+};
+use skyground_core::scene::Scene;
+
+use crate::runtime::RuntimeError;
+
+/// Options of `skyground reconstruct`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ReconstructArgs {
+    /// The cloud (LAS/LAZ/PLY); building points are class 6 (all points when unlabelled).
+    #[arg(long = "in")]
+    pub input: PathBuf,
+    /// Footprints (GeoJSON, CityJSON, OBJ) in the cloud's coordinates; default: derived from the points.
+    #[arg(long)]
+    pub footprints: Option<PathBuf>,
+    /// Output folder: models.city.json, models.obj, reconstruct.json.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Ground truth to measure against: reference, reference:SEED, or a scene file.
+    #[arg(long)]
+    pub gt: Option<String>,
+    /// A cloud from before (e.g. the aerial prior; needs --gt): also writes
+    /// models_before.* / models_after.*, a before/after table (models.md) and models.png.
+    #[arg(long, requires = "gt")]
+    pub before: Option<PathBuf>,
+    /// The cloud's CRS for the CityJSON metadata (e.g. EPSG:7415).
+    #[arg(long)]
+    pub crs: Option<String>,
+    /// Spacing of the surface samples for the accuracy measures, m.
+    #[arg(long, default_value_t = 0.25)]
+    pub gt_spacing: f32,
+    /// Print the result as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn err(e: impl std::fmt::Display) -> RuntimeError {
+    RuntimeError::Node(e.to_string())
+}
+
+fn metres(v: Option<f64>) -> String {
+    v.map_or_else(|| "–".into(), |v| format!("{v:.3}"))
+}
+
+/// Reconstructs `cloud` and writes `DIR/NAME.city.json` and `DIR/NAME.obj`.
+pub fn reconstruct_and_write(
+    cloud: &Cloud,
+    footprints: Option<&[skyground_core::footprint::Footprint]>,
+    dir: &Path,
+    name: &str,
+    crs: Option<&str>,
+) -> Result<Reconstruction, RuntimeError> {
+    let rec = reconstruct_cloud(cloud, footprints, &ReconstructParams::default()).map_err(err)?;
+    std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
+    cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec, crs).map_err(err)?;
+    obj::write_obj(&dir.join(format!("{name}.obj")), &rec).map_err(err)?;
+    Ok(rec)
+}
+
+/// Per-building rows of one or two evaluations as a Markdown table (the
+/// paper's model-accuracy table): before and after when both are given.
+pub fn table(before: &ModelEvaluation, after: Option<&ModelEvaluation>) -> String {
+    let mut s = String::new();
+    match after {
+        None => {
+            s.push_str("| building | models | mean sym. dist (m) | RMSE | P95 | roof error | footprint IoU | watertight |\n|---|---|---|---|---|---|---|---|\n");
+            for b in &before.buildings {
+                s.push_str(&format!(
+                    "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                    b.building,
+                    b.models.len(),
+                    metres(b.mean),
+                    metres(b.rmse),
+                    metres(b.p95),
+                    metres(b.roof_error),
+                    b.footprint_iou.map_or("–".into(), |v| format!("{v:.3}")),
+                    if b.watertight { "yes" } else { "no" }
+                ));
+            }
+            s.push_str(&format!(
+                "| **all** | {} | {} | {} | {} | {} | | {} |\n",
+                before.models,
+                metres(before.mean),
+                metres(before.rmse),
+                metres(before.p95),
+                metres(before.roof_error),
+                if before.all_watertight { "yes" } else { "no" }
+            ));
+        }
+        Some(after) => {
+            s.push_str("| building | mean sym. dist before (m) | after | RMSE before | after | P95 before | after | roof error before | after | IoU before | after | watertight |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+            for b in &before.buildings {
+                let a = after.buildings.iter().find(|a| a.building == b.building);
+                let iou = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.3}"));
+                s.push_str(&format!(
+                    "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                    b.building,
+                    metres(b.mean),
+                    metres(a.and_then(|a| a.mean)),
+                    metres(b.rmse),
+                    metres(a.and_then(|a| a.rmse)),
+                    metres(b.p95),
+                    metres(a.and_then(|a| a.p95)),
+                    metres(b.roof_error),
+                    metres(a.and_then(|a| a.roof_error)),
+                    iou(b.footprint_iou),
+                    iou(a.and_then(|a| a.footprint_iou)),
+                    match (b.watertight, a.is_some_and(|a| a.watertight)) {
+                        (true, true) => "yes",
+                        _ => "no",
+                    }
+                ));
+            }
+            s.push_str(&format!(
+                "| **all** | {} | {} | {} | {} | {} | {} | {} | {} | | | {} |\n",
+                metres(before.mean),
+                metres(after.mean),
+                metres(before.rmse),
+                metres(after.rmse),
+                metres(before.p95),
+                metres(after.p95),
+                metres(before.roof_error),
+                metres(after.roof_error),
+                if before.all_watertight && after.all_watertight {
+                    "yes"
+                } else {
+                    "no"
+                }
+            ));
+        }
+    }
+    s
+}
+
+/// Measures `rec` against `scene`'s buildings.
+pub fn evaluate_against(scene: &Scene, rec: &Reconstruction, spacing: f32) -> ModelEvaluation {
+    let gt = sample_building_surfaces(scene, spacing);
+    evaluate_models(scene, &gt, rec, f64::from(spacing))
+}
+
+/// Runs the reconstruction.
+pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
+    if !(a.gt_spacing > 0.0) {
+        return Err(err(format!(
+            "--gt-spacing ({}) must be positive",
+            a.gt_spacing
+        )));
+    }
+    let cloud = read_cloud(&a.input).map_err(err)?;
+    let loaded = match &a.footprints {
+        Some(p) => Some(load_footprints(p, cloud.origin).map_err(err)?),
+        None => None,
+    };
+    let t0 = std::time::Instant::now();
+    let rec = reconstruct_and_write(
+        &cloud,
+        loaded.as_ref().map(|l| l.footprints.as_slice()),
+        &a.out,
+        "models",
+        a.crs.as_deref(),
+    )?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let pts = building_points(&cloud, cloud.origin);
+    let fit = points_to_models(&rec, &pts);
+    let (fit, fit_points) = (fit.map(|f| f.0), fit.map_or(0, |f| f.1));
+    let checks: Vec<_> = rec.models.iter().map(|m| m.shell.check()).collect();
+    let eval = match &a.gt {
+        Some(s) => {
+            let scene =
+                skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+            Some(evaluate_against(&scene, &rec, a.gt_spacing))
+        }
+        None => None,
+    };
+    let before_after = match (&a.before, &a.gt) {
+        (Some(b), Some(s)) => {
+            let scene =
+                skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+            let prior = read_cloud(b).map_err(err)?;
+            let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
+            let pictured = write_picture(&a.out.join("models.png"), &scene, &mb, &ma, 3)?;
+            let md = format!(
+                "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?}, before left, after right, coloured by distance to the truth 0 → 0.5 m.\n\n{}",
+                b.display(),
+                a.input.display(),
+                table(&mb, Some(&ma))
+            );
+            std::fs::write(a.out.join("models.md"), &md)
+                .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+            if !a.json {
+                eprintln!("{md}");
+            }
+            Some(serde_json::json!({
+                "model_dist_before": mb.mean, "model_dist_after": ma.mean,
+                "models_before": mb, "models_after": ma, "models_pictured": pictured,
+            }))
+        }
+        _ => None,
+    };
+    let models: Vec<serde_json::Value> = rec
+        .models
+        .iter()
+        .zip(&checks)
+        .map(|(m, c)| {
+            serde_json::json!({
+                "id": m.id, "name": m.name, "faces": m.shell.faces.len(),
+                "vertices": m.shell.vertices.len(), "roof_planes": m.planes,
+                "points": m.points, "base": m.base + rec.origin[2], "open_ground_floor": m.open_base,
+                "walls": m.walls, "check": c, "watertight": c.watertight(), "valid": c.valid(),
+            })
+        })
+        .collect();
+    let value = serde_json::json!({
+        "input": a.input,
+        "footprints": a.footprints,
+        "models_written": a.out.join("models.city.json"),
+        "models": rec.models.len(),
+        "skipped": rec.skipped.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
+        "all_watertight": checks.iter().all(|c| c.watertight()),
+        "all_valid": checks.iter().all(|c| c.valid()),
+        "points_to_model_mean": fit,
+        "building_points": pts.len(),
+        "points_on_models": fit_points,
+        "seconds": seconds,
+        "evaluation": eval,
+        "before_after": before_after,
+        "per_model": models,
+    });
+    std::fs::write(a.out.join("reconstruct.json"), format!("{value:#}\n"))
+        .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+    if !a.json {
+        eprintln!(
+            "{} models ({} skipped) in {seconds:.2} s, all watertight: {}; mean points → model distance {} m ({fit_points} of {} points lie on the models' footprints)",
+            rec.models.len(),
+            rec.skipped.len(),
+            checks.iter().all(|c| c.watertight()),
+            metres(fit),
+            pts.len()
+        );
+        if let Some(e) = &eval {
+            eprintln!("{}", table(e, None));
+        }
+    }
+    Ok(value)
+}
+
+/// The demo's step 10: models from the aerial prior and from the merged
+/// cloud (`DIR/models_before.*`, `DIR/models_after.*`), each measured
+/// against `scene`'s buildings.
+pub fn before_after(
+    dir: &Path,
+    scene: &Scene,
+    prior: &Cloud,
+    merged: &Cloud,
+    spacing: f32,
+) -> Result<(ModelEvaluation, ModelEvaluation), RuntimeError> {
+    let before = reconstruct_and_write(prior, None, dir, "models_before", None)?;
+    let after = reconstruct_and_write(merged, None, dir, "models_after", None)?;
+    Ok((
+        evaluate_against(scene, &before, spacing),
+        evaluate_against(scene, &after, spacing),
+    ))
+}
+
+/// Writes `models.png`: the `n` buildings whose models improved most,
+/// before and after, coloured by distance to the truth (0 → 0.5 m).
+pub fn write_picture(
+    path: &Path,
+    scene: &Scene,
+    before: &ModelEvaluation,
+    after: &ModelEvaluation,
+    n: usize,
+) -> Result<Vec<u32>, RuntimeError> {
+    let outlines = skyground_core::footprint::footprints_of_scene(scene);
+    let mut gains: Vec<(f64, u32)> = before
+        .buildings
+        .iter()
+        .filter_map(|b| {
+            let a = after.buildings.iter().find(|a| a.building == b.building)?;
+            Some((b.mean? - a.mean?, b.building))
+        })
+        .collect();
+    gains.sort_by(|x, y| y.0.total_cmp(&x.0));
+    let chosen: Vec<u32> = gains.iter().take(n).map(|g| g.1).collect();
+    let views: Vec<skyground_core::plot::ModelView> = chosen
+        .iter()
+        .filter_map(|id| {
+            let b = before.buildings.iter().find(|b| b.building == *id)?;
+            let a = after.buildings.iter().find(|a| a.building == *id)?;
+            Some(skyground_core::plot::ModelView {
+                before: b.samples.clone(),
+                after: a.samples.clone(),
+                outline: outlines.iter().find(|f| f.id == *id)?.polygon.clone(),
+            })
+        })
+        .collect();
+    skyground_core::plot::models_picture(&views, 0.5, 1800)
+        .and_then(|c| c.save(path))
+        .map_err(err)?;
+    Ok(chosen)
+}
