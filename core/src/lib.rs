@@ -8,6 +8,7 @@
 
 pub mod classify;
 pub mod cloud;
+pub mod density;
 pub mod explore;
 pub mod features;
 pub mod footprint;

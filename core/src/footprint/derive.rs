@@ -6,6 +6,7 @@ use geo::{Area, Simplify};
 use rayon::prelude::*;
 
 use super::error::ParamsError;
+use crate::density::Density;
 use super::params::DeriveParams;
 use super::polygon::union_valid;
 use super::raster::Raster;
@@ -19,9 +20,13 @@ pub fn derive(
     params: &DeriveParams,
 ) -> Result<Vec<Footprint>, ParamsError> {
     params.validate()?;
+    let params = &match Density::measure(building_points) {
+        Some(d) => params.resolved(&d),
+        None => params.clone(),
+    };
     let Some(r) = Raster::new(
         building_points,
-        params.cell_m,
+        params.cell(),
         params.closing_cells as usize,
     ) else {
         return Ok(Vec::new());

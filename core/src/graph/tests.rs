@@ -54,7 +54,7 @@ fn edges_avoid_walls_and_the_pen_is_cut_off() {
     // No edge crosses the wall at x = 20 below y = 14, nor the pen.
     for (a, b, w) in g.edges() {
         let (p, q) = (g.positions()[a], g.positions()[b]);
-        assert!(w < GraphParams::default().d_threshold_m);
+        assert!(w < GraphParams::default().d_threshold());
         let crosses = (p[0] - 20.0) * (q[0] - 20.0) < 0.0 && p[1].max(q[1]) < 14.0;
         assert!(!crosses, "edge {p:?} → {q:?} crosses the wall");
         assert!(g.segment_free([p[0], p[1]], [q[0], q[1]]));
@@ -86,7 +86,7 @@ fn bad_input_gives_errors() {
         Err(GraphError::StartOffGraph { .. })
     ));
     let bad = GraphParams {
-        d_threshold_m: 0.5,
+        d_threshold_m: crate::density::Auto::Value(0.5),
         ..p.clone()
     };
     assert!(matches!(

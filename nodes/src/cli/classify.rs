@@ -93,6 +93,8 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
         "classes": classified.counts(),
         "seconds": {"read": read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
         "model": classifier.model().trained_on,
+        "density": classified.density,
+        "csf": classified.csf,
     });
     if let Some(truth) = &truth {
         let report = ClassReport::new(truth, &classified.labels).map_err(err)?;
