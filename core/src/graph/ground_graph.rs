@@ -5,13 +5,12 @@ use petgraph::graph::UnGraph;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
-use super::cells::{bin_ground, filled_heights};
+use super::cells::{bin_ground, drivable, filled_heights};
 use super::error::GraphError;
 use super::grid::GridFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
 use super::polygon::contains;
-use crate::cloud::class;
 use crate::density::Density;
 
 /// Ground cells this far from known ground still get a height, so walls at
@@ -80,7 +79,7 @@ impl GroundGraph {
                 labels: labels.len(),
             });
         }
-        let density = Density::measure_where(xyz, |i| labels[i] == class::GROUND);
+        let density = Density::measure_where(xyz, |i| drivable(labels[i]));
         let params = &match density {
             Some(d) => params.resolved(&d),
             None => params.clone(),
