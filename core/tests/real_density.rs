@@ -147,7 +147,11 @@ fn ign_montpellier_ground_detection_and_graph() {
     let name = "ign_montpellier_150x100m.laz";
     let Some(cloud) = real(name) else { return };
     let g = ground_error(name, &cloud);
-    assert!(g.total_error <= 0.05, "ground total error {}", g.total_error);
+    assert!(
+        g.total_error <= 0.05,
+        "ground total error {}",
+        g.total_error
+    );
     assert_bars(name, &detect_and_plan(name, &cloud));
 }
 
@@ -156,7 +160,11 @@ fn ign_stbarth_ground() {
     let name = "ign_stbarth_100x100m.laz";
     let Some(cloud) = real(name) else { return };
     let g = ground_error(name, &cloud);
-    assert!(g.total_error <= 0.05, "ground total error {}", g.total_error);
+    assert!(
+        g.total_error <= 0.05,
+        "ground total error {}",
+        g.total_error
+    );
 }
 
 #[test]

@@ -87,7 +87,10 @@ fn cell_of(p: &[f32; 3]) -> (i64, i64) {
     )
 }
 
-fn merge(mut into: FxHashMap<(i64, i64), u32>, from: FxHashMap<(i64, i64), u32>) -> FxHashMap<(i64, i64), u32> {
+fn merge(
+    mut into: FxHashMap<(i64, i64), u32>,
+    from: FxHashMap<(i64, i64), u32>,
+) -> FxHashMap<(i64, i64), u32> {
     for (k, v) in from {
         *into.entry(k).or_insert(0) += v;
     }
@@ -145,7 +148,11 @@ mod tests {
         let pts = grid(50.0, 50.0, 0.5);
         assert!(Density::measure_where(&pts, |_| false).is_none());
         let half = Density::measure_where(&pts, |i| i % 4 == 0).unwrap();
-        assert!((half.points_per_m2 - 1.0).abs() < 0.15, "{}", half.points_per_m2);
+        assert!(
+            (half.points_per_m2 - 1.0).abs() < 0.15,
+            "{}",
+            half.points_per_m2
+        );
         assert!(Density::from_points_per_m2(0.0).is_none());
         assert_eq!(Density::from_points_per_m2(4.0).unwrap().spacing_m, 0.5);
     }

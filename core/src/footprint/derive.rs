@@ -6,12 +6,12 @@ use geo::{Area, Simplify};
 use rayon::prelude::*;
 
 use super::error::ParamsError;
-use crate::density::Density;
 use super::params::DeriveParams;
 use super::polygon::union_valid;
 use super::raster::Raster;
 use super::trace::trace;
 use super::types::Footprint;
+use crate::density::Density;
 
 /// Derives one footprint per cluster of `building_points` (local frame), ids
 /// 1.. by decreasing point count, named `derived_N`. Empty input gives none.

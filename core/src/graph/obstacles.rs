@@ -57,11 +57,7 @@ impl ObstacleMap {
         );
         let mut occ = vec![false; frame.len()];
         for (p, &l) in xyz.iter().zip(labels) {
-            if drivable(l)
-                || l == 7
-                || l == 18
-                || !p.iter().all(|v| v.is_finite())
-            {
+            if drivable(l) || l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
             let Some(cell) = frame.index_of(p[0], p[1]) else {

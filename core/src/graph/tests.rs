@@ -147,6 +147,11 @@ fn bridges_join_what_water_cuts_apart() {
         }
         let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
         let far_bank = g.nearest_node([2.0, 26.0]).is_some_and(|(_, d)| d < 1.0);
-        assert_eq!(far_bank, bridge != 1, "bridge class {bridge}: {:?}", g.report());
+        assert_eq!(
+            far_bank,
+            bridge != 1,
+            "bridge class {bridge}: {:?}",
+            g.report()
+        );
     }
 }

@@ -17,7 +17,11 @@ use super::grid::Lattice;
 /// (breadth-first, 4-neighbours), as the paper does for empty particles, so
 /// a void holds the cloth at its surroundings' height and a few stray low
 /// returns in it do not pull the cloth down to them.
-pub(crate) fn inverted_surface(lattice: &Lattice, points: &[[f32; 3]], min_points: u32) -> Vec<f32> {
+pub(crate) fn inverted_surface(
+    lattice: &Lattice,
+    points: &[[f32; 3]],
+    min_points: u32,
+) -> Vec<f32> {
     let keyed: Vec<(usize, f32, f32)> = points
         .par_iter()
         .map(|p| {

@@ -51,7 +51,10 @@ pub fn producer_check(
         Some(tree) if !all.is_empty() => missing
             .par_iter()
             .filter(|q| {
-                let hit = tree.query(q).nearest_one::<SquaredEuclidean<f32>>().execute();
+                let hit = tree
+                    .query(q)
+                    .nearest_one::<SquaredEuclidean<f32>>()
+                    .execute();
                 all_labels.get(hit.item as usize) == Some(&class::BUILDING)
             })
             .count(),

@@ -185,8 +185,7 @@ fn analyse(
                     // trace: s→q runs at 45° near corners of the skeleton,
                     // or along the wall at a chamfered contour corner, and a
                     // slanted strip sees a covered wall as partly empty.
-                    let wall_dir =
-                        wall_normal(&index, k, q, dir, 2.0 * delta).unwrap_or(dir);
+                    let wall_dir = wall_normal(&index, k, q, dir, 2.0 * delta).unwrap_or(dir);
                     let mut strip = Strip {
                         q,
                         dir: wall_dir,

@@ -106,7 +106,10 @@ impl SliceParams {
     /// density `d`.
     pub fn resolved(&self, d: &Density) -> Self {
         let cell = self.cell.resolved(|| Self::cell_rule(d.spacing_m));
-        let resolved_cell = Self { cell, ..self.clone() };
+        let resolved_cell = Self {
+            cell,
+            ..self.clone()
+        };
         Self {
             spacing: self.spacing.resolved(|| Self::spacing_rule(d.spacing_m)),
             cell,
