@@ -115,7 +115,11 @@ mod tests {
 
     #[test]
     fn regular_grids_give_their_density() {
-        for (step, want) in [(0.5, 4.0), (0.25, 16.0), (0.7071, 2.0)] {
+        for (step, want) in [
+            (0.5, 4.0),
+            (0.25, 16.0),
+            (std::f32::consts::FRAC_1_SQRT_2, 2.0),
+        ] {
             let d = Density::measure(&grid(100.0, 60.0, step)).unwrap();
             assert!(
                 (d.points_per_m2 - want).abs() / want < 0.13,
