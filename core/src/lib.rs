@@ -9,6 +9,7 @@
 pub mod classify;
 pub mod cloud;
 pub mod crs;
+pub mod density;
 pub mod explore;
 pub mod features;
 pub mod field;

@@ -296,7 +296,7 @@ fn small_and_degenerate_buildings_are_reported_not_fatal() {
     // bad params and mismatched ids are errors
     assert!(detect_all(&xyz, &ids[1..], None, &DetectParams::default()).is_err());
     let bad = DetectParams {
-        delta: -1.0,
+        delta: skyground_core::density::Auto::Value(-1.0),
         ..DetectParams::default()
     };
     assert!(detect_all(&xyz, &ids, None, &bad).is_err());

@@ -196,7 +196,7 @@ fn path_to_follows_graph_edges_to_the_target_node() {
     assert_eq!(path.first(), Some(&g.positions()[a]));
     assert_eq!(path.last(), Some(&g.positions()[b]));
     // Every leg is a graph edge: short and free of obstacles.
-    let edge_max = g.params().d_threshold_m;
+    let edge_max = g.params().d_threshold();
     for leg in path.windows(2) {
         let (p, q) = (leg[0], leg[1]);
         let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();

@@ -533,7 +533,7 @@ fn bad_inputs_give_typed_errors_or_skips() {
         derive(
             &[[0.0; 3]],
             &DeriveParams {
-                cell_m: -1.0,
+                cell_m: skyground_core::density::Auto::Value(-1.0),
                 ..DeriveParams::default()
             }
         )

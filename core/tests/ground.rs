@@ -7,6 +7,7 @@
 use std::collections::HashMap;
 
 use skyground_core::cloud::{Cloud, class, read_cloud};
+use skyground_core::density::Auto;
 use skyground_core::ground::{CsfError, CsfParams, GroundSplit, csf};
 use skyground_core::lidar::Ray;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
@@ -110,7 +111,7 @@ fn autzen_matches_producer_ground_class() {
     // A 2-unit (2 ft ≈ 0.6 m) cloth: Autzen's producer ground follows the
     // terrain closely; the metre defaults (4 m) bridge too much of it.
     let params = CsfParams {
-        cloth_resolution: 2.0,
+        cloth_resolution: Auto::Value(2.0),
         ..CsfParams::default()
     };
     let split = csf(&cloud.xyz, &params).unwrap();
@@ -243,7 +244,7 @@ fn bad_input_is_an_error() {
         Err(CsfError::NoFinitePoints { count: 2 })
     ));
     let bad = CsfParams {
-        class_threshold: -1.0,
+        class_threshold: Auto::Value(-1.0),
         ..CsfParams::default()
     };
     assert!(matches!(
@@ -263,9 +264,9 @@ fn sloped_plane_is_all_ground_and_nan_points_are_skipped() {
     // A coarser cloth spans more of the slope between the points it rests
     // on, so it fits the plane less closely; both stay far under the 0.5 m
     // class threshold.
-    for (cloth, tolerance) in [(2.0, 0.05), (CsfParams::default().cloth_resolution, 0.15)] {
+    for (cloth, tolerance) in [(2.0, 0.05), (4.0, 0.15)] {
         let params = CsfParams {
-            cloth_resolution: cloth,
+            cloth_resolution: Auto::Value(cloth),
             ..CsfParams::default()
         };
         let split = csf(&pts, &params).unwrap();

@@ -7,6 +7,7 @@ use super::error::ClassifyError;
 use super::model::Model;
 use super::pipeline::classify;
 use crate::cloud::{Cloud, class};
+use crate::density::Density;
 use crate::features::Echoes;
 use crate::ground::{CsfParams, Dtm, csf};
 
@@ -28,6 +29,11 @@ pub struct Classified {
     pub hag: Vec<f32>,
     /// The terrain model.
     pub dtm: Dtm,
+    /// The ground filter's parameters as used (`auto` resolved) and the
+    /// density they were resolved for.
+    pub csf: CsfParams,
+    /// The cloud's measured density.
+    pub density: Density,
     /// Seconds in the ground filter.
     pub seconds_csf: f64,
     /// Seconds in features and forest.
@@ -103,6 +109,8 @@ impl SceneClassifier {
             is_ground: split.is_ground,
             hag: split.hag,
             dtm: split.dtm,
+            csf: split.params,
+            density: split.density,
             seconds_csf,
             seconds_classify: t1.elapsed().as_secs_f64(),
         })
@@ -122,6 +130,11 @@ pub fn echoes_of(cloud: &Cloud) -> Option<Echoes<'_>> {
 pub struct GroundReport {
     /// Points compared.
     pub points: usize,
+    /// Which points were compared: "producer classes 2-6" (ground,
+    /// vegetation, building: unclassified, water, noise and bridges say
+    /// nothing about the ground filter) or "all points" when the reference
+    /// has no class 3–6 point (e.g. ground / unclassified only).
+    pub scope: &'static str,
     /// Misclassified / all.
     pub total_error: f64,
     /// Type I: ground called non-ground / reference ground.
@@ -133,7 +146,9 @@ pub struct GroundReport {
 }
 
 impl GroundReport {
-    /// Compares the filter's ground flags with LAS labels (class 2 = ground).
+    /// Compares the filter's ground flags with LAS labels (class 2 = ground)
+    /// over the points of producer class 2–6, or over all points when the
+    /// reference labels no class 3–6 point.
     pub fn new(truth: &[u8], is_ground: &[bool]) -> Result<Self, ClassifyError> {
         if truth.len() != is_ground.len() {
             return Err(ClassifyError::LengthMismatch {
@@ -145,8 +160,10 @@ impl GroundReport {
         if truth.is_empty() {
             return Err(ClassifyError::Empty);
         }
+        let labelled = truth.iter().any(|t| (3..=6).contains(t));
+        let scored = |t: u8| !labelled || (2..=6).contains(&t);
         let (mut a, mut b, mut c, mut d) = (0f64, 0f64, 0f64, 0f64);
-        for (&t, &g) in truth.iter().zip(is_ground) {
+        for (&t, &g) in truth.iter().zip(is_ground).filter(|(t, _)| scored(**t)) {
             match (t == class::GROUND, g) {
                 (true, true) => a += 1.0,
                 (true, false) => b += 1.0,
@@ -159,7 +176,12 @@ impl GroundReport {
         let po = (a + d) / n;
         let pe = ((a + b) * (a + c) + (c + d) * (b + d)) / (n * n);
         Ok(Self {
-            points: truth.len(),
+            points: n as usize,
+            scope: if labelled {
+                "producer classes 2-6"
+            } else {
+                "all points"
+            },
             total_error: (b + c) / n,
             type_i: ratio(b, a + b),
             type_ii: ratio(c, c + d),
@@ -186,5 +208,13 @@ mod tests {
         assert_eq!(r.type_ii, 0.25);
         assert!((r.kappa - 0.5).abs() < 1e-12);
         assert!(GroundReport::new(&truth, &flags[..3]).is_err());
+        // Water (9) and unclassified (1) are left out when classes 3–6 exist.
+        let truth = [2, 2, 6, 6, 9, 1];
+        let flags = [true, false, false, false, true, true];
+        let r = GroundReport::new(&truth, &flags).unwrap();
+        assert_eq!((r.points, r.total_error), (4, 0.25));
+        // Ground / unclassified only (Autzen): every point counts.
+        let r = GroundReport::new(&[2, 1, 1], &[true, true, false]).unwrap();
+        assert_eq!((r.points, r.scope), (3, "all points"));
     }
 }

@@ -191,7 +191,7 @@ impl Explorer {
             * self
                 .params
                 .viewpoint_spacing_m
-                .max(self.graph.params().node_spacing_m);
+                .max(self.graph.params().node_spacing());
         for c in 0..self.nodes.len() {
             let p = self.graph.positions()[self.nodes[c]];
             if !self.visited[c]

@@ -67,7 +67,11 @@ mod tests {
         }];
         b.r_missing = 0.25;
         b.strategy = Strategy::PointBased;
-        Detection { buildings: vec![b] }
+        Detection {
+            buildings: vec![b],
+            params: None,
+            density: None,
+        }
     }
 
     fn targets() -> TargetSet {

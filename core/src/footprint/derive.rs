@@ -11,6 +11,7 @@ use super::polygon::union_valid;
 use super::raster::Raster;
 use super::trace::trace;
 use super::types::Footprint;
+use crate::density::Density;
 
 /// Derives one footprint per cluster of `building_points` (local frame), ids
 /// 1.. by decreasing point count, named `derived_N`. Empty input gives none.
@@ -19,9 +20,13 @@ pub fn derive(
     params: &DeriveParams,
 ) -> Result<Vec<Footprint>, ParamsError> {
     params.validate()?;
+    let params = &match Density::measure(building_points) {
+        Some(d) => params.resolved(&d),
+        None => params.clone(),
+    };
     let Some(r) = Raster::new(
         building_points,
-        params.cell_m,
+        params.cell(),
         params.closing_cells as usize,
     ) else {
         return Ok(Vec::new());

@@ -1,6 +1,10 @@
 //! Tunables of splitting and deriving, as read from a node's params YAML.
 
 use super::error::ParamsError;
+use crate::density::{Auto, Density};
+
+/// Finest derivation cell, metres: the reference prior's value.
+const MIN_DERIVE_CELL: f64 = 0.5;
 
 /// How points are assigned to footprints ([`super::split`]).
 #[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
@@ -46,8 +50,9 @@ impl SplitParams {
 #[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DeriveParams {
-    /// Occupancy grid cell (m): about twice the point spacing or more.
-    pub cell_m: f64,
+    /// Occupancy grid cell (m): about twice the point spacing or more;
+    /// `auto`: [`DeriveParams::cell_rule`].
+    pub cell_m: Auto<f64>,
     /// Closing radius in cells: fills gaps up to twice this between occupied
     /// cells (sparse roofs) while keeping wider alleys open.
     pub closing_cells: u32,
@@ -69,7 +74,7 @@ pub struct DeriveParams {
 impl Default for DeriveParams {
     fn default() -> Self {
         Self {
-            cell_m: 0.5,
+            cell_m: Auto::Auto,
             closing_cells: 1,
             min_points: 50,
             min_area_m2: 10.0,
@@ -81,9 +86,29 @@ impl Default for DeriveParams {
 }
 
 impl DeriveParams {
+    /// `cell_m: auto` for building points `spacing_m` apart: twice the
+    /// spacing, so almost every roof cell holds a point and one closing
+    /// cell fills the rest, never finer than the reference prior's 0.5 m.
+    pub fn cell_rule(spacing_m: f32) -> f64 {
+        (2.0 * f64::from(spacing_m)).max(MIN_DERIVE_CELL)
+    }
+
+    /// Cell in use (the rule at high density while still `auto`).
+    pub fn cell(&self) -> f64 {
+        self.cell_m.or_rule(|| Self::cell_rule(0.0))
+    }
+
+    /// These parameters with `auto` resolved for building points of density `d`.
+    pub fn resolved(&self, d: &Density) -> Self {
+        Self {
+            cell_m: self.cell_m.resolved(|| Self::cell_rule(d.spacing_m)),
+            ..self.clone()
+        }
+    }
+
     /// Checks ranges.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        check("cell_m", self.cell_m, 0.05, 50.0, "0.05 ≤ value ≤ 50 m")?;
+        check("cell_m", self.cell(), 0.05, 50.0, "0.05 ≤ value ≤ 50 m")?;
         check(
             "closing_cells",
             f64::from(self.closing_cells),

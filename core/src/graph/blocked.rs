@@ -18,7 +18,7 @@ impl GroundGraph {
             return 0;
         }
         self.blocked_spots.push((at, radius));
-        let reach = radius + self.params.d_threshold_m;
+        let reach = radius + self.params.d_threshold();
         let near = self.nodes_near(at, reach, usize::MAX);
         let mut cut = 0;
         for &(u, du) in &near {

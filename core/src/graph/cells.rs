@@ -4,6 +4,18 @@
 use super::grid::GridFrame;
 use crate::cloud::class;
 
+/// ASPRS class 17: bridge deck.
+const BRIDGE_DECK: u8 = 17;
+/// AHN's class 26: civil structures (bridges, viaducts, quays).
+const AHN_STRUCTURE: u8 = 26;
+
+/// True for the classes a ground vehicle drives on: ground, and bridges
+/// (producers class them apart from ground; without them a canal or a river
+/// cuts the graph in two where a road crosses it).
+pub fn drivable(label: u8) -> bool {
+    matches!(label, class::GROUND | BRIDGE_DECK | AHN_STRUCTURE)
+}
+
 /// Ground points binned into the node grid.
 pub struct GroundCells {
     /// The node grid.
@@ -14,14 +26,15 @@ pub struct GroundCells {
     pub ground_points: usize,
 }
 
-/// Bins the finite ground points; `None` when there are none.
+/// Bins the finite ground points (every [`drivable`] class); `None` when
+/// there are none.
 pub fn bin_ground(
     xyz: &[[f32; 3]],
     labels: &[u8],
     spacing: f32,
     pad: usize,
 ) -> Option<GroundCells> {
-    let is_ground = |p: &[f32; 3], l: u8| l == class::GROUND && p.iter().all(|v| v.is_finite());
+    let is_ground = |p: &[f32; 3], l: u8| drivable(l) && p.iter().all(|v| v.is_finite());
     let mut lo = [f32::INFINITY; 2];
     let mut hi = [f32::NEG_INFINITY; 2];
     let mut n = 0usize;

@@ -5,12 +5,13 @@ use petgraph::graph::UnGraph;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
-use super::cells::{bin_ground, filled_heights};
+use super::cells::{bin_ground, drivable, filled_heights};
 use super::error::GraphError;
 use super::grid::GridFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
 use super::polygon::contains;
+use crate::density::Density;
 
 /// Ground cells this far from known ground still get a height, so walls at
 /// the edge of large roofs are measured against the street beside them.
@@ -78,9 +79,14 @@ impl GroundGraph {
                 labels: labels.len(),
             });
         }
-        let pad = (params.vehicle_radius_m / params.node_spacing_m).ceil() as usize + 1;
-        let cells =
-            bin_ground(xyz, labels, params.node_spacing_m, pad).ok_or(GraphError::NoGround)?;
+        let density = Density::measure_where(xyz, |i| drivable(labels[i]));
+        let params = &match density {
+            Some(d) => params.resolved(&d),
+            None => params.clone(),
+        };
+        let spacing = params.node_spacing();
+        let pad = (params.vehicle_radius_m / spacing).ceil() as usize + 1;
+        let cells = bin_ground(xyz, labels, spacing, pad).ok_or(GraphError::NoGround)?;
         let frame = cells.frame;
         let occ_cells =
             frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
@@ -404,7 +410,7 @@ fn candidate_edges(
     obstacles: &ObstacleMap,
     params: &GraphParams,
 ) -> Vec<(u32, u32, f32)> {
-    let r = (params.d_threshold_m / frame.cell).ceil() as i64;
+    let r = (params.d_threshold() / frame.cell).ceil() as i64;
     let max_grade = params.max_slope_deg.to_radians().tan();
     (0..pos.len())
         .into_par_iter()
@@ -428,7 +434,7 @@ fn candidate_edges(
                     let (p, q) = (pos[a], pos[b as usize]);
                     let dxy = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
                     let len = (dxy * dxy + (q[2] - p[2]).powi(2)).sqrt();
-                    if len >= params.d_threshold_m || (q[2] - p[2]).abs() > max_grade * dxy {
+                    if len >= params.d_threshold() || (q[2] - p[2]).abs() > max_grade * dxy {
                         continue;
                     }
                     if obstacles.segment_free([p[0], p[1]], [q[0], q[1]], params.vehicle_radius_m) {

@@ -2,6 +2,7 @@
 //! vehicle's top, as a 2D grid with the distance to the nearest obstacle, built
 //! once and asked for every edge.
 
+use super::cells::drivable;
 use super::grid::GridFrame;
 use crate::cloud::class;
 
@@ -56,11 +57,7 @@ impl ObstacleMap {
         );
         let mut occ = vec![false; frame.len()];
         for (p, &l) in xyz.iter().zip(labels) {
-            if class::fold(l) == class::GROUND
-                || l == 7
-                || l == 18
-                || !p.iter().all(|v| v.is_finite())
-            {
+            if drivable(l) || l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
             let Some(cell) = frame.index_of(p[0], p[1]) else {

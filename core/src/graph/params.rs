@@ -3,6 +3,16 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::GraphError;
+use crate::density::{Auto, Density};
+
+/// Finest node spacing, metres: the reference prior's value.
+const MIN_NODE_SPACING: f32 = 1.25;
+/// Node spacing over ground point spacing: a node cell (2.5 s)² then holds
+/// about 6 ground points, so gaps in sparse ground do not cut the graph.
+const NODE_SPACINGS: f32 = 2.5;
+/// Edge reach over node spacing: 1.9 / 1.25 m, joining the 8 neighbours
+/// (√2 = 1.41) but not cells two apart (2).
+const REACH_PER_SPACING: f32 = 1.52;
 
 /// The most obstacle-grid cells a ground graph is built on (a memory bound:
 /// about 3.5 km × 3.5 km of ground at the default 0.25 m resolution).
@@ -12,10 +22,12 @@ pub const MAX_OCCUPANCY_CELLS: f64 = 2.0e8;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GraphParams {
-    /// Node spacing: ground points are binned into square cells this wide, one node per cell, metres.
-    pub node_spacing_m: f32,
-    /// Nodes closer than this (3D) are joined when the way between them is free, metres.
-    pub d_threshold_m: f32,
+    /// Node spacing: ground points are binned into square cells this wide,
+    /// one node per cell, metres; `auto`: [`GraphParams::spacing_rule`].
+    pub node_spacing_m: Auto<f32>,
+    /// Nodes closer than this (3D) are joined when the way between them is
+    /// free, metres; `auto`: 1.52 node spacings.
+    pub d_threshold_m: Auto<f32>,
     /// Height of the vehicle's body above the ground, metres.
     pub vehicle_height_m: f32,
     /// Half the vehicle's width: obstacles must stay this far from every edge, metres.
@@ -35,8 +47,8 @@ pub struct GraphParams {
 impl Default for GraphParams {
     fn default() -> Self {
         Self {
-            node_spacing_m: 1.25,
-            d_threshold_m: 1.9,
+            node_spacing_m: Auto::Auto,
+            d_threshold_m: Auto::Auto,
             vehicle_height_m: 1.8,
             vehicle_radius_m: 0.5,
             max_slope_deg: 20.0,
@@ -49,6 +61,38 @@ impl Default for GraphParams {
 }
 
 impl GraphParams {
+    /// `node_spacing_m: auto` for ground points `spacing_m` apart: 2.5
+    /// point spacings (a node cell holds ~6 ground points), never finer
+    /// than the reference prior's 1.25 m.
+    pub fn spacing_rule(spacing_m: f32) -> f32 {
+        (NODE_SPACINGS * spacing_m).max(MIN_NODE_SPACING)
+    }
+
+    /// Node spacing in use (the rule at high density while still `auto`).
+    pub fn node_spacing(&self) -> f32 {
+        self.node_spacing_m.or_rule(|| Self::spacing_rule(0.0))
+    }
+
+    /// Edge reach in use: 1.52 node spacings while `auto`.
+    pub fn d_threshold(&self) -> f32 {
+        self.d_threshold_m
+            .or_rule(|| REACH_PER_SPACING * self.node_spacing())
+    }
+
+    /// These parameters with every `auto` resolved for ground points of density `d`.
+    pub fn resolved(&self, d: &Density) -> Self {
+        let spacing = Self {
+            node_spacing_m: self
+                .node_spacing_m
+                .resolved(|| Self::spacing_rule(d.spacing_m)),
+            ..self.clone()
+        };
+        Self {
+            d_threshold_m: Auto::Value(spacing.d_threshold()),
+            ..spacing
+        }
+    }
+
     /// Obstacle-grid cells a graph over ground spanning `size` (x, y metres) needs.
     pub fn occupancy_cells(&self, size: [f64; 2]) -> f64 {
         let r = f64::from(self.occupancy_resolution_m);
@@ -58,17 +102,18 @@ impl GraphParams {
     /// Checks every field's range and that edges can reach the neighbouring cells.
     pub fn validate(&self) -> Result<(), GraphError> {
         let positive = |v: f32| v.is_finite() && v > 0.0;
+        let (spacing, reach) = (self.node_spacing(), self.d_threshold());
         let checks: [(&'static str, f32, bool, &'static str); 9] = [
             (
                 "node_spacing_m",
-                self.node_spacing_m,
-                (0.1..=20.0).contains(&self.node_spacing_m),
+                spacing,
+                (0.1..=20.0).contains(&spacing),
                 "must be in [0.1, 20]",
             ),
             (
                 "d_threshold_m",
-                self.d_threshold_m,
-                positive(self.d_threshold_m) && self.d_threshold_m > self.node_spacing_m,
+                reach,
+                positive(reach) && reach > spacing,
                 "must exceed node_spacing_m, or no two nodes are joined",
             ),
             (
@@ -111,8 +156,8 @@ impl GraphParams {
             ),
             (
                 "d_threshold_m",
-                self.d_threshold_m,
-                self.d_threshold_m <= 10.0 * self.node_spacing_m,
+                reach,
+                reach <= 10.0 * spacing,
                 "must be at most 10 × node_spacing_m",
             ),
         ];

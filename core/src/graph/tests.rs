@@ -54,7 +54,7 @@ fn edges_avoid_walls_and_the_pen_is_cut_off() {
     // No edge crosses the wall at x = 20 below y = 14, nor the pen.
     for (a, b, w) in g.edges() {
         let (p, q) = (g.positions()[a], g.positions()[b]);
-        assert!(w < GraphParams::default().d_threshold_m);
+        assert!(w < GraphParams::default().d_threshold());
         let crosses = (p[0] - 20.0) * (q[0] - 20.0) < 0.0 && p[1].max(q[1]) < 14.0;
         assert!(!crosses, "edge {p:?} → {q:?} crosses the wall");
         assert!(g.segment_free([p[0], p[1]], [q[0], q[1]]));
@@ -86,7 +86,7 @@ fn bad_input_gives_errors() {
         Err(GraphError::StartOffGraph { .. })
     ));
     let bad = GraphParams {
-        d_threshold_m: 0.5,
+        d_threshold_m: crate::density::Auto::Value(0.5),
         ..p.clone()
     };
     assert!(matches!(
@@ -120,4 +120,38 @@ fn nearest_node_and_polygon_queries() {
             .iter()
             .all(|&i| (25.0..35.0).contains(&g.positions()[i][0]))
     );
+}
+
+/// Two banks 0..20 × 0..10 and 0..20 × 18..28 at 0.25 m, a canal between
+/// them with a few water returns 2 m down, and a 4 m wide bridge deck
+/// across it (class 17, or AHN's 26): only the bridge joins the banks.
+#[test]
+fn bridges_join_what_water_cuts_apart() {
+    for bridge in [17u8, 26, 1] {
+        let mut xyz = Vec::new();
+        let mut lab = Vec::new();
+        for i in 0..80 {
+            for j in 0..112 {
+                let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
+                if !(10.0..18.0).contains(&y) {
+                    xyz.push([x, y, 0.0]);
+                    lab.push(2);
+                } else if (8.0..12.0).contains(&x) {
+                    xyz.push([x, y, 0.0]);
+                    lab.push(bridge);
+                } else if i % 8 == 0 && j % 8 == 0 {
+                    xyz.push([x, y, -2.0]);
+                    lab.push(9);
+                }
+            }
+        }
+        let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
+        let far_bank = g.nearest_node([2.0, 26.0]).is_some_and(|(_, d)| d < 1.0);
+        assert_eq!(
+            far_bank,
+            bridge != 1,
+            "bridge class {bridge}: {:?}",
+            g.report()
+        );
+    }
 }

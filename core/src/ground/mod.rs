@@ -24,6 +24,8 @@ pub use dtm::Dtm;
 pub use error::CsfError;
 pub use params::CsfParams;
 
+use crate::density::Density;
+
 use grid::Lattice;
 
 /// What [`csf`] finds: ground or not, and height above the terrain, per point.
@@ -40,6 +42,10 @@ pub struct GroundSplit {
     pub dtm: Dtm,
     /// Simulation steps run before the cloth settled (or the step limit).
     pub iterations_run: u32,
+    /// The density measured over the finite points.
+    pub density: Density,
+    /// The parameters used: `auto` resolved for that density.
+    pub params: CsfParams,
 }
 
 /// Splits `xyz` into ground and the rest with the Cloth Simulation Filter
@@ -57,9 +63,14 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
         .filter(|p| p.iter().all(|v| v.is_finite()))
         .copied()
         .collect();
-    let (lo, hi) = xy_bounds(&finite).ok_or(CsfError::NoFinitePoints { count: xyz.len() })?;
-    let lattice = Lattice::covering(lo, hi, params.cloth_resolution)?;
-    let surface = surface::inverted_surface(&lattice, &finite);
+    let no_finite = CsfError::NoFinitePoints { count: xyz.len() };
+    let (lo, hi) = xy_bounds(&finite).ok_or(no_finite.clone())?;
+    let density = Density::measure(&finite).ok_or(no_finite)?;
+    let resolved = params.resolved(&density);
+    let threshold = params.class_threshold_for(&density);
+    let lattice = Lattice::covering(lo, hi, params.cloth_resolution_for(&density))?;
+    let min_points = void_below(&density, lattice.cell);
+    let surface = surface::inverted_surface(&lattice, &finite, min_points);
     let mut cloth = cloth::simulate(&lattice, &surface, params);
     if params.slope_smoothing {
         smoothing::smooth_slopes(
@@ -80,7 +91,7 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
                 return (false, f32::NAN);
             }
             let above = p[2] - lattice.bilinear(&dtm.heights, p[0], p[1]);
-            (above.abs() < params.class_threshold, above)
+            (above.abs() < threshold, above)
         })
         .unzip();
     Ok(GroundSplit {
@@ -88,7 +99,20 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
         hag,
         dtm,
         iterations_run: cloth.steps,
+        density,
+        params: resolved,
     })
+}
+
+/// Share of the points a cloth cell of the measured density holds below
+/// which the cell is a data void (water returns little, occlusions none):
+/// a few stray returns there would pull the cloth down to them.
+const VOID_SHARE: f32 = 0.1;
+
+/// Fewest points a particle's cell (`cell` wide) needs to take part in the
+/// cloth: [`VOID_SHARE`] of what the density `d` puts there, at least one.
+fn void_below(d: &Density, cell: f32) -> u32 {
+    ((VOID_SHARE * d.points_per_m2 * cell * cell).floor() as u32).max(1)
 }
 
 fn xy_bounds(points: &[[f32; 3]]) -> Option<([f32; 2], [f32; 2])> {

@@ -10,11 +10,18 @@ use super::grid::Lattice;
 
 /// Inverted height of the surface below every particle (one per particle).
 ///
-/// `points` are all finite. A particle with no point nearer to it than to
-/// any other particle takes the value of the nearest such particle along
-/// the grid (breadth-first, 4-neighbours), as the paper does, so gaps
-/// (water, occluded ground) hold the cloth at their surroundings' height.
-pub(crate) fn inverted_surface(lattice: &Lattice, points: &[[f32; 3]]) -> Vec<f32> {
+/// `points` are all finite. A particle with fewer than `min_points` points
+/// nearer to it than to any other particle sits over a data void (no
+/// returns, water that returns a few, the margin around the cloud): it
+/// takes the value of the nearest particle along the grid that has enough
+/// (breadth-first, 4-neighbours), as the paper does for empty particles, so
+/// a void holds the cloth at its surroundings' height and a few stray low
+/// returns in it do not pull the cloth down to them.
+pub(crate) fn inverted_surface(
+    lattice: &Lattice,
+    points: &[[f32; 3]],
+    min_points: u32,
+) -> Vec<f32> {
     let keyed: Vec<(usize, f32, f32)> = points
         .par_iter()
         .map(|p| {
@@ -25,12 +32,24 @@ pub(crate) fn inverted_surface(lattice: &Lattice, points: &[[f32; 3]]) -> Vec<f3
         })
         .collect();
     let mut best = vec![(f32::INFINITY, f32::NAN); lattice.len()];
+    let mut count = vec![0u32; lattice.len()];
     for &(k, d2, z) in &keyed {
+        count[k] += 1;
         if d2 < best[k].0 {
             best[k] = (d2, z);
         }
     }
-    let mut height: Vec<f32> = best.into_iter().map(|(_, z)| z).collect();
+    // Nothing dense enough to fill the rest from: trust every point.
+    let min = if count.iter().any(|&c| c >= min_points) {
+        min_points.max(1)
+    } else {
+        1
+    };
+    let mut height: Vec<f32> = best
+        .into_iter()
+        .zip(&count)
+        .map(|((_, z), &c)| if c >= min { z } else { f32::NAN })
+        .collect();
     fill_from_neighbours(lattice, &mut height);
     height
 }
@@ -58,12 +77,19 @@ mod tests {
     fn nearest_point_wins_and_gaps_take_neighbours() {
         let l = Lattice::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
         let pts = [[0.1, 0.0, 5.0], [0.4, 0.0, 9.0], [4.0, 0.0, 1.0]];
-        let h = inverted_surface(&l, &pts);
+        let h = inverted_surface(&l, &pts, 1);
         assert_eq!(h[l.nearest(0.0, 0.0)], -5.0);
         assert_eq!(h[l.nearest(4.0, 0.0)], -1.0);
         // x = 1 is nearer to the particle at 0, x = 3 to the one at 4.
         assert_eq!(h[l.nearest(1.0, 0.0)], -5.0);
         assert_eq!(h[l.nearest(3.0, 0.0)], -1.0);
         assert!(h.iter().all(|v| v.is_finite()));
+        // With two points needed, the lone low return at x = 4 is a void:
+        // it takes the height of the particle at 0 (two points).
+        let h = inverted_surface(&l, &pts, 2);
+        assert_eq!(h[l.nearest(4.0, 0.0)], -5.0);
+        // Nothing has enough: every point counts.
+        let h = inverted_surface(&l, &pts, 10);
+        assert_eq!(h[l.nearest(4.0, 0.0)], -1.0);
     }
 }

@@ -8,6 +8,8 @@
 //!   [`mean_gt_distance`].
 //! - [`accuracy`]: the accuracy term [`mean_cloud_to_mesh`].
 //! - [`evaluation`]: both terms and completeness before/after a mission.
+//! - [`producer`]: missing points and targets against a survey producer's
+//!   building class.
 //! - [`quality`]: per-building attributes of a mission for a city model.
 
 pub mod accuracy;
@@ -16,6 +18,7 @@ pub mod evaluation;
 mod ground_height;
 pub mod gt;
 mod nearest;
+pub mod producer;
 pub mod quality;
 pub(crate) mod triangle_grid;
 mod winding;
@@ -32,4 +35,5 @@ pub use gt::{
     sample_building_surfaces_with,
 };
 pub use nearest::nearest_distances;
+pub use producer::{ProducerCheck, TARGET_REACH_M, producer_check};
 pub use quality::{Mission, building_attributes};

@@ -10,6 +10,7 @@ use super::building::detect_building_on;
 use super::detection::{BuildingDetection, Detection, SkipReason};
 use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
+use crate::density::Density;
 
 /// Why detection over a cloud could not run.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -56,6 +57,16 @@ pub fn detect_all_on(
             points: xyz.len(),
         });
     }
+    // One density for the whole cloud's buildings, so every building is
+    // sliced alike.
+    let own: Vec<[f32; 3]> = xyz
+        .iter()
+        .zip(building)
+        .filter(|(_, id)| **id > 0)
+        .map(|(p, _)| *p)
+        .collect();
+    let density = Density::measure(&own);
+    let params = &params.resolved_for(&own);
     let mut groups: BTreeMap<u32, Vec<[f32; 3]>> = BTreeMap::new();
     for (p, &id) in xyz.iter().zip(building) {
         if id > 0 {
@@ -91,5 +102,9 @@ pub fn detect_all_on(
             })
             .collect::<Vec<_>>();
     buildings.sort_by_key(|b| b.building);
-    Ok(Detection { buildings })
+    Ok(Detection {
+        buildings,
+        params: Some(params.clone()),
+        density,
+    })
 }

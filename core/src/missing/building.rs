@@ -51,6 +51,7 @@ pub fn detect_building_on(
     params: &DetectParams,
 ) -> Result<BuildingDetection, DetectParamsError> {
     params.validate()?;
+    let params = &params.resolved_for(points);
     let n = points
         .iter()
         .filter(|p| p.iter().all(|v| v.is_finite()))
@@ -129,6 +130,7 @@ fn analyse(
         .map(|s| medial_axis(&s.contour, &params.skeleton))
         .collect();
 
+    let delta = params.delta_m();
     let grid = &sliced.grid;
     let size = [
         (grid.nx as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
@@ -138,7 +140,7 @@ fn analyse(
     let index = BandIndex::new(
         points,
         base,
-        params.slice.spacing,
+        params.slice.spacing_m(),
         levels.len(),
         grid.origin,
         INDEX_CELL,
@@ -183,12 +185,11 @@ fn analyse(
                     // trace: s→q runs at 45° near corners of the skeleton,
                     // or along the wall at a chamfered contour corner, and a
                     // slanted strip sees a covered wall as partly empty.
-                    let wall_dir =
-                        wall_normal(&index, k, q, dir, 2.0 * params.delta).unwrap_or(dir);
+                    let wall_dir = wall_normal(&index, k, q, dir, 2.0 * delta).unwrap_or(dir);
                     let mut strip = Strip {
                         q,
                         dir: wall_dir,
-                        half_width: params.delta,
+                        half_width: delta,
                         near: params.near,
                         outside: params.outside,
                         band: k,
@@ -205,7 +206,7 @@ fn analyse(
                     // at its foot (probes run along s→q, often oblique to the
                     // wall, in 0.5 m cells) or under a lower floor.
                     let open = cover.share < params.min_coverage
-                        && terrain.is_some_and(|t| open_below(t, contour, q, dir, params.delta))
+                        && terrain.is_some_and(|t| open_below(t, contour, q, dir, delta))
                         && !face_below(&index, &strip);
                     if open {
                         if cover.wall_offset.is_none() {
@@ -223,7 +224,7 @@ fn analyse(
                     // Report the point on the wall: where the strip's points
                     // put it, else half a raster cell in (the outline lies
                     // up to a cell outside the wall).
-                    let off = cover.wall_offset.unwrap_or(-0.5 * params.slice.cell);
+                    let off = cover.wall_offset.unwrap_or(-0.5 * params.slice.cell_m());
                     let at = [q[0] + wall_dir[0] * off, q[1] + wall_dir[1] * off];
                     boundary.push(BoundaryPoint {
                         xyz: [at[0] as f32, at[1] as f32, 0.5 * (strip.z[0] + strip.z[1])],

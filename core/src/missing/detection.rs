@@ -153,6 +153,10 @@ impl BuildingDetection {
 pub struct Detection {
     /// One entry per building id present, ascending.
     pub buildings: Vec<BuildingDetection>,
+    /// The parameters used, `auto` resolved (None when not run by [`super::detect_all`]).
+    pub params: Option<super::DetectParams>,
+    /// The density of the building points they were resolved for.
+    pub density: Option<crate::density::Density>,
 }
 
 impl Detection {

@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::density::{Auto, Density};
 use crate::skeleton::{SkeletonParams, SkeletonParamsError};
 use crate::slice::{SliceParams, SliceParamsError};
 
@@ -14,8 +15,9 @@ pub struct DetectParams {
     pub slice: SliceParams,
     /// Medial-axis skeleton.
     pub skeleton: SkeletonParams,
-    /// δ: half-width of the strip around segment s→q searched for points, metres.
-    pub delta: f64,
+    /// δ: half-width of the strip around segment s→q searched for points,
+    /// metres; `auto`: [`DetectParams::delta_rule`].
+    pub delta: Auto<f64>,
     /// Spacing of the boundary points q_n along each contour, metres.
     pub boundary_spacing: f64,
     /// How far inside the contour (from q_n along s→q) points count as "near the boundary", metres.
@@ -39,7 +41,7 @@ impl Default for DetectParams {
         DetectParams {
             slice: SliceParams::default(),
             skeleton: SkeletonParams::default(),
-            delta: 0.75,
+            delta: Auto::Auto,
             boundary_spacing: 1.0,
             near: 2.0,
             outside: 0.5,
@@ -80,12 +82,48 @@ pub enum DetectParamsError {
 }
 
 impl DetectParams {
+    /// `delta: auto`: 1.5 outline cells (0.75 m at the reference prior's
+    /// 0.5 m cells), so the strip is as wide, in cells, at every density.
+    pub fn delta_rule(cell_m: f64) -> f64 {
+        1.5 * cell_m
+    }
+
+    /// δ in use (from the outline cell in use while still `auto`).
+    pub fn delta_m(&self) -> f64 {
+        self.delta.or_rule(|| Self::delta_rule(self.slice.cell_m()))
+    }
+
+    /// These parameters with every `auto` resolved for building points of
+    /// density `d`.
+    pub fn resolved(&self, d: &Density) -> Self {
+        let slice = self.slice.resolved(d);
+        let delta = self.delta.resolved(|| Self::delta_rule(slice.cell_m()));
+        Self {
+            slice,
+            delta,
+            ..self.clone()
+        }
+    }
+
+    /// [`DetectParams::resolved`] for the density of `points`, when any
+    /// parameter is still `auto` and the points have a density.
+    pub fn resolved_for(&self, points: &[[f32; 3]]) -> Self {
+        let auto = self.delta.value().is_none()
+            || self.slice.cell.value().is_none()
+            || self.slice.spacing.value().is_none()
+            || self.slice.closing.value().is_none();
+        match Density::measure(points) {
+            Some(d) if auto => self.resolved(&d),
+            _ => self.clone(),
+        }
+    }
+
     /// Checks every field is usable.
     pub fn validate(&self) -> Result<(), DetectParamsError> {
         self.slice.validate()?;
         self.skeleton.validate()?;
         let positive = [
-            ("delta", self.delta),
+            ("delta", self.delta_m()),
             ("boundary_spacing", self.boundary_spacing),
             ("near", self.near),
             ("coverage_radius", self.coverage_radius as f64),

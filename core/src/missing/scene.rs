@@ -62,6 +62,10 @@ pub fn detect_scene(
     params: &DetectParams,
 ) -> Result<(Detection, Vec<Footprint>), SceneDetectError> {
     let mut pts = building_xyz(aerial, aerial.origin, true)?;
+    // The prior's density sets the `auto` lengths: ground scans merged in
+    // later rounds are far denser on their walls and would change them
+    // from round to round.
+    let params = &params.resolved_for(&pts);
     let used: Vec<Footprint> = match footprints {
         Some(f) => f.to_vec(),
         None => derive(&pts, derive_params)?,

@@ -26,7 +26,7 @@ pub struct Snapped {
 /// Snaps every target: a point to the nearest node within `max_snap` (xy)
 /// that the vehicle can drive to in a straight line (or that shares its cell).
 pub fn snap(graph: &GroundGraph, targets: &TargetSet, max_snap: f32) -> Snapped {
-    let cell = graph.params().node_spacing_m;
+    let cell = graph.params().node_spacing();
     let mut out = Snapped {
         stops: Vec::new(),
         unreachable_points: Vec::new(),

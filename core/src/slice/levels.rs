@@ -12,19 +12,32 @@ use thiserror::Error;
 
 use super::contour::occupancy_contour;
 use super::raster::Raster;
+use crate::density::{Auto, Density};
+
+/// Finest outline raster cell, metres: the value tuned on the reference
+/// prior, kept wherever points are denser than 4 pts/m².
+const MIN_CELL: f64 = 0.5;
+/// Thinnest slice, metres (the reference prior's 1 m).
+const MIN_SPACING: f32 = 1.0;
+/// Thickest slice, metres: about a storey, so a one-storey gap still shows.
+const MAX_SPACING: f32 = 3.0;
+/// Points per m² of surface a slice band should hold per metre of wall
+/// height × its thickness: 4 pts/m² × 1 m, where the 1 m slices were tuned.
+const SLICE_POINTS_PER_M: f32 = 4.0;
 
 /// How a building is cut into slices and outlined.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SliceParams {
-    /// Vertical distance between slice centres, metres (also the band thickness).
-    pub spacing: f32,
+    /// Vertical distance between slice centres, metres (also the band
+    /// thickness); `auto`: [`SliceParams::spacing_rule`].
+    pub spacing: Auto<f32>,
     /// Height of the first slice centre above the building's ground, metres.
     pub first: f32,
-    /// Raster cell of the xy outline, metres.
-    pub cell: f64,
-    /// Closing radius that bridges sparse sampling, metres.
-    pub closing: f64,
+    /// Raster cell of the xy outline, metres; `auto`: [`SliceParams::cell_rule`].
+    pub cell: Auto<f64>,
+    /// Closing radius that bridges sparse sampling, metres; `auto`: two cells.
+    pub closing: Auto<f64>,
     /// Douglas–Peucker tolerance that removes the raster staircase, metres.
     pub simplify: f64,
     /// Outline parts smaller than this are dropped, m².
@@ -34,10 +47,10 @@ pub struct SliceParams {
 impl Default for SliceParams {
     fn default() -> Self {
         SliceParams {
-            spacing: 1.0,
+            spacing: Auto::Auto,
             first: 0.5,
-            cell: 0.5,
-            closing: 1.0,
+            cell: Auto::Auto,
+            closing: Auto::Auto,
             simplify: 0.4,
             min_area: 4.0,
         }
@@ -61,11 +74,55 @@ pub enum SliceParamsError {
 }
 
 impl SliceParams {
+    /// `spacing: auto` for points `spacing_m` apart: thick enough that a band
+    /// holds as many wall returns per metre as 1 m did at 4 pts/m²
+    /// (thickness = 4 / density), between 1 m and a storey (3 m).
+    pub fn spacing_rule(spacing_m: f32) -> f32 {
+        (SLICE_POINTS_PER_M * spacing_m * spacing_m).clamp(MIN_SPACING, MAX_SPACING)
+    }
+
+    /// `cell: auto`: about the point spacing, never finer than 0.5 m (the
+    /// reference prior's value: finer cells only split sparse roofs).
+    pub fn cell_rule(spacing_m: f32) -> f64 {
+        f64::from(spacing_m).max(MIN_CELL)
+    }
+
+    /// Slice spacing in use (the rule at high density while still `auto`).
+    pub fn spacing_m(&self) -> f32 {
+        self.spacing.or_rule(|| Self::spacing_rule(0.0))
+    }
+
+    /// Outline cell in use (the rule at high density while still `auto`).
+    pub fn cell_m(&self) -> f64 {
+        self.cell.or_rule(|| Self::cell_rule(0.0))
+    }
+
+    /// Closing radius in use: two cells while `auto`.
+    pub fn closing_m(&self) -> f64 {
+        self.closing.or_rule(|| 2.0 * self.cell_m())
+    }
+
+    /// These parameters with every `auto` resolved for building points of
+    /// density `d`.
+    pub fn resolved(&self, d: &Density) -> Self {
+        let cell = self.cell.resolved(|| Self::cell_rule(d.spacing_m));
+        let resolved_cell = Self {
+            cell,
+            ..self.clone()
+        };
+        Self {
+            spacing: self.spacing.resolved(|| Self::spacing_rule(d.spacing_m)),
+            cell,
+            closing: Auto::Value(resolved_cell.closing_m()),
+            ..self.clone()
+        }
+    }
+
     /// Checks every field is usable.
     pub fn validate(&self) -> Result<(), SliceParamsError> {
         let positive = [
-            ("spacing", self.spacing as f64),
-            ("cell", self.cell),
+            ("spacing", self.spacing_m() as f64),
+            ("cell", self.cell_m()),
             ("min_area", self.min_area),
         ];
         for (name, value) in positive {
@@ -73,7 +130,7 @@ impl SliceParams {
                 return Err(SliceParamsError::NotPositive { name, value });
             }
         }
-        for (name, value) in [("closing", self.closing), ("simplify", self.simplify)] {
+        for (name, value) in [("closing", self.closing_m()), ("simplify", self.simplify)] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(SliceParamsError::NotPositive { name, value });
             }
@@ -143,8 +200,9 @@ pub fn slice_building(
         return None;
     }
     let ground_z = ground_z.filter(|g| g.is_finite()).unwrap_or(zmin);
-    let pad = (params.closing / params.cell).ceil() as usize + 2;
-    let mut grid = Raster::covering(lo, hi, params.cell, pad);
+    let (cell, closing, spacing) = (params.cell_m(), params.closing_m(), params.spacing_m());
+    let pad = (closing / cell).ceil() as usize + 2;
+    let mut grid = Raster::covering(lo, hi, cell, pad);
     let mut top = vec![f32::NEG_INFINITY; grid.nx * grid.ny];
     for p in finite() {
         if let Some((i, j)) = grid.cell_of(p[0] as f64, p[1] as f64) {
@@ -152,7 +210,7 @@ pub fn slice_building(
             *t = t.max(p[2]);
         }
     }
-    let r = (params.closing / params.cell).round() as usize;
+    let r = (closing / cell).round() as usize;
     let outline = |floor: f32| -> Raster {
         let mut occ = grid.clone();
         occ.occupied = top
@@ -165,22 +223,22 @@ pub fn slice_building(
     let whole = outline(f32::NEG_INFINITY);
     let global = occupancy_contour(&whole, None, params.simplify, params.min_area);
 
-    let half = params.spacing / 2.0;
+    let half = spacing / 2.0;
     let mut heights = Vec::new();
     let mut h = ground_z + params.first.max(half);
     while h - half < zmax && heights.len() < 10_000 {
         heights.push(h);
-        h += params.spacing;
+        h += spacing;
     }
     let mut counts = vec![0usize; heights.len()];
     let base = heights.first().map_or(0.0, |h| h - half);
     for p in finite() {
-        let k = ((p[2] - base) / params.spacing).floor();
+        let k = ((p[2] - base) / spacing).floor();
         if k >= 0.0 && (k as usize) < counts.len() {
             counts[k as usize] += 1;
         }
     }
-    let min_cells = (params.min_area / (params.cell * params.cell)).ceil() as usize;
+    let min_cells = (params.min_area / (cell * cell)).ceil() as usize;
     let levels = heights
         .iter()
         .zip(counts)
@@ -257,7 +315,7 @@ mod tests {
     #[test]
     fn bad_params_and_empty_points() {
         let p = SliceParams {
-            spacing: 0.0,
+            spacing: Auto::Value(0.0),
             ..SliceParams::default()
         };
         assert!(p.validate().is_err());

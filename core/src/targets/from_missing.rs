@@ -66,5 +66,9 @@ pub fn generate_from_missing(
             b
         })
         .collect();
-    generate(&Detection { buildings }, site, params)
+    let detection = Detection {
+        buildings,
+        ..Detection::default()
+    };
+    generate(&detection, site, params)
 }

@@ -135,6 +135,8 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
         "seconds": {"read": read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
         "model": classifier.model().trained_on,
         "trained_on_this_file": seen,
+        "density": classified.density,
+        "csf": classified.csf,
     });
     if seen {
         eprintln!(

@@ -600,7 +600,10 @@ fn report(
             .and_then(|c| c.save(&a.out.join("overview.png")))
             .map_err(|e| err(e.to_string()))?;
     }
-    let frame = SourceFrame::new(prior.cloud.origin, super::field::scene_crs(a.scenes.first().map_or("", String::as_str)));
+    let frame = SourceFrame::new(
+        prior.cloud.origin,
+        super::field::scene_crs(a.scenes.first().map_or("", String::as_str)),
+    );
     let rows: Vec<super::field::MissionBuilding> = outlines
         .iter()
         .map(|f| {

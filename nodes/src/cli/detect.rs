@@ -10,7 +10,9 @@ use serde_json::json;
 use skyground_core::classify::SceneClassifier;
 use skyground_core::cloud::{Cloud, class, read_cloud, write_cloud};
 use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints};
-use skyground_core::metrics::{building_points, sample_building_surfaces};
+use skyground_core::metrics::{
+    TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
+};
 use skyground_core::missing::{DetectParams, detect_scene, evaluate, shift_missing};
 use skyground_core::plot::detection_picture_in;
 use skyground_core::scene::load_scene;
@@ -134,6 +136,8 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         .label
         .as_ref()
         .is_some_and(|l| l.contains(&class::BUILDING));
+    // The producer's classes, to check the result against (also with --classify).
+    let producer = cloud.label.clone().filter(|_| labelled);
     let mut classify_s = 0.0;
     if a.classify || !labelled {
         let t = Instant::now();
@@ -247,11 +251,30 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "target_regions": targets.regions.len(),
         "dropped": dropped,
         "footprints_used": used.len(),
+        "density": detection.density,
+        "detect_params": detection.params,
         "seconds": {"read": t1.duration_since(t0).as_secs_f64() - classify_s, "classify": classify_s, "detect": detect_s, "targets": targets_s},
         "outputs": {"dir": a.out, "png": png, "field": field},
         "crs": super::info::crs_json(cloud.crs.as_ref()),
         "per_building": per_building,
     });
+    if let Some(truth) = &producer {
+        let mut at: Vec<[f32; 3]> = targets.points.iter().map(|t| t.xyz).collect();
+        for r in &targets.regions {
+            at.extend(r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
+        }
+        let check = producer_check(&cloud.xyz, truth, &detection.missing_xyz(), &at);
+        if !a.json {
+            eprintln!(
+                "against the producer's classes: {:.3} of {} missing points have a building point nearest; targets at most {:.1} m from one ({} beyond {TARGET_REACH_M} m)",
+                check.missing_on_building_share,
+                check.missing_points,
+                check.target_building_max_m,
+                check.targets_beyond_reach
+            );
+        }
+        out["producer_check"] = json!(check);
+    }
     if let Some(spec) = &a.gt {
         let scene_spec = gt_scene(spec)?;
         let scene = load_scene(&scene_spec).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;

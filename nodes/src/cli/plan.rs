@@ -96,6 +96,8 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         "input": a.input,
         "start": start,
         "graph": graph.report(),
+        "graph_params": graph.params(),
+        "reachable_node_share": graph.report().nodes as f64 / graph.report().candidate_nodes.max(1) as f64,
         "nodes": graph.len(),
         "edges": graph.edges().len(),
         "target_points": targets.points.len(),

@@ -66,6 +66,7 @@ mod tests {
     use skyground_core::explore::ExploreParams;
     use skyground_core::footprint::{DeriveParams, SplitParams};
     use skyground_core::graph::GraphParams;
+    use skyground_core::ground::CsfParams;
     use skyground_core::missing::DetectParams;
     use skyground_core::route::RouteParams;
     use skyground_core::targets::TargetParams;
@@ -91,6 +92,9 @@ mod tests {
     // Default must say the same, or one of them is stale.
     #[test]
     fn shipped_yaml_sections_match_the_library_defaults() {
+        let cls = super::scene_classifier::SPEC;
+        let c: CsfParams = shipped(cls.name, cls.default_params, "csf");
+        assert_eq!(c, CsfParams::default());
         let det = super::completeness_detector::SPEC;
         let d: DetectParams = shipped(det.name, det.default_params, "detect");
         assert!(same(&d, &DetectParams::default()), "detect: {d:?}");

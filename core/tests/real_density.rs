@@ -1,0 +1,201 @@
+//! Ground, detection, targets and the ground graph on real airborne surveys
+//! with the producers' classes (`../shared/data/real`, see its README), at
+//! their own densities, every length `auto`:
+//!
+//! - ground total error of the Cloth Simulation Filter against the
+//!   producer's class 2, over points of producer class 2–6;
+//! - detection and targets on the producer's classes (the classifier's
+//!   errors are left out): the share of missing points whose nearest input
+//!   point is a producer building point, and each target's distance to one;
+//! - the share of candidate ground nodes the graph reaches from the start
+//!   `skyground plan` uses (the ground point nearest the cloud's middle).
+//!
+//! Absent data → `SKIPPED`, the test passes.
+
+use skyground_core::classify::GroundReport;
+use skyground_core::cloud::{Cloud, class, read_cloud};
+use skyground_core::footprint::{DeriveParams, SplitParams};
+use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::ground::{CsfParams, csf};
+use skyground_core::metrics::{ProducerCheck, producer_check};
+use skyground_core::missing::{DetectParams, detect_scene};
+use skyground_core::targets::{Site, TargetParams, generate};
+
+mod common;
+use common::real_file;
+
+fn real(name: &str) -> Option<Cloud> {
+    let path = real_file(name)?;
+    if !path.is_file() {
+        eprintln!("SKIPPED: {} not found", path.display());
+        return None;
+    }
+    Some(read_cloud(&path).unwrap_or_else(|e| panic!("{name}: {e}")))
+}
+
+/// The ground filter's total error against the producer's class 2.
+fn ground_error(name: &str, cloud: &Cloud) -> GroundReport {
+    let labels = cloud.label.as_ref().expect("labelled file");
+    let split = csf(&cloud.xyz, &CsfParams::default()).unwrap();
+    let r = GroundReport::new(labels, &split.is_ground).unwrap();
+    println!(
+        "{name}: {:.1} pts/m², cloth {} m, threshold {} m: ground total error {:.2} % \
+         (type I {:.2} %, type II {:.2} %, kappa {:.3}) over {} points of classes 2-6",
+        split.density.points_per_m2,
+        split.params.cloth_resolution,
+        split.params.class_threshold,
+        100.0 * r.total_error,
+        100.0 * r.type_i,
+        100.0 * r.type_ii,
+        r.kappa,
+        r.points
+    );
+    r
+}
+
+/// Detection, targets and graph on the producer's classes.
+struct Bars {
+    check: ProducerCheck,
+    reachable_share: f64,
+}
+
+fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
+    let labels = cloud.label.as_ref().expect("labelled file");
+    let (detection, used) = detect_scene(
+        cloud,
+        None,
+        None,
+        &SplitParams::default(),
+        &DeriveParams::default(),
+        &DetectParams::default(),
+    )
+    .unwrap();
+    let tp = TargetParams::default();
+    let site = Site::from_cloud(&cloud.xyz, labels, tp.cell, tp.clearance).unwrap();
+    let (targets, _) = generate(&detection, &site, &tp).unwrap();
+    let mut at: Vec<[f32; 3]> = targets.points.iter().map(|t| t.xyz).collect();
+    for r in &targets.regions {
+        at.extend(r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
+    }
+    let check = producer_check(&cloud.xyz, labels, &detection.missing_xyz(), &at);
+
+    let (lo, hi) = cloud.bounds().unwrap();
+    let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+    let d = |q: &[f32; 3]| (q[0] - mid[0]).powi(2) + (q[1] - mid[1]).powi(2);
+    let start = cloud
+        .xyz
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| **l == class::GROUND)
+        .map(|(q, _)| *q)
+        .min_by(|a, b| d(a).total_cmp(&d(b)))
+        .unwrap();
+    let graph = GroundGraph::build(&cloud.xyz, labels, start, &GraphParams::default()).unwrap();
+    let g = graph.report();
+    let reachable_share = g.nodes as f64 / g.candidate_nodes.max(1) as f64;
+    let dp = detection.params.as_ref().unwrap();
+    println!(
+        "{name}: buildings {:.1} pts/m² → slice {} m, cell {} m, δ {} m; {} footprints; \
+         ground → node spacing {} m: {} of {} candidate nodes reachable ({:.3}); \
+         {} of {} missing points nearest a producer building point ({:.3}); \
+         {} target positions ({} points, {} regions), farthest {:.1} m from a building point, {} beyond 30 m",
+        detection.density.map_or(f32::NAN, |d| d.points_per_m2),
+        dp.slice.spacing,
+        dp.slice.cell,
+        dp.delta,
+        used.len(),
+        graph.params().node_spacing_m,
+        g.nodes,
+        g.candidate_nodes,
+        reachable_share,
+        check.missing_on_building,
+        check.missing_points,
+        check.missing_on_building_share,
+        check.targets,
+        targets.points.len(),
+        targets.regions.len(),
+        check.target_building_max_m,
+        check.targets_beyond_reach,
+    );
+    Bars {
+        check,
+        reachable_share,
+    }
+}
+
+/// Met: every target within 30 m of a producer building point.
+fn assert_targets_beside_buildings(name: &str, b: &Bars) {
+    assert!(
+        b.check.targets_beyond_reach == 0,
+        "{name}: {} targets beyond 30 m of a building point (farthest {:.1} m)",
+        b.check.targets_beyond_reach,
+        b.check.target_building_max_m
+    );
+}
+
+/// Not met yet (docs/density.md says why): ≥ 95 % of missing points with
+/// a producer building point nearest, ≥ 90 % of candidate nodes reachable.
+fn assert_open_bars(name: &str, b: &Bars) {
+    assert!(
+        b.check.missing_on_building_share >= 0.95,
+        "{name}: {:.3} of missing points nearest a building point",
+        b.check.missing_on_building_share
+    );
+    assert!(
+        b.reachable_share >= 0.90,
+        "{name}: {:.3} of candidate nodes reachable",
+        b.reachable_share
+    );
+}
+
+#[test]
+fn ign_montpellier_ground_detection_and_graph() {
+    let name = "ign_montpellier_150x100m.laz";
+    let Some(cloud) = real(name) else { return };
+    let g = ground_error(name, &cloud);
+    assert!(
+        g.total_error <= 0.05,
+        "ground total error {}",
+        g.total_error
+    );
+    assert_targets_beside_buildings(name, &detect_and_plan(name, &cloud));
+}
+
+#[test]
+fn ign_stbarth_ground() {
+    let name = "ign_stbarth_100x100m.laz";
+    let Some(cloud) = real(name) else { return };
+    let g = ground_error(name, &cloud);
+    assert!(
+        g.total_error <= 0.05,
+        "ground total error {}",
+        g.total_error
+    );
+}
+
+#[test]
+fn ahn3_delft_detection_and_graph() {
+    for name in ["ahn3_delft_1.laz", "ahn3_delft_2.laz"] {
+        let Some(cloud) = real(name) else { return };
+        let g = ground_error(name, &cloud);
+        assert!(
+            g.total_error <= 0.05,
+            "ground total error {}",
+            g.total_error
+        );
+        assert_targets_beside_buildings(name, &detect_and_plan(name, &cloud));
+    }
+}
+
+#[test]
+#[ignore = "bars not met yet (missing points low on walls, enclosed gardens, canals): docs/density.md"]
+fn missing_points_on_buildings_and_reachable_ground() {
+    for name in [
+        "ign_montpellier_150x100m.laz",
+        "ahn3_delft_1.laz",
+        "ahn3_delft_2.laz",
+    ] {
+        let Some(cloud) = real(name) else { return };
+        assert_open_bars(name, &detect_and_plan(name, &cloud));
+    }
+}
