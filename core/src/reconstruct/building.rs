@@ -94,9 +94,11 @@ pub(crate) fn reconstruct_building(
         xyz,
         &nb.normal,
         inp,
-        &grid,
-        &mask,
-        &region,
+        Cells {
+            grid: &grid,
+            mask: &mask,
+            region: &region,
+        },
         &region_plane,
         params.open_base_share,
     );
@@ -222,6 +224,15 @@ fn roof_labels(
     code
 }
 
+/// The footprint's raster: the grid, which cells are inside, and each
+/// cell's roof region.
+#[derive(Clone, Copy)]
+struct Cells<'a> {
+    grid: &'a Grid,
+    mask: &'a [bool],
+    region: &'a [u32],
+}
+
 /// The base: the lowest terrain under the footprint (the lowest point when
 /// the cloud has no ground); raised to the underside when horizontal points
 /// between the ground and the roof cover much of the footprint (a slab on
@@ -230,12 +241,11 @@ fn base_height(
     xyz: &[[f32; 3]],
     normal: &[[f64; 3]],
     inp: &Inputs,
-    grid: &Grid,
-    mask: &[bool],
-    region: &[u32],
+    cells: Cells<'_>,
     planes: &[RoofPlane],
     open_share: f64,
 ) -> (f64, bool) {
+    let Cells { grid, mask, region } = cells;
     let lowest = xyz.iter().map(|p| f64::from(p[2])).fold(f64::MAX, f64::min);
     let Some(ground) = inp.ground else {
         return (lowest, false);

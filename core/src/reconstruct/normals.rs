@@ -64,7 +64,7 @@ pub(crate) fn neighbourhoods(xyz: &[[f32; 3]], k: usize) -> Neighbourhoods {
                 let q = xyz[nb.item as usize];
                 m.add(std::array::from_fn(|c| f64::from(q[c]) - f64::from(p[c])));
                 if nb.item as usize != i && ids.len() < k {
-                    ids.push(nb.item as u32);
+                    ids.push(nb.item);
                 }
             }
             while ids.len() < k {

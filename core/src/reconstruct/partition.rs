@@ -3,6 +3,9 @@
 //! regions they separate, simplified once so both sides keep agreeing.
 //! That sharing is what makes the solid built on it watertight.
 
+/// A traced boundary: its grid vertices and the regions on its left and right.
+type Traced = (Vec<(isize, isize)>, u32, u32);
+
 /// A square raster: cell (i, j) spans `lo + [i, i + 1] × cell` in x and
 /// `lo + [j, j + 1] × cell` in y.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -232,7 +235,7 @@ pub(crate) fn trace(grid: &Grid, region: &[u32], regions: u32, tol: f64) -> Part
             is_node[vid(i, j)] = d != 0 && d != 2;
         }
     }
-    let mut raw: Vec<(Vec<(isize, isize)>, u32, u32)> = Vec::new();
+    let mut raw: Vec<Traced> = Vec::new();
     let walk = |start: (isize, isize),
                 first: (usize, (isize, isize), u32, u32),
                 used: &mut Vec<bool>,

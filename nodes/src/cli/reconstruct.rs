@@ -152,7 +152,7 @@ pub fn evaluate_against(scene: &Scene, rec: &Reconstruction, spacing: f32) -> Mo
 
 /// Runs the reconstruction.
 pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
-    if !(a.gt_spacing > 0.0) {
+    if a.gt_spacing.is_nan() || a.gt_spacing <= 0.0 {
         return Err(err(format!(
             "--gt-spacing ({}) must be positive",
             a.gt_spacing
