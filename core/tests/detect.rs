@@ -116,10 +116,12 @@ fn reference_prior_recall_and_precision() {
         "the prior should leave walls missing"
     );
     assert!(score.recall >= 0.90, "recall {:.3}", score.recall);
-    // Measured 0.857, recall 0.940 (0.790 / 0.939 before open ground
-    // floors were told from missing walls and strips were measured across
-    // the wall the points trace rather than along s→q).
-    assert!(score.precision >= 0.85, "precision {:.3}", score.precision);
+    // Measured 0.832, recall 0.936 since the prior's crowns are porous
+    // (multiple returns): pulses now reach some walls behind trees, so
+    // fewer cells are truly missing (2229) and the same few false cells on
+    // fully seen buildings weigh more. 0.857 / 0.940 with opaque crowns;
+    // 0.790 / 0.939 before open ground floors were told from missing walls.
+    assert!(score.precision >= 0.82, "precision {:.3}", score.precision);
     // Every tested building gets a strategy consistent with θ.
     for b in det.buildings.iter().filter(|b| b.skipped.is_none()) {
         let want = if b.r_missing < params.theta {
