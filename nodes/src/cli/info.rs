@@ -2,13 +2,11 @@
 //! points or objects, extent, CRS and unit, density, classes, returns.
 
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 use skyground_core::cloud::info::{DENSITY_CELL_M, cloud_info};
-use skyground_core::cloud::{las::return_counts, read_cloud};
+use skyground_core::cloud::read_cloud;
 use skyground_core::crs::{Crs, JsonCrs, LinearUnit, cityjson_crs, geojson_crs};
 use skyground_core::footprint::load_footprints;
 use skyground_core::scene::load_scene;
@@ -92,19 +90,18 @@ fn cloud(a: &InfoArgs) -> Result<Value, RuntimeError> {
         c.set_unit(u.clone());
     }
     let info = cloud_info(&c).ok_or_else(|| err(format!("{}: no points", a.file.display())))?;
-    let returns = match extension(&a.file).as_str() {
-        "ply" => None,
-        _ => {
-            let f = File::open(&a.file).map_err(|e| err(format!("{}: {e}", a.file.display())))?;
-            let counts = return_counts(BufReader::new(f)).map_err(err)?;
-            Some(
-                counts
-                    .into_iter()
-                    .map(|((r, n), c)| (format!("{r}/{n}"), c))
-                    .collect::<BTreeMap<_, _>>(),
-            )
-        }
-    };
+    // The reader keeps every point's echo columns (PLY has none).
+    let returns = c
+        .return_number
+        .as_ref()
+        .zip(c.number_of_returns.as_ref())
+        .map(|(rn, nr)| {
+            let mut counts = BTreeMap::new();
+            for (r, n) in rn.iter().zip(nr) {
+                *counts.entry(format!("{r}/{n}")).or_insert(0usize) += 1;
+            }
+            counts
+        });
     let multiple = returns.as_ref().map(|r| {
         let several: usize = r
             .iter()

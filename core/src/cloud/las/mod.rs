@@ -8,12 +8,10 @@ mod error;
 mod extra_bytes;
 mod preflight;
 mod read;
-mod returns;
 mod write;
 
 pub use error::LasError;
 pub use read::read_las;
-pub use returns::return_counts;
 pub use write::{SCALE, write_las};
 
 #[cfg(test)]
