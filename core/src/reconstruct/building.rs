@@ -194,11 +194,13 @@ fn roof_labels(
         }
         // The top surface is the roof: the highest plane with real support
         // wins, not the most points (a slab's underside scanned densely
-        // from below must not replace the roof above it).
+        // from below must not replace the roof above it). At airborne
+        // densities a cell often holds one point: it still labels the cell,
+        // or the fill below spreads far planes over most of the roof.
         let most = here.iter().map(|h| h.1).max().unwrap_or(0);
         let best = here
             .iter()
-            .filter(|h| h.1 >= 2 && 4 * h.1 >= most)
+            .filter(|h| (h.1 >= 2 || most < 2) && 4 * h.1 >= most)
             .max_by(|a, b| a.2.total_cmp(&b.2))
             .map_or(0, |h| h.0 + 1);
         code[c] = best;

@@ -126,25 +126,90 @@ impl Shell {
     }
 }
 
+/// Merged heights at each 2D vertex, and each region's level among them.
+struct Levels {
+    /// Sorted level heights per vertex.
+    heights: Vec<Vec<f64>>,
+    /// (vertex, region) → index into that vertex's levels.
+    of: HashMap<(u32, u32), usize>,
+}
+
+impl Levels {
+    fn new(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) -> Self {
+        let mut at: Vec<Vec<u32>> = vec![Vec::new(); p.verts.len()];
+        for c in &p.chains {
+            for &v in &c.verts {
+                for r in [c.left, c.right] {
+                    if !at[v as usize].contains(&r) {
+                        at[v as usize].push(r);
+                    }
+                }
+            }
+        }
+        let mut heights = Vec::with_capacity(at.len());
+        let mut of = HashMap::new();
+        for (v, regions) in at.iter().enumerate() {
+            let xy = p.verts[v];
+            let mut zs: Vec<(f64, u32)> = regions.iter().map(|&r| (height(r, xy), r)).collect();
+            zs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut lv: Vec<f64> = Vec::new();
+            for (z, r) in zs {
+                if lv.last().is_none_or(|last| z - last > LEVEL_EPS) {
+                    lv.push(z);
+                }
+                of.insert((v as u32, r), lv.len() - 1);
+            }
+            heights.push(lv);
+        }
+        Levels { heights, of }
+    }
+
+    fn of(&self, v: u32, r: u32) -> usize {
+        self.of.get(&(v, r)).copied().unwrap_or(0)
+    }
+}
+
 /// Inserts a vertex where a boundary segment's two sides swap which is
-/// higher (two roof planes crossing), so no wall face twists.
+/// higher (two roof planes crossing), so no wall face twists. Which side is
+/// higher is read from the merged levels the shell is built on: two
+/// heights a few millimetres apart can fall on different levels when a
+/// third region's height lies between them, and a twist there opens the
+/// shell as surely as a large one.
 pub(crate) fn split_crossings(p: &mut Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) {
-    for c in 0..p.chains.len() {
-        let (l, r) = (p.chains[c].left, p.chains[c].right);
-        let mut k = 0;
-        while k + 1 < p.chains[c].verts.len() {
-            let (a, b) = (p.chains[c].verts[k], p.chains[c].verts[k + 1]);
-            let (pa, pb) = (p.verts[a as usize], p.verts[b as usize]);
-            let fa = height(l, pa) - height(r, pa);
-            let fb = height(l, pb) - height(r, pb);
-            if fa.abs() > LEVEL_EPS && fb.abs() > LEVEL_EPS && (fa > 0.0) != (fb > 0.0) {
+    // Each pass can only add crossings on segments a previous pass left
+    // straight, because new vertices have one level per side pair; a few
+    // passes settle it.
+    for _ in 0..4 {
+        let lv = Levels::new(p, height);
+        let mut inserted = false;
+        for c in 0..p.chains.len() {
+            let (l, r) = (p.chains[c].left, p.chains[c].right);
+            let old = p.chains[c].verts.clone();
+            let mut verts = Vec::with_capacity(old.len());
+            for (k, &a) in old.iter().enumerate() {
+                verts.push(a);
+                let Some(&b) = old.get(k + 1) else { break };
+                let da = lv.of(a, l) as i64 - lv.of(a, r) as i64;
+                let db = lv.of(b, l) as i64 - lv.of(b, r) as i64;
+                if da * db >= 0 {
+                    continue;
+                }
+                let (pa, pb) = (p.verts[a as usize], p.verts[b as usize]);
+                let fa = height(l, pa) - height(r, pa);
+                let fb = height(l, pb) - height(r, pb);
+                // Level order follows height order, so fa and fb differ in
+                // sign and t lies inside; the guard is for rounding only.
                 let t = fa / (fa - fb);
+                let t = if t > 0.0 && t < 1.0 { t } else { 0.5 };
                 p.verts
                     .push([pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])]);
-                p.chains[c].verts.insert(k + 1, (p.verts.len() - 1) as u32);
-                k += 1;
+                verts.push((p.verts.len() - 1) as u32);
+                inserted = true;
             }
-            k += 1;
+            p.chains[c].verts = verts;
+        }
+        if !inserted {
+            break;
         }
     }
 }
@@ -152,33 +217,8 @@ pub(crate) fn split_crossings(p: &mut Partition, height: &dyn Fn(u32, [f64; 2]) 
 /// Builds the shell on `p`: region r's surface at `height(r, xy)`, the
 /// outside (region 0) at `height(0, xy)` (the base).
 pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) -> Shell {
-    // Regions meeting at each 2D vertex.
-    let mut at: Vec<Vec<u32>> = vec![Vec::new(); p.verts.len()];
-    for c in &p.chains {
-        for &v in &c.verts {
-            for r in [c.left, c.right] {
-                if !at[v as usize].contains(&r) {
-                    at[v as usize].push(r);
-                }
-            }
-        }
-    }
-    // Sorted, merged levels per vertex, and each region's level there.
-    let mut levels: Vec<Vec<f64>> = Vec::with_capacity(at.len());
-    let mut level_of: HashMap<(u32, u32), usize> = HashMap::new();
-    for (v, regions) in at.iter().enumerate() {
-        let xy = p.verts[v];
-        let mut zs: Vec<(f64, u32)> = regions.iter().map(|&r| (height(r, xy), r)).collect();
-        zs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut lv: Vec<f64> = Vec::new();
-        for (z, r) in zs {
-            if lv.last().is_none_or(|last| z - last > LEVEL_EPS) {
-                lv.push(z);
-            }
-            level_of.insert((v as u32, r), lv.len() - 1);
-        }
-        levels.push(lv);
-    }
+    let lv = Levels::new(p, height);
+    let levels = &lv.heights;
     let mut shell = Shell::default();
     let mut ids: HashMap<(u32, usize), u32> = HashMap::new();
     let mut vid = |v: u32, level: usize, shell: &mut Shell| -> u32 {
@@ -190,7 +230,7 @@ pub(crate) fn build_shell(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) 
             (shell.vertices.len() - 1) as u32
         })
     };
-    let level = |v: u32, r: u32| level_of.get(&(v, r)).copied().unwrap_or(0);
+    let level = |v: u32, r: u32| lv.of(v, r);
     // Roofs: region rings at the region's level.
     for r in 1..=p.regions {
         for group in group_rings(p, p.rings(r), 1.0) {
@@ -390,5 +430,45 @@ mod tests {
         );
         let o = outline(&p);
         assert!((geo::Area::unsigned_area(&o) - 80.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_crossing_hidden_by_level_merging_is_split() {
+        let g = Grid {
+            lo: [0.0, 0.0],
+            cell: 1.0,
+            nx: 12,
+            ny: 10,
+        };
+        let mut labels = vec![0u32; 120];
+        for j in 1..9 {
+            for i in 1..11 {
+                labels[j * 12 + i] = if j >= 7 {
+                    3
+                } else if i < 6 {
+                    1
+                } else {
+                    2
+                };
+            }
+        }
+        let (region, code) = regions(&g, &mut labels, 1);
+        let mut p = trace(&g, &region, code.len() as u32, 0.3);
+        // Where regions 1, 2 and 3 meet (y = 7), 1 is 1 cm above 2 but
+        // 2 merges into 3's level and 1 does not, so 1 reads higher there;
+        // at the south end 2 is a metre higher.
+        let h = move |r: u32, xy: [f64; 2]| match r {
+            0 => 0.0,
+            r => match code[r as usize - 1] {
+                1 => 10.025 + (xy[1] - 7.0) / 6.0,
+                2 => 10.015,
+                _ => 10.0,
+            },
+        };
+        let before = build_shell(&p, &h).check();
+        split_crossings(&mut p, &h);
+        let after = build_shell(&p, &h).check();
+        assert!(!before.valid(), "the case no longer twists: {before:?}");
+        assert!(after.valid(), "{after:?}");
     }
 }
