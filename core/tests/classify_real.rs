@@ -3,9 +3,11 @@
 //! trained on (the test checks the model's own list of training files).
 //! Scored on points whose producer class is 2–6.
 //!
-//! The floors are today's held-out figures less a small margin (see the
-//! README's "Classification on real surveys" table), so a change that
-//! makes the classifier worse on data it never saw fails here.
+//! The floors are the bars where the held-out figure meets them
+//! (AHN3 building F1 0.90, St Barth vegetation F1 0.85, a forest ≤ 1 %
+//! building) and today's figure less a small margin where it does not
+//! (St Barth building F1: 0.878 against 0.90); see the README's
+//! "Classification on real surveys" table.
 
 use std::path::PathBuf;
 
@@ -61,15 +63,15 @@ fn ign_st_barth_held_out() {
     let Some(s) = run("ign_stbarth_100x100m.laz") else {
         return;
     };
-    assert!(s.building_f1 >= 0.83, "building F1 {:.3}", s.building_f1);
+    assert!(s.building_f1 >= 0.86, "building F1 {:.3}", s.building_f1);
     let v = s.vegetation_f1.unwrap_or(0.0);
-    assert!(v >= 0.83, "vegetation F1 {v:.3}");
+    assert!(v >= 0.85, "vegetation F1 {v:.3}");
     assert!(s.ground_error <= 0.05, "ground error {:.3}", s.ground_error);
 }
 
 #[test]
 fn ahn3_delft_held_out() {
-    for (name, floor) in [("ahn3_delft_1.laz", 0.80), ("ahn3_delft_2.laz", 0.89)] {
+    for (name, floor) in [("ahn3_delft_1.laz", 0.90), ("ahn3_delft_2.laz", 0.90)] {
         let Some(s) = run(name) else {
             return;
         };
@@ -95,7 +97,7 @@ fn a_forest_it_never_saw_is_almost_no_building() {
         return;
     };
     assert!(
-        s.building_share <= 0.06,
+        s.building_share <= 0.01,
         "{:.2} % labelled building",
         100.0 * s.building_share
     );

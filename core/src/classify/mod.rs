@@ -7,6 +7,7 @@
 //! - [`model`]: [`Model`] (feature params + forest), one JSON file.
 //! - [`pipeline`]: [`classify`] → LAS codes.
 //! - [`scene`]: [`SceneClassifier`]: CSF ground + forest on a raw cloud; [`GroundReport`].
+//! - [`roofs`]: [`check_roofs`]: large planes are roofs, roofless objects vegetation.
 //! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
 //! - [`training`]: [`TrainingCloud`], [`TrainParams`], [`train`],
 //!   [`default_training_set`] (simulated airborne scans of several seeds).
@@ -16,6 +17,7 @@ pub mod hag;
 pub mod model;
 pub mod pipeline;
 pub mod report;
+pub mod roofs;
 pub mod scene;
 pub mod smooth;
 pub mod training;
@@ -25,6 +27,7 @@ pub use hag::hag_from_ground_points;
 pub use model::{Model, Smoothing};
 pub use pipeline::classify;
 pub use report::{ClassMetrics, ClassReport, is_scored};
+pub use roofs::{RoofCheck, RoofCheckCounts, check_roofs};
 pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};
 pub use training::{
     TrainParams, TrainingCloud, default_training_set, labelled_cloud, simulated_cloud, train,

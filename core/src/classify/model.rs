@@ -7,6 +7,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::error::ClassifyError;
+use super::roofs::RoofCheck;
 use crate::features::{FEATURE_NAMES, FeatureParams};
 use crate::forest::RandomForest;
 
@@ -31,6 +32,9 @@ pub struct Model {
     /// How the forest's votes are smoothed over neighbours.
     #[serde(default)]
     pub smoothing: Smoothing,
+    /// The roof-plane check after the forest (`classify::roofs`).
+    #[serde(default)]
+    pub roof_check: RoofCheck,
 }
 
 /// Neighbourhood smoothing of the votes (see `classify::smooth`).

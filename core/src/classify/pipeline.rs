@@ -2,6 +2,7 @@
 
 use super::error::ClassifyError;
 use super::model::Model;
+use super::roofs::check_roofs;
 use super::smooth::{argmax_rows, smooth_votes};
 use crate::cloud::class::{GROUND, UNCLASSIFIED};
 use crate::features::{Echoes, compute_subset};
@@ -46,5 +47,6 @@ pub fn classify(
         let c = classes.get(k).copied().unwrap_or(UNCLASSIFIED);
         out[i] = if c == GROUND { UNCLASSIFIED } else { c };
     }
+    check_roofs(xyz, hag, &mut out, &model.roof_check);
     Ok(out)
 }

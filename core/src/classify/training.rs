@@ -130,6 +130,7 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
         trained_on: format!("{} samples from {}", y.len(), names.join(", ")),
         training_files: names.iter().map(|s| s.to_string()).collect(),
         smoothing: Default::default(),
+        roof_check: Default::default(),
     })
 }
 

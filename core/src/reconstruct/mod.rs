@@ -18,11 +18,11 @@ mod building;
 pub mod cityjson;
 mod error;
 pub mod evaluate;
-mod normals;
+pub(crate) mod normals;
 pub mod obj;
 mod params;
 mod partition;
-mod planes;
+pub(crate) mod planes;
 mod solid;
 mod walls;
 
