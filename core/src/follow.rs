@@ -79,6 +79,11 @@ impl Follower {
         }
     }
 
+    /// New thresholds, from the next pose on (a parameter set at run time).
+    pub fn set_config(&mut self, config: FollowConfig) {
+        self.config = config;
+    }
+
     /// The way-point the robot is driving to, if any.
     pub fn waypoint(&self) -> Option<[f32; 3]> {
         self.leg.get(self.next).copied()

@@ -28,6 +28,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "robot_bridge",
     default_params: include_str!("../../../config/robot_bridge.yaml"),
+    live: &["follow."],
 };
 
 fn kv(key: &str, v: f32) -> KeyValue {
@@ -110,6 +111,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         rt.log.info(&format!("robot at ({:.1}, {:.1}, {:.1})", pos[0], pos[1], pos[2]));
                     }
                     let t = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                    // follow.* are live: a `ros2 param set` counts from this pose on.
+                    if let Ok(c) = rt.current_params::<Params>() {
+                        f.set_config(c.follow);
+                    }
                     f.on_pose(pos, t)
                 }
                 Err(e) => { rt.log.error(&format!("/state_estimation: unreadable message: {e}")); continue }

@@ -50,6 +50,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "vehicle_sim",
     default_params: include_str!("../../../config/vehicle_sim.yaml"),
+    live: &[],
 };
 
 enum Command {
