@@ -102,7 +102,11 @@ impl Follower {
         self.best = None;
         match self.last {
             Some(p) => self.advance(p),
-            None => self.waypoint().map(FollowEvent::WayPoint).into_iter().collect(),
+            None => self
+                .waypoint()
+                .map(FollowEvent::WayPoint)
+                .into_iter()
+                .collect(),
         }
     }
 
@@ -118,7 +122,11 @@ impl Follower {
         };
         let before = self.next;
         let mut events = self.advance(p);
-        if self.next != before || events.iter().any(|e| !matches!(e, FollowEvent::WayPoint(_))) {
+        if self.next != before
+            || events
+                .iter()
+                .any(|e| !matches!(e, FollowEvent::WayPoint(_)))
+        {
             return events;
         }
         let d = xy_dist(p, w);
@@ -231,7 +239,10 @@ mod tests {
         match e.as_slice() {
             [FollowEvent::Blocked { goal, reason }] => {
                 assert_eq!(*goal, [20.0, 0.0, 0.0]);
-                assert!(reason.contains("no progress") && reason.contains("10 s"), "{reason}");
+                assert!(
+                    reason.contains("no progress") && reason.contains("10 s"),
+                    "{reason}"
+                );
             }
             other => panic!("{other:?}"),
         }

@@ -336,7 +336,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut progress = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let mut w = Watch::default();
-    let robot_deadline = tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
+    let robot_deadline =
+        tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
     let mut coverage_now = before.overall.ratio.unwrap_or(0.0);
     let mut finished = false;
     let mut why = String::from("interrupted");

@@ -112,7 +112,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             rt.log.warn(&format!("cannot publish stats: {e:?}"));
         }
         // Read now, not at start-up: `ros2 param set` may have changed it.
-        let max_clouds = rt.current_params::<Params>().map_or(p.max_clouds, |c| c.max_clouds);
+        let max_clouds = rt
+            .current_params::<Params>()
+            .map_or(p.max_clouds, |c| c.max_clouds);
         if max_clouds > 0 && good >= max_clouds {
             break;
         }

@@ -125,8 +125,7 @@ mod tests {
         let e: ExploreParams = shipped(exp.name, exp.default_params, "explore");
         assert_eq!(e, ExploreParams::default());
         let br = super::robot_bridge::SPEC;
-        let f: skyground_core::follow::FollowConfig =
-            shipped(br.name, br.default_params, "follow");
+        let f: skyground_core::follow::FollowConfig = shipped(br.name, br.default_params, "follow");
         assert_eq!(f, skyground_core::follow::FollowConfig::default());
     }
 

@@ -40,7 +40,13 @@ fn kv(key: &str, v: f32) -> KeyValue {
 
 /// `/vehicle_status` as vehicle_sim words it, so the planners need not know
 /// which of the two drives.
-fn status(header: Header, ok: bool, message: String, goal: [f32; 3], f: &Follower) -> DiagnosticArray {
+fn status(
+    header: Header,
+    ok: bool,
+    message: String,
+    goal: [f32; 3],
+    f: &Follower,
+) -> DiagnosticArray {
     let at = f.position().unwrap_or(goal);
     DiagnosticArray {
         header,
@@ -94,7 +100,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     futures::pin_mut!(odom_s);
     let mut f = Follower::new(p.follow);
     let mut resend = tokio::time::interval(Duration::from_secs_f64(p.resend_period_s.max(0.1)));
-    rt.log.info("waiting for legs on /local_path and the robot on /state_estimation");
+    rt.log
+        .info("waiting for legs on /local_path and the robot on /state_estimation");
     let mut seen_robot = false;
     loop {
         let events = tokio::select! {
@@ -139,18 +146,29 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                     let _ = way_pub.async_publish(msg).await;
                 }
                 FollowEvent::Arrived { goal } => {
-                    rt.log.info(&format!("arrived at ({:.1}, {:.1})", goal[0], goal[1]));
+                    rt.log
+                        .info(&format!("arrived at ({:.1}, {:.1})", goal[0], goal[1]));
                     let s = status(header.clone(), true, "arrived".into(), goal, &f);
                     let _ = status_pub.async_publish(s).await;
                 }
                 FollowEvent::Blocked { goal, reason } => {
-                    rt.log.warn(&format!("blocked going to ({:.1}, {:.1}): {reason}", goal[0], goal[1]));
-                    let s = status(header.clone(), false, format!("blocked: {reason}"), goal, &f);
+                    rt.log.warn(&format!(
+                        "blocked going to ({:.1}, {:.1}): {reason}",
+                        goal[0], goal[1]
+                    ));
+                    let s = status(
+                        header.clone(),
+                        false,
+                        format!("blocked: {reason}"),
+                        goal,
+                        &f,
+                    );
                     let _ = status_pub.async_publish(s).await;
                 }
             }
         }
     }
-    rt.log.info(&format!("stopped; the robot moved {:.1} m", f.odometer));
+    rt.log
+        .info(&format!("stopped; the robot moved {:.1} m", f.odometer));
     Ok(())
 }

@@ -119,9 +119,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         [0.0, 0.0, f64::from(p.vehicle.sensor_height)],
         0.0,
     );
-    let _ = tf_static_pub
-        .async_publish(tf_message(sensor_mount))
-        .await;
+    let _ = tf_static_pub.async_publish(tf_message(sensor_mount)).await;
     let (tx, mut rx) = mpsc::channel::<Command>(16);
     let way = rt.subscription::<PointStamped>("/way_point", qos::reliable(10))?;
     let mut paths = Vec::new();

@@ -115,9 +115,7 @@ pub fn declare(
     }
     let (node, live, start) = (name.to_string(), spec.live, params.clone());
     options
-        .parameter_validator(Box::new(move |n, v| {
-            check_set(&node, live, &start, n, v)
-        }))
+        .parameter_validator(Box::new(move |n, v| check_set(&node, live, &start, n, v)))
         .parameter_set_action(Box::new(move |n, v| {
             if let Ok(mut set) = current.lock() {
                 set.set(n, to_json(v));
@@ -136,7 +134,10 @@ mod tests {
             (serde_json::json!(true), ParameterValue::Boolean(true)),
             (serde_json::json!(3), ParameterValue::Integer(3)),
             (serde_json::json!(2.5), ParameterValue::Double(2.5)),
-            (serde_json::json!("map"), ParameterValue::String("map".into())),
+            (
+                serde_json::json!("map"),
+                ParameterValue::String("map".into()),
+            ),
             (
                 serde_json::json!([1, 2]),
                 ParameterValue::IntegerArray(vec![1, 2]),
@@ -175,13 +176,37 @@ mod tests {
         start.set("follow.stall_timeout_s", serde_json::json!(30.0));
         let live = &["follow."];
         // The declared value itself passes (ros2-client checks declarations).
-        assert!(check_set("n", live, &start, "frame_id", &ParameterValue::String("map".into())).is_ok());
-        let e = check_set("n", live, &start, "frame_id", &ParameterValue::String("odom".into()))
-            .unwrap_err();
-        assert!(e.contains("read once at start-up") && e.contains("-p frame_id:="), "{e}");
         assert!(
-            check_set("n", live, &start, "follow.stall_timeout_s", &ParameterValue::Double(5.0))
-                .is_ok()
+            check_set(
+                "n",
+                live,
+                &start,
+                "frame_id",
+                &ParameterValue::String("map".into())
+            )
+            .is_ok()
+        );
+        let e = check_set(
+            "n",
+            live,
+            &start,
+            "frame_id",
+            &ParameterValue::String("odom".into()),
+        )
+        .unwrap_err();
+        assert!(
+            e.contains("read once at start-up") && e.contains("-p frame_id:="),
+            "{e}"
+        );
+        assert!(
+            check_set(
+                "n",
+                live,
+                &start,
+                "follow.stall_timeout_s",
+                &ParameterValue::Double(5.0)
+            )
+            .is_ok()
         );
         assert!(is_live(&["max_clouds"], "max_clouds") && !is_live(&["max_clouds"], "max"));
     }
