@@ -394,8 +394,10 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 if w.first_stamp.is_none() && a.field.field {
                     eprintln!("  robot found on /state_estimation after {:.1} s", t0.elapsed().as_secs_f64());
                 }
-                // A real robot stamps with its clock; the mission's time starts at its first pose.
-                w.sim_s = t - *w.first_stamp.get_or_insert(t);
+                // A real robot stamps with its clock; the mission's time starts
+                // at its first pose (vehicle_sim's clock starts at 0 itself).
+                let first = *w.first_stamp.get_or_insert(t);
+                w.sim_s = if a.field.field { t - first } else { t };
                 if let Some(p) = odom_position(&o)
                     && w.route.last().is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) > 1.0)
                 {
