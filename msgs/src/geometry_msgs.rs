@@ -98,6 +98,26 @@ pub struct Twist {
     pub angular: Vector3,
 }
 
+/// `geometry_msgs/msg/Transform`: where a child frame sits in its parent.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct Transform {
+    /// Translation, metres.
+    pub translation: Vector3,
+    /// Rotation.
+    pub rotation: Quaternion,
+}
+
+/// `geometry_msgs/msg/TransformStamped`: one edge of the tf tree (header frame → child frame).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct TransformStamped {
+    /// Stamp and parent frame.
+    pub header: Header,
+    /// The child frame.
+    pub child_frame_id: String,
+    /// Child pose in the parent frame.
+    pub transform: Transform,
+}
+
 /// `geometry_msgs/msg/Polygon`: a closed polygon given by its vertices.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct Polygon {
@@ -229,4 +249,23 @@ ros_message!(
     "geometry_msgs/msg/TwistWithCovariance",
     [Twist],
     ["geometry_msgs/Twist twist", "float64[36] covariance"]
+);
+ros_message!(
+    Transform,
+    "geometry_msgs/msg/Transform",
+    [Vector3, Quaternion],
+    [
+        "geometry_msgs/Vector3 translation",
+        "geometry_msgs/Quaternion rotation"
+    ]
+);
+ros_message!(
+    TransformStamped,
+    "geometry_msgs/msg/TransformStamped",
+    [Header, Transform],
+    [
+        "std_msgs/Header header",
+        "string child_frame_id",
+        "geometry_msgs/Transform transform"
+    ]
 );

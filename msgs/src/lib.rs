@@ -22,6 +22,7 @@ pub mod rosgraph_msgs;
 pub mod samples;
 pub mod sensor_msgs;
 pub mod std_msgs;
+pub mod tf2_msgs;
 pub mod visualization_msgs;
 
 pub use cdr::{CdrError, from_cdr, to_cdr};

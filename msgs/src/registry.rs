@@ -3,7 +3,7 @@
 use crate::message::RosMessage;
 use crate::{
     builtin_interfaces, diagnostic_msgs, geometry_msgs, nav_msgs, rcl_interfaces, rosgraph_msgs,
-    sensor_msgs, std_msgs, visualization_msgs,
+    sensor_msgs, std_msgs, tf2_msgs, visualization_msgs,
 };
 
 /// What the registry knows of one type.
@@ -60,6 +60,9 @@ registry!(
     geometry_msgs::PolygonStamped,
     geometry_msgs::PoseWithCovariance,
     geometry_msgs::TwistWithCovariance,
+    geometry_msgs::Transform,
+    geometry_msgs::TransformStamped,
+    tf2_msgs::TFMessage,
     nav_msgs::Path,
     nav_msgs::Odometry,
     visualization_msgs::UVCoordinate,

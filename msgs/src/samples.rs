@@ -11,7 +11,7 @@ use crate::cdr::to_cdr;
 use crate::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
 use crate::geometry_msgs::{
     Point, Point32, PointStamped, Polygon, PolygonStamped, Pose, PoseStamped, PoseWithCovariance,
-    Quaternion, Twist, TwistWithCovariance, Vector3,
+    Quaternion, Transform, TransformStamped, Twist, TwistWithCovariance, Vector3,
 };
 use crate::message::RosMessage;
 use crate::nav_msgs::{Odometry, Path};
@@ -19,6 +19,7 @@ use crate::rcl_interfaces::Log;
 use crate::rosgraph_msgs::Clock;
 use crate::sensor_msgs::{CompressedImage, PointCloud2, PointField};
 use crate::std_msgs::{ColorRGBA, Header};
+use crate::tf2_msgs::TFMessage;
 use crate::visualization_msgs::{Marker, MarkerArray, MeshFile, UVCoordinate};
 
 /// A message value in two forms: JSON field values and its ROS 2 serialized bytes.
@@ -77,6 +78,11 @@ pub fn all() -> Vec<Sample> {
         }),
         sample(pose_with_covariance()),
         sample(twist_with_covariance()),
+        sample(transform()),
+        sample(transform_stamped("base_link")),
+        sample(TFMessage {
+            transforms: vec![transform_stamped("base_link"), transform_stamped("sensor")],
+        }),
         sample(Path {
             header: header(),
             poses: vec![pose_stamped(1.0), pose_stamped(2.0), pose_stamped(3.0)],
@@ -229,6 +235,25 @@ fn pose_stamped(x: f64) -> PoseStamped {
             frame_id: "odom_1".into(),
         },
         pose: pose(x),
+    }
+}
+
+fn transform() -> Transform {
+    Transform {
+        translation: Vector3 {
+            x: 12.5,
+            y: -3.25,
+            z: 1.8,
+        },
+        rotation: quaternion(),
+    }
+}
+
+fn transform_stamped(child: &str) -> TransformStamped {
+    TransformStamped {
+        header: header(),
+        child_frame_id: child.into(),
+        transform: transform(),
     }
 }
 
@@ -408,6 +433,9 @@ mod tests {
                 PolygonStamped,
                 PoseWithCovariance,
                 TwistWithCovariance,
+                Transform,
+                TransformStamped,
+                TFMessage,
                 Path,
                 Odometry,
                 UVCoordinate,

@@ -18,10 +18,12 @@ use skyground_nodes::transport::{CloudPublisher, CloudSubscription, Received, Tr
 const PUB: NodeSpec = NodeSpec {
     name: "transport_test_pub",
     default_params: "",
+    live: &[],
 };
 const SUB: NodeSpec = NodeSpec {
     name: "transport_test_sub",
     default_params: "",
+    live: &[],
 };
 
 #[test]

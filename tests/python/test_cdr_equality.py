@@ -75,9 +75,17 @@ def samples():
     return [json.loads(line) for line in proc.stdout.splitlines() if line.strip()]
 
 
+# Packages with no wheel on PyPI (`pip index versions ros-kilted-tf2-msgs`: none):
+# their types are checked by decoding the bag's schema with mcap-ros2-support
+# instead (test_bag_format.py).
+NO_WHEEL = {"tf2_msgs"}
+
+
 def message_class(type_name):
     """``pkg/msg/Type`` → the rclpy message class."""
     package, kind, name = type_name.split("/")
+    if package in NO_WHEEL:
+        pytest.skip(f"{package}: no rclpy package on PyPI to compare with")
     return getattr(importlib.import_module(f"{package}.{kind}"), name)
 
 

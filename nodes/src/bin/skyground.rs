@@ -102,11 +102,12 @@ fn main() -> ExitCode {
             None => ExitCode::from(2),
         },
         Cmd::Demo(a) => {
-            if !a.no_netns && !netns::is_isolated() {
+            // Field mode talks to a robot on the real network: no namespace.
+            if !a.no_netns && !a.field.field && !netns::is_isolated() {
                 eprintln!("skyground demo: re-running inside a loopback-only network namespace");
                 return exec_failed(netns::exec_self_isolated());
             }
-            if std::env::var_os("ROS_AUTOMATIC_DISCOVERY_RANGE").is_none() {
+            if !a.field.field && std::env::var_os("ROS_AUTOMATIC_DISCOVERY_RANGE").is_none() {
                 // The demo is a local mission: keep discovery on this host.
                 // SAFETY: no other thread exists yet.
                 unsafe { std::env::set_var("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST") };

@@ -67,6 +67,26 @@ pub struct DemoArgs {
     /// Give footprints to the detector: for a CityJSON scene, its own buildings.
     #[arg(long)]
     pub footprints: Option<PathBuf>,
+    /// Field mode: a real robot instead of vehicle_sim.
+    #[command(flatten)]
+    pub field: FieldArgs,
+}
+
+/// Field mode: every node but vehicle_sim, and a robot of the CMU
+/// exploration environment's interface on the network.
+#[derive(Debug, Clone, clap::Args)]
+pub struct FieldArgs {
+    /// Drive a real robot instead of vehicle_sim: way-points go out on
+    /// /way_point (geometry_msgs/PointStamped, one at a time) and the route on
+    /// /global_path (nav_msgs/Path); the robot publishes /state_estimation
+    /// (nav_msgs/Odometry), /registered_scan (PointCloud2 in the map frame)
+    /// and /tf. Runs on the current network (no namespace), with
+    /// ROS_DOMAIN_ID and ROS_AUTOMATIC_DISCOVERY_RANGE as set.
+    #[arg(long)]
+    pub field: bool,
+    /// Field mode: seconds to wait for the robot's first /state_estimation.
+    #[arg(long, default_value_t = 60.0)]
+    pub robot_timeout: f64,
 }
 
 impl DemoArgs {
@@ -174,6 +194,8 @@ const TOPICS: &[&str] = &[
     "/registered_scan:sensor_msgs/msg/PointCloud2",
     "/resampled_cloud:sensor_msgs/msg/PointCloud2",
     "/clock:rosgraph_msgs/msg/Clock",
+    "/tf:tf2_msgs/msg/TFMessage",
+    "/tf_static:tf2_msgs/msg/TFMessage",
 ];
 
 /// What the demo learns from the topics as the mission runs.
@@ -198,6 +220,8 @@ struct Watch {
     route: Vec<[f32; 3]>,
     odometer: f64,
     sim_s: f64,
+    /// The first /state_estimation stamp (the robot's clock when the mission started).
+    first_stamp: Option<f64>,
     targets: TargetSet,
     /// Nodes started again after they exited, and how often.
     restarts: std::collections::BTreeMap<String, u32>,
@@ -248,11 +272,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         before.overall.ratio.unwrap_or(0.0) * 100.0,
         t0.elapsed().as_secs_f64()
     );
-    let caster = Caster::new(&prior.scene).map_err(|e| err(e.to_string()))?;
-    let (lo, hi) = caster.bounds().ok_or_else(|| err("empty scene".into()))?;
-    let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-    let start_xy = free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
-        .ok_or_else(|| err("no free spot to start the vehicle".into()))?;
+    let driver = if a.field.field {
+        field_driver()
+    } else {
+        sim_driver(&prior.scene, &scene_spec, a.time_factor)?
+    };
 
     let mut record_args = vec![
         "record".to_string(),
@@ -278,14 +302,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         ("target_generator", vec![]),
         ("global_planner", vec![]),
         ("local_explorer", vec![]),
-        (
-            "vehicle_sim",
-            vec![
-                format!("scene:={scene_spec}"),
-                format!("start:=[{}, {}]", start_xy[0], start_xy[1]),
-                format!("time_factor:={}", a.time_factor),
-            ],
-        ),
+        driver,
         (
             "cloud_publisher",
             vec![format!("file:={}", aerial_path.display())],
@@ -319,12 +336,18 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut progress = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let mut w = Watch::default();
+    let robot_deadline =
+        tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
     let mut coverage_now = before.overall.ratio.unwrap_or(0.0);
     let mut finished = false;
     let mut why = String::from("interrupted");
     loop {
         tokio::select! {
             _ = tokio::time::sleep_until(deadline) => { why = format!("timed out after {} s", a.timeout); break }
+            _ = tokio::time::sleep_until(robot_deadline), if a.field.field && w.first_stamp.is_none() => {
+                why = format!("no /state_estimation from a robot within {} s (is it on ROS_DOMAIN_ID {}, and publishing nav_msgs/Odometry there?)", a.field.robot_timeout, rt.domain.domain_id);
+                break
+            }
             _ = rt.shutdown.wait() => break,
             r = resampled_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
                 let mut merged = prior.cloud.clone();
@@ -367,7 +390,14 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             },
             Some(Ok((o, h))) = o_s.next() => {
                 let _ = h;
-                w.sim_s = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                let t = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                if w.first_stamp.is_none() && a.field.field {
+                    eprintln!("  robot found on /state_estimation after {:.1} s", t0.elapsed().as_secs_f64());
+                }
+                // A real robot stamps with its clock; the mission's time starts
+                // at its first pose (vehicle_sim's clock starts at 0 itself).
+                let first = *w.first_stamp.get_or_insert(t);
+                w.sim_s = if a.field.field { t - first } else { t };
                 if let Some(p) = odom_position(&o)
                     && w.route.last().is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) > 1.0)
                 {
@@ -426,6 +456,38 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             a.out.display()
         )))
     }
+}
+
+/// vehicle_sim and its parameters: the simulated robot, started at the free
+/// spot nearest the scene's middle.
+fn sim_driver(
+    scene: &Scene,
+    scene_spec: &str,
+    time_factor: f64,
+) -> Result<(&'static str, Vec<String>), RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let caster = Caster::new(scene).map_err(|e| err(e.to_string()))?;
+    let (lo, hi) = caster.bounds().ok_or_else(|| err("empty scene".into()))?;
+    let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+    let start_xy = free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
+        .ok_or_else(|| err("no free spot to start the vehicle".into()))?;
+    Ok((
+        "vehicle_sim",
+        vec![
+            format!("scene:={scene_spec}"),
+            format!("start:=[{}, {}]", start_xy[0], start_xy[1]),
+            format!("time_factor:={time_factor}"),
+        ],
+    ))
+}
+
+/// Field mode's robot_bridge in vehicle_sim's place: the robot is wherever
+/// it is, and the planners start from its first pose.
+fn field_driver() -> (&'static str, Vec<String>) {
+    eprintln!(
+        "  field mode: no vehicle_sim; way-points on /way_point and /global_path, waiting for the robot on /state_estimation, /registered_scan, /tf"
+    );
+    ("robot_bridge", vec![])
 }
 
 /// The scene every process of the mission loads (its spec and the scene as
@@ -520,6 +582,10 @@ fn report(
     let wall = t0.elapsed().as_secs_f64();
     let value = json!({
         "scene": a.scene(),
+        "mode": if a.field.field { "field" } else { "simulated" },
+        // The figures count ground points against this scene's buildings: in
+        // field mode they mean something only if the robot drove in this scene.
+        "ground_truth": format!("building surfaces of the scene {}", a.scene()),
         "crop": crop.map(super::crop::to_json),
         "finished": finished,
         "ended_because": why,
@@ -564,9 +630,16 @@ fn report(
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
-        "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| simulated seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
+        "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer,
+        if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s
     ));
+    if a.field.field {
+        md.push_str(&format!(
+            "\nField mode: a robot, not vehicle_sim, drove. Coverage counts its scans against the building surfaces of {}; the figures hold only where the robot drove in that scene.\n",
+            a.scene()
+        ));
+    }
     md.push_str(&format!(
         "\n## Building models (LoD2) before and after\n\nMean symmetric surface distance to the true buildings (m), RMSE, 95th percentile, roof error (true roof → model roof), footprint IoU; `models_before.city.json`, `models_after.city.json`. `models.png`: buildings {pictured:?} (rows), before left, after right, model surface coloured by distance to the truth, 0 m blue → 0.5 m red (colour bar ticks 0, 0.25, 0.5 m); scale bar 10 m; north up.\n\n{}",
         super::reconstruct::table(&mb, Some(&ma))

@@ -30,6 +30,7 @@ pub const fn tool_spec(name: &'static str) -> NodeSpec {
     NodeSpec {
         name,
         default_params: "",
+        live: &[],
     }
 }
 

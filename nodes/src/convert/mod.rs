@@ -5,3 +5,4 @@ pub mod detection;
 pub mod diagnostics;
 pub mod markers;
 pub mod path;
+pub mod tf;

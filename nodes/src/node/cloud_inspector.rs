@@ -22,6 +22,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "cloud_inspector",
     default_params: include_str!("../../../config/cloud_inspector.yaml"),
+    live: &["max_clouds"],
 };
 
 fn kv(key: &str, value: impl ToString) -> KeyValue {
@@ -110,7 +111,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         if let Err(e) = stats.async_publish(report).await {
             rt.log.warn(&format!("cannot publish stats: {e:?}"));
         }
-        if p.max_clouds > 0 && good >= p.max_clouds {
+        // Read now, not at start-up: `ros2 param set` may have changed it.
+        let max_clouds = rt
+            .current_params::<Params>()
+            .map_or(p.max_clouds, |c| c.max_clouds);
+        if max_clouds > 0 && good >= max_clouds {
             break;
         }
     }

@@ -31,6 +31,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "cloud_publisher",
     default_params: include_str!("../../../config/cloud_publisher.yaml"),
+    live: &[],
 };
 
 /// Runs the node until it is done or asked to stop.

@@ -41,6 +41,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "completeness_detector",
     default_params: include_str!("../../../config/completeness_detector.yaml"),
+    live: &[],
 };
 
 #[derive(Clone)]

@@ -44,6 +44,7 @@ const BLOCK_AHEAD_M: f32 = 0.4;
 pub const SPEC: NodeSpec = NodeSpec {
     name: "global_planner",
     default_params: include_str!("../../../config/global_planner.yaml"),
+    live: &[],
 };
 
 /// Where the mission is.

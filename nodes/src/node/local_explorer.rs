@@ -50,6 +50,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "local_explorer",
     default_params: include_str!("../../../config/local_explorer.yaml"),
+    live: &[],
 };
 
 struct Active {

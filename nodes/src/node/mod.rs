@@ -6,6 +6,7 @@ pub mod cloud_publisher;
 pub mod completeness_detector;
 pub mod global_planner;
 pub mod local_explorer;
+pub mod robot_bridge;
 pub mod scene_classifier;
 pub mod target_generator;
 pub mod vehicle_sim;
@@ -24,6 +25,7 @@ pub const NAMES: &[&str] = &[
     "global_planner",
     "local_explorer",
     "vehicle_sim",
+    "robot_bridge",
 ];
 
 /// Runs the node called `name` with its ROS arguments; `None` for an unknown name.
@@ -54,6 +56,9 @@ pub fn run_by_name(name: &str, ros: RosArgs) -> Option<ExitCode> {
         }),
         "vehicle_sim" => run_with(vehicle_sim::SPEC, ros, vec![], async |rt, _| {
             vehicle_sim::run(rt).await
+        }),
+        "robot_bridge" => run_with(robot_bridge::SPEC, ros, vec![], async |rt, _| {
+            robot_bridge::run(rt).await
         }),
         _ => return None,
     })
@@ -119,6 +124,9 @@ mod tests {
         );
         let e: ExploreParams = shipped(exp.name, exp.default_params, "explore");
         assert_eq!(e, ExploreParams::default());
+        let br = super::robot_bridge::SPEC;
+        let f: skyground_core::follow::FollowConfig = shipped(br.name, br.default_params, "follow");
+        assert_eq!(f, skyground_core::follow::FollowConfig::default());
     }
 
     #[test]

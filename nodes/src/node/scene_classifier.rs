@@ -26,6 +26,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "scene_classifier",
     default_params: include_str!("../../../config/scene_classifier.yaml"),
+    live: &[],
 };
 
 /// The model shipped with skyground (`skyground train` makes it).

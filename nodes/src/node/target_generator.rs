@@ -40,6 +40,7 @@ type Skeletons = BTreeMap<u32, Vec<[[f64; 2]; 2]>>;
 pub const SPEC: NodeSpec = NodeSpec {
     name: "target_generator",
     default_params: include_str!("../../../config/target_generator.yaml"),
+    live: &[],
 };
 
 fn nearest_on_segments(segs: &[[[f64; 2]; 2]], q: [f64; 2]) -> Option<[f64; 2]> {

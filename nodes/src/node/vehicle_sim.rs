@@ -1,6 +1,7 @@
 //! vehicle_sim: /way_point and paths (/local_path by default) → a simulated ground
 //! vehicle with a spinning LiDAR → /state_estimation, /registered_scan, /clock,
-//! /vehicle_status. Simulated time runs `time_factor` times faster than wall time.
+//! /vehicle_status, /tf (map → base_link) and /tf_static (base_link → sensor).
+//! Simulated time runs `time_factor` times faster than wall time.
 
 use std::time::{Duration, Instant};
 
@@ -11,14 +12,16 @@ use skyground_core::scene::load_scene;
 use skyground_core::vehicle::{Step, Vehicle, VehicleConfig, free_spot};
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
-use skyground_msgs::geometry_msgs::{PointStamped, Quaternion};
+use skyground_msgs::geometry_msgs::PointStamped;
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::rosgraph_msgs::Clock;
 use skyground_msgs::sensor_msgs::PointCloud2;
 use skyground_msgs::std_msgs::Header;
+use skyground_msgs::tf2_msgs::TFMessage;
 use tokio::sync::mpsc;
 
+use crate::convert::tf::{tf_message, transform, yaw_quaternion};
 use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
 
 #[derive(Debug, Deserialize)]
@@ -33,6 +36,7 @@ struct Params {
     clock_rate_hz: f64,
     frame_id: String,
     child_frame_id: String,
+    sensor_frame_id: String,
     path_topics: Vec<String>,
     /// A scan is cast at the LiDAR's rate once the sensor has moved this far
     /// since the last one, else every `stationary_scan_period_s`.
@@ -46,6 +50,7 @@ struct Params {
 pub const SPEC: NodeSpec = NodeSpec {
     name: "vehicle_sim",
     default_params: include_str!("../../../config/vehicle_sim.yaml"),
+    live: &[],
 };
 
 enum Command {
@@ -57,16 +62,6 @@ fn stamp(sim_s: f64) -> Time {
     Time {
         sec: sim_s.floor() as i32,
         nanosec: ((sim_s - sim_s.floor()) * 1e9) as u32,
-    }
-}
-
-fn yaw_quaternion(yaw: f32) -> Quaternion {
-    let h = f64::from(yaw) / 2.0;
-    Quaternion {
-        x: 0.0,
-        y: 0.0,
-        z: h.sin(),
-        w: h.cos(),
     }
 }
 
@@ -112,6 +107,19 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let scan_pub = rt.publisher::<PointCloud2>("/registered_scan", qos::sensor(5))?;
     let clock_pub = rt.publisher::<Clock>("/clock", qos::sensor(1))?;
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
+    // As tf2's broadcasters: /tf reliable and volatile, /tf_static latched.
+    let tf_pub = rt.publisher::<TFMessage>("/tf", qos::reliable(100))?;
+    let tf_static_pub = rt.publisher::<TFMessage>("/tf_static", qos::latched(1))?;
+    let sensor_mount = transform(
+        &Header {
+            stamp: stamp(0.0),
+            frame_id: p.child_frame_id.clone(),
+        },
+        &p.sensor_frame_id,
+        [0.0, 0.0, f64::from(p.vehicle.sensor_height)],
+        0.0,
+    );
+    let _ = tf_static_pub.async_publish(tf_message(sensor_mount)).await;
     let (tx, mut rx) = mpsc::channel::<Command>(16);
     let way = rt.subscription::<PointStamped>("/way_point", qos::reliable(10))?;
     let mut paths = Vec::new();
@@ -257,7 +265,18 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             o.pose.pose.orientation = yaw_quaternion(s.yaw);
             o.twist.twist.linear.x = f64::from(s.speed);
             o.twist.twist.angular.z = f64::from(s.yaw_rate);
+            let pose = transform(
+                &o.header,
+                &p.child_frame_id,
+                [
+                    o.pose.pose.position.x,
+                    o.pose.pose.position.y,
+                    o.pose.pose.position.z,
+                ],
+                s.yaw,
+            );
             let _ = odom_pub.async_publish(o).await;
+            let _ = tf_pub.async_publish(tf_message(pose)).await;
         }
         let scan_due = sim >= next_scan;
         if scan_due {

@@ -5,6 +5,7 @@ pub mod args;
 pub mod domain;
 pub mod log;
 pub mod node;
+pub mod param_services;
 pub mod params;
 pub mod qos;
 pub mod shutdown;

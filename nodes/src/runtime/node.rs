@@ -19,6 +19,7 @@ use skyground_msgs::rosgraph_msgs::Clock;
 use super::args::{ArgsError, RosArgs};
 use super::domain::{DomainConfig, DomainError};
 use super::log::{Level, Logger};
+use super::param_services;
 use super::params::{ParamSet, ParamsError};
 use super::qos;
 use super::shutdown::Shutdown;
@@ -64,14 +65,20 @@ pub struct NodeSpec {
     /// Default parameters: the text of `config/<name>.yaml`, compiled in so
     /// that the params file stays the single source of defaults.
     pub default_params: &'static str,
+    /// Parameters the node reads again as it works, so a set (`ros2 param
+    /// set`) takes effect (a name, or a prefix ending in `.`); every other
+    /// one is read once at start-up and a set to it is refused.
+    pub live: &'static [&'static str],
 }
 
 /// A started node. Drop order matters to RustDDS: use [`NodeRuntime::stop`].
 pub struct NodeRuntime {
     /// Node name (after `-r __node:=`).
     pub name: String,
-    /// Merged parameters.
+    /// Merged parameters, as at start-up.
     pub params: ParamSet,
+    /// The parameters now: start-up values with the live ones set since.
+    current: Arc<Mutex<ParamSet>>,
     /// Logger to stderr and /rosout.
     pub log: Logger,
     /// Stop signal (SIGINT/SIGTERM or [`Shutdown::trigger`]).
@@ -124,8 +131,16 @@ impl NodeRuntime {
             name: format!("{namespace}/{name}"),
             reason: format!("{e:?}"),
         })?;
+        let current = Arc::new(Mutex::new(params.clone()));
+        let options = param_services::declare(
+            NodeOptions::new().enable_rosout(true),
+            spec,
+            &name,
+            &params,
+            current.clone(),
+        );
         let mut node = context
-            .new_node(node_name, NodeOptions::new().enable_rosout(true))
+            .new_node(node_name, options)
             .map_err(|e| RuntimeError::Create {
                 what: format!("node {name}"),
                 reason: format!("{e:?}"),
@@ -139,6 +154,7 @@ impl NodeRuntime {
         let mut rt = Self {
             name,
             params,
+            current,
             log,
             shutdown: Shutdown::install(),
             domain,
@@ -176,6 +192,16 @@ impl NodeRuntime {
     /// The node's parameters as its typed struct.
     pub fn params<T: DeserializeOwned>(&self) -> Result<T, RuntimeError> {
         Ok(self.params.parse(&self.name)?)
+    }
+
+    /// The node's parameters as they are now: [`NodeSpec::live`] ones may
+    /// have been set since start-up (read this where a set should take effect).
+    pub fn current_params<T: DeserializeOwned>(&self) -> Result<T, RuntimeError> {
+        let set = self
+            .current
+            .lock()
+            .map_err(|_| RuntimeError::Node("parameter set poisoned".into()))?;
+        Ok(set.parse(&self.name)?)
     }
 
     /// Current time: /clock's when `use_sim_time` is set, else the system clock.

@@ -1,0 +1,174 @@
+//! robot_bridge: field mode's link to a real robot. /local_path legs →
+//! /way_point one pose at a time; /state_estimation → /vehicle_status
+//! (arrived, blocked: no progress) with the odometer, as vehicle_sim reports.
+
+use std::time::Duration;
+
+use futures::StreamExt;
+use serde::Deserialize;
+use skyground_core::follow::{FollowConfig, FollowEvent, Follower};
+use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
+use skyground_msgs::geometry_msgs::{Point, PointStamped};
+use skyground_msgs::nav_msgs::{Odometry, Path};
+use skyground_msgs::std_msgs::Header;
+
+use crate::convert::path::{odom_position, path_points};
+use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Params {
+    frame_id: String,
+    path_topics: Vec<String>,
+    follow: FollowConfig,
+    resend_period_s: f64,
+}
+
+/// Name and default params.
+pub const SPEC: NodeSpec = NodeSpec {
+    name: "robot_bridge",
+    default_params: include_str!("../../../config/robot_bridge.yaml"),
+    live: &["follow."],
+};
+
+fn kv(key: &str, v: f32) -> KeyValue {
+    KeyValue {
+        key: key.into(),
+        value: v.to_string(),
+    }
+}
+
+/// `/vehicle_status` as vehicle_sim words it, so the planners need not know
+/// which of the two drives.
+fn status(
+    header: Header,
+    ok: bool,
+    message: String,
+    goal: [f32; 3],
+    f: &Follower,
+) -> DiagnosticArray {
+    let at = f.position().unwrap_or(goal);
+    DiagnosticArray {
+        header,
+        status: vec![DiagnosticStatus {
+            level: if ok {
+                DiagnosticStatus::OK
+            } else {
+                DiagnosticStatus::WARN
+            },
+            name: "robot_bridge".into(),
+            message,
+            hardware_id: String::new(),
+            values: vec![
+                kv("goal_x", goal[0]),
+                kv("goal_y", goal[1]),
+                kv("x", at[0]),
+                kv("y", at[1]),
+                KeyValue {
+                    key: "odometer_m".into(),
+                    value: f.odometer.to_string(),
+                },
+            ],
+        }],
+    }
+}
+
+/// Runs the node until it is asked to stop.
+pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
+    let p: Params = rt.params()?;
+    let way_pub = rt.publisher::<PointStamped>("/way_point", qos::reliable(10))?;
+    let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
+    let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let (tx, mut legs) = tokio::sync::mpsc::channel::<Vec<[f32; 3]>>(16);
+    for topic in &p.path_topics {
+        let sub = rt.subscription::<Path>(topic, qos::reliable(10))?;
+        let (tx, log, topic) = (tx.clone(), rt.log.clone(), topic.clone());
+        tokio::spawn(async move {
+            let s = sub.async_stream();
+            futures::pin_mut!(s);
+            while let Some(m) = s.next().await {
+                match m {
+                    Ok((m, _)) => {
+                        let _ = tx.send(path_points(&m)).await;
+                    }
+                    Err(e) => log.error(&format!("{topic}: unreadable message: {e}")),
+                }
+            }
+        });
+    }
+    let odom_s = odom.async_stream();
+    futures::pin_mut!(odom_s);
+    let mut f = Follower::new(p.follow);
+    let mut resend = tokio::time::interval(Duration::from_secs_f64(p.resend_period_s.max(0.1)));
+    rt.log
+        .info("waiting for legs on /local_path and the robot on /state_estimation");
+    let mut seen_robot = false;
+    loop {
+        let events = tokio::select! {
+            _ = rt.shutdown.wait() => break,
+            Some(leg) = legs.recv() => {
+                rt.log.info(&format!("leg of {} pose(s)", leg.len()));
+                f.set_leg(leg)
+            }
+            Some(m) = odom_s.next() => match m {
+                Ok((o, _)) => {
+                    let Some(pos) = odom_position(&o) else { continue };
+                    if !seen_robot {
+                        seen_robot = true;
+                        rt.log.info(&format!("robot at ({:.1}, {:.1}, {:.1})", pos[0], pos[1], pos[2]));
+                    }
+                    let t = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                    // follow.* are live: a `ros2 param set` counts from this pose on.
+                    if let Ok(c) = rt.current_params::<Params>() {
+                        f.set_config(c.follow);
+                    }
+                    f.on_pose(pos, t)
+                }
+                Err(e) => { rt.log.error(&format!("/state_estimation: unreadable message: {e}")); continue }
+            },
+            _ = resend.tick() => f.waypoint().map(FollowEvent::WayPoint).into_iter().collect(),
+        };
+        let header = Header {
+            stamp: rt.now(),
+            frame_id: p.frame_id.clone(),
+        };
+        for e in events {
+            match e {
+                FollowEvent::WayPoint(w) => {
+                    let msg = PointStamped {
+                        header: header.clone(),
+                        point: Point {
+                            x: f64::from(w[0]),
+                            y: f64::from(w[1]),
+                            z: f64::from(w[2]),
+                        },
+                    };
+                    let _ = way_pub.async_publish(msg).await;
+                }
+                FollowEvent::Arrived { goal } => {
+                    rt.log
+                        .info(&format!("arrived at ({:.1}, {:.1})", goal[0], goal[1]));
+                    let s = status(header.clone(), true, "arrived".into(), goal, &f);
+                    let _ = status_pub.async_publish(s).await;
+                }
+                FollowEvent::Blocked { goal, reason } => {
+                    rt.log.warn(&format!(
+                        "blocked going to ({:.1}, {:.1}): {reason}",
+                        goal[0], goal[1]
+                    ));
+                    let s = status(
+                        header.clone(),
+                        false,
+                        format!("blocked: {reason}"),
+                        goal,
+                        &f,
+                    );
+                    let _ = status_pub.async_publish(s).await;
+                }
+            }
+        }
+    }
+    rt.log
+        .info(&format!("stopped; the robot moved {:.1} m", f.odometer));
+    Ok(())
+}

@@ -1,0 +1,69 @@
+"""Field mode (issue 16 part 3): `skyground demo --field` with a robot played by
+rclpy (field_robot.py) instead of vehicle_sim. The robot follows /way_point,
+publishes /state_estimation and /registered_scan made of the scene's true
+building surfaces within its sensor's range and sight; the mission must finish
+and the robot's scans must raise coverage against ground truth."""
+import json
+import subprocess
+import time
+from pathlib import Path
+
+from conftest import BIN, ROOT
+from test_demo import small_scene
+
+ROBOT = ROOT / "tests" / "python" / "field_robot.py"
+# A free spot of small_scene, south of the two blocks.
+START = (40.0, 5.0)
+
+
+def ground_truth(tmp_path, scene):
+    """The scene's building surface samples, as `skyground aerial` writes them."""
+    out = tmp_path / "aerial"
+    subprocess.run([str(BIN / "skyground"), "aerial", "--scene", str(scene), "--out", str(out)],
+                   check=True, capture_output=True, timeout=300)
+    return out / "gt_samples.ply"
+
+
+def test_field_mission_with_an_rclpy_robot_finishes_and_gains(tmp_path, env, spawn):
+    scene = small_scene(tmp_path / "small.obj")
+    gt = ground_truth(tmp_path, scene)
+    robot = spawn(str(ROBOT), "--gt", gt, "--start", *START)
+    assert robot.json_lines(1, timeout=60)[0]["event"] == "ready"
+    out = tmp_path / "out"
+    t0 = time.time()
+    p = subprocess.run([str(BIN / "skyground"), "demo", "--field", "--scene", str(scene), "--out", str(out),
+                        "--timeout", "300", "--robot-timeout", "60"],
+                       capture_output=True, text=True, timeout=400, env=env)
+    wall = time.time() - t0
+    assert p.returncode == 0, p.stderr[-4000:]
+    assert "robot found on /state_estimation" in p.stderr
+    report = json.loads((out / "report.json").read_text())
+    print(f"\nfield mode: coverage {report['coverage_before']:.4f} -> {report['coverage_after']:.4f}, "
+          f"mean GT dist {report['mean_gt_dist_before']:.3f} -> {report['mean_gt_dist_after']:.3f} m, "
+          f"{report['path_length_m']:.0f} m driven, {report['rounds']} rounds, "
+          f"{report['targets_reached']} reached / {report['targets_unreachable']} unreachable, "
+          f"{report['sim_time_s']:.0f} robot s, {wall:.0f} s wall")
+    assert report["finished"] is True and report["mode"] == "field"
+    assert "small.obj" in report["ground_truth"]
+    assert report["coverage_after"] > report["coverage_before"] + 0.02
+    assert report["mean_gt_dist_after"] < report["mean_gt_dist_before"]
+    assert report["rounds"] >= 1 and report["targets_reached"] >= 1
+    assert report["path_length_m"] > 10 and report["sim_time_s"] > 0
+    # No vehicle_sim: the robot drove, the bridge told the planners.
+    assert not (out / "vehicle_sim.log").exists()
+    assert "arrived at" in (out / "robot_bridge.log").read_text(errors="replace")
+    robot.stop()
+    events = [json.loads(line) for line in (robot.p.stdout.read() or b"").splitlines() if line.strip()]
+    assert sum(e["event"] == "way_point" for e in events) >= 2, events[-5:]
+
+
+def test_field_mode_without_a_robot_stops_with_a_clear_error(tmp_path, env):
+    scene = small_scene(tmp_path / "small.obj")
+    out = tmp_path / "out"
+    p = subprocess.run([str(BIN / "skyground"), "demo", "--field", "--scene", str(scene), "--out", str(out),
+                        "--robot-timeout", "5"],
+                       capture_output=True, text=True, timeout=200, env=env)
+    assert p.returncode != 0
+    assert "no /state_estimation from a robot within 5 s" in p.stderr, p.stderr[-3000:]
+    report = json.loads((out / "report.json").read_text())
+    assert report["finished"] is False and report["path_length_m"] == 0
