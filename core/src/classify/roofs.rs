@@ -10,12 +10,13 @@ use std::num::NonZeroUsize;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use petgraph::unionfind::UnionFind;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::cloud::class::{BUILDING, VEGETATION};
 use crate::reconstruct::ReconstructParams;
 use crate::reconstruct::normals::neighbourhoods;
-use crate::reconstruct::planes::{NO_PLANE, grow_planes};
+use crate::reconstruct::planes::{NO_PLANE, grow_planes_with};
 
 /// Settings of the roof-plane check (part of the model file).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -188,7 +189,7 @@ fn roof_voxels(reps: &[[f32; 3]], check: &RoofCheck) -> (Vec<bool>, usize) {
         ..ReconstructParams::default()
     };
     let nb = neighbourhoods(reps, check.k);
-    let (planes, label) = grow_planes(reps, &nb, &params);
+    let (planes, label) = grow_planes_with(reps, &nb, &params, false);
     let mut cells: Vec<std::collections::HashSet<[i32; 2]>> =
         vec![std::collections::HashSet::new(); planes.len()];
     for (p, &l) in reps.iter().zip(&label) {
@@ -226,16 +227,21 @@ fn objects_with_roof(reps: &[[f32; 3]], building: &[bool], roof: &[bool], link_m
     // Sixteen nearest within reach link an object as well as all of them
     // would: a chain needs one link per point.
     let n = NonZeroUsize::new(16.min(pts.len())).unwrap_or(NonZeroUsize::MIN);
-    for (a, p) in pts.iter().enumerate() {
-        let near = tree
-            .query(p)
-            .nearest_n::<SquaredEuclidean<f32>>(n)
-            .execute();
-        for nn in near.iter().filter(|nn| nn.distance <= r2) {
-            let b = nn.item as usize;
-            if b != a {
-                uf.union(a, b);
-            }
+    let links: Vec<Vec<u32>> = pts
+        .par_iter()
+        .map(|p| {
+            tree.query(p)
+                .nearest_n::<SquaredEuclidean<f32>>(n)
+                .execute()
+                .iter()
+                .filter(|nn| nn.distance <= r2)
+                .map(|nn| nn.item)
+                .collect()
+        })
+        .collect();
+    for (a, near) in links.iter().enumerate() {
+        for &b in near {
+            uf.union(a, b as usize);
         }
     }
     let mut has_roof: HashMap<usize, bool> = HashMap::new();

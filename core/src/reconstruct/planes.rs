@@ -64,6 +64,18 @@ pub(crate) fn grow_planes(
     nb: &Neighbourhoods,
     params: &ReconstructParams,
 ) -> (Vec<RoofPlane>, Vec<u32>) {
+    grow_planes_with(xyz, nb, params, true)
+}
+
+/// [`grow_planes`], merging planes grown from two seeds only when `merge`:
+/// the merge compares every pair of like planes, which over a whole survey
+/// tile costs more than the growing.
+pub(crate) fn grow_planes_with(
+    xyz: &[[f32; 3]],
+    nb: &Neighbourhoods,
+    params: &ReconstructParams,
+    merge: bool,
+) -> (Vec<RoofPlane>, Vec<u32>) {
     let n = xyz.len();
     let mut label = vec![NO_PLANE; n];
     if nb.k == 0 {
@@ -135,7 +147,9 @@ pub(crate) fn grow_planes(
             members.push(region);
         }
     }
-    merge_coplanar(xyz, &mut planes, &mut members, params);
+    if merge {
+        merge_coplanar(xyz, &mut planes, &mut members, params);
+    }
     let mut idx: Vec<usize> = (0..planes.len()).collect();
     idx.sort_by_key(|&i| std::cmp::Reverse(members[i].len()));
     let mut out = Vec::with_capacity(idx.len());
