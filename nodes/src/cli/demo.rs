@@ -16,6 +16,8 @@ use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
 use skyground_core::plot::{BuildingGain, mission_picture};
+use skyground_core::prior::unlabelled;
+use skyground_core::route::{BudgetParams, route_budget};
 use skyground_core::scene::{Cropped, Scene, load_scene, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
@@ -45,6 +47,9 @@ pub struct DemoArgs {
     /// which every node then loads).
     #[command(flatten)]
     pub crop: super::crop::CropArgs,
+    /// A real aerial survey as the prior (`--prior`, `--prior-margin`).
+    #[command(flatten)]
+    pub prior: super::prior::PriorArgs,
     /// Output directory (aerial.las, resampled.las, mission.mcap, report.*, overview.png, logs).
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
@@ -52,9 +57,11 @@ pub struct DemoArgs {
     /// a loopback-only network namespace).
     #[arg(long)]
     pub no_netns: bool,
-    /// Wall seconds before giving up on the mission.
-    #[arg(long, default_value_t = 600.0)]
-    pub timeout: f64,
+    /// Wall seconds before giving up on the mission; default: the limit
+    /// follows the work (600 s until the first route is known, then each
+    /// round's budget from its length and stops, printed).
+    #[arg(long)]
+    pub timeout: Option<f64>,
     /// Simulated seconds per wall second.
     #[arg(long, default_value_t = 20.0)]
     pub time_factor: f64,
@@ -233,17 +240,14 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.scene(),
         a.out.display()
     );
-    let (scene_spec, scene, crop) = mission_scene(&a)?;
-    let prior = survey_of(scene, &scene_spec, None)?;
+    let (scene_spec, prior, crop) = mission_prior(&a)?;
     let before = completeness_of_cloud(&prior.gt, &prior.cloud, prior.tau);
     let aerial_path = a.out.join("aerial.las");
     // The classifier labels the prior itself: publish it without the simulator's labels.
-    let mut unlabelled = prior.cloud.clone();
-    unlabelled.label = None;
-    unlabelled.building = None;
-    write_cloud(&aerial_path, &unlabelled).map_err(|e| err(e.to_string()))?;
+    write_cloud(&aerial_path, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
     eprintln!(
-        "  airborne prior: {} points, building completeness {:.2} % ({:.1} s)",
+        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
+        if a.prior.files.is_empty() { "airborne prior (simulated)" } else { "real prior" },
         prior.cloud.len(),
         before.overall.ratio.unwrap_or(0.0) * 100.0,
         t0.elapsed().as_secs_f64()
@@ -276,8 +280,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         ("scene_classifier", vec![]),
         ("completeness_detector", detector_params),
         ("target_generator", vec![]),
-        ("global_planner", vec![]),
-        ("local_explorer", vec![]),
+        ("global_planner", super::prior::graph_params(&a.prior)),
+        ("local_explorer", super::prior::graph_params(&a.prior)),
         (
             "vehicle_sim",
             vec![
@@ -315,7 +319,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         odom.async_stream(),
     );
     futures::pin_mut!(c_s, p_s, v_s, r_s, o_s);
-    let deadline = tokio::time::Instant::now() + Duration::from_secs_f64(a.timeout);
+    let mut limit = TimeLimit::new(&a);
     let mut progress = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let mut w = Watch::default();
@@ -324,7 +328,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut why = String::from("interrupted");
     loop {
         tokio::select! {
-            _ = tokio::time::sleep_until(deadline) => { why = format!("timed out after {} s", a.timeout); break }
+            _ = tokio::time::sleep_until(limit.deadline) => { why = limit.why(t0); break }
             _ = rt.shutdown.wait() => break,
             r = resampled_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
                 let mut merged = prior.cloud.clone();
@@ -355,6 +359,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 w.unreachable = (value(s, "unreachable_points").unwrap_or(0), value(s, "unreachable_regions").unwrap_or(0));
                 w.greedy_m = value(s, "greedy_m").unwrap_or(w.greedy_m);
                 w.tsp_m = value(s, "tsp_m").unwrap_or(w.tsp_m);
+                limit.follow(&w, value(s, "target_points").unwrap_or(0), value(s, "target_regions").unwrap_or(0));
                 if s.message == "done" && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
                     w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
                     w.reached_total += w.done.0 + w.done.1;
@@ -428,11 +433,86 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     }
 }
 
+/// The demo's time limit: `--timeout`, or one that follows the work: a
+/// first allowance until a route is known, then each round's budget
+/// ([`route_budget`]) from the moment its route is.
+struct TimeLimit {
+    deadline: tokio::time::Instant,
+    fixed: Option<f64>,
+    budgeted_round: u32,
+    params: BudgetParams,
+}
+
+/// Wall seconds until the first route is known (prior, classification,
+/// detection, targets, graph).
+const FIRST_ROUTE_S: f64 = 600.0;
+
+impl TimeLimit {
+    fn new(a: &DemoArgs) -> Self {
+        let s = a.timeout.unwrap_or(FIRST_ROUTE_S);
+        Self {
+            deadline: tokio::time::Instant::now() + Duration::from_secs_f64(s),
+            fixed: a.timeout,
+            budgeted_round: 0,
+            params: BudgetParams {
+                time_factor: a.time_factor,
+                ..BudgetParams::default()
+            },
+        }
+    }
+
+    /// Gives the planner's current round its budget once its route is known.
+    fn follow(&mut self, w: &Watch, points: usize, regions: usize) {
+        let route_m = [w.tsp_m, w.greedy_m]
+            .into_iter()
+            .filter(|m| *m > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if self.fixed.is_some()
+            || w.planner_round <= self.budgeted_round
+            || !route_m.is_finite()
+            || points + regions == 0
+        {
+            return;
+        }
+        self.budgeted_round = w.planner_round;
+        let b = route_budget(route_m, points, regions, &self.params);
+        self.deadline = tokio::time::Instant::now() + Duration::from_secs_f64(b.wall_s);
+        eprintln!(
+            "  round {}: {route_m:.0} m over {points} points and {regions} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now (--timeout fixes one)",
+            w.planner_round, b.sim_s, b.wall_s
+        );
+    }
+
+    fn why(&self, t0: Instant) -> String {
+        match self.fixed {
+            Some(s) => format!("timed out after {s} s (--timeout)"),
+            None => format!(
+                "timed out after {:.0} s: round {} took longer than its budget",
+                t0.elapsed().as_secs_f64(),
+                self.budgeted_round
+            ),
+        }
+    }
+}
+
+/// The mission's scene and prior: the simulated airborne survey of
+/// [`mission_scene`], or the real survey of `--prior` over the city model.
+fn mission_prior(
+    a: &DemoArgs,
+) -> Result<(String, super::aerial::Survey, Option<Cropped>), RuntimeError> {
+    if !a.prior.files.is_empty() {
+        return super::prior::real_prior(a);
+    }
+    let (scene_spec, scene, crop) = mission_scene(a)?;
+    let prior = survey_of(scene, &scene_spec, None)?;
+    Ok((scene_spec, prior, crop))
+}
+
 /// The scene every process of the mission loads (its spec and the scene as
 /// they will read it): `--scene` itself, or its crop written to
 /// OUT/scene.obj (`--crop`; automatic when the scene is too large for the
 /// ground graph).
-fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
+pub(super) fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let Some(c) = super::crop::apply(&full, &a.scene(), &a.crop)? else {
@@ -520,6 +600,7 @@ fn report(
     let wall = t0.elapsed().as_secs_f64();
     let value = json!({
         "scene": a.scene(),
+        "prior": a.prior.describe(),
         "crop": crop.map(super::crop::to_json),
         "finished": finished,
         "ended_because": why,
@@ -564,8 +645,8 @@ fn report(
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
-        "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| simulated seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
+        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| simulated seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        a.prior.describe(), w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer, w.sim_s
     ));
     md.push_str(&format!(
         "\n## Building models (LoD2) before and after\n\nMean symmetric surface distance to the true buildings (m), RMSE, 95th percentile, roof error (true roof → model roof), footprint IoU; `models_before.city.json`, `models_after.city.json`. `models.png`: buildings {pictured:?} (rows), before left, after right, model surface coloured by distance to the truth, 0 m blue → 0.5 m red (colour bar ticks 0, 0.25, 0.5 m); scale bar 10 m; north up.\n\n{}",
