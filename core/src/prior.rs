@@ -267,8 +267,16 @@ mod tests {
         let j = join_tiles(&[("a".into(), a), ("b".into(), b)]).unwrap();
         assert_eq!(j.xyz, vec![[1.0, 2.0, 3.0], [105.0, 0.5, 1.0]]);
         assert_eq!(j.number_of_returns.as_deref(), Some(&[2u8, 2][..]));
-        let mut c = cloud([0.0; 3], vec![[0.0; 3]], Some(Crs::from_epsg(2056).unwrap()));
-        let d = cloud([0.0; 3], vec![[0.0; 3]], Some(Crs::from_epsg(28992).unwrap()));
+        let mut c = cloud(
+            [0.0; 3],
+            vec![[0.0; 3]],
+            Some(Crs::from_epsg(2056).unwrap()),
+        );
+        let d = cloud(
+            [0.0; 3],
+            vec![[0.0; 3]],
+            Some(Crs::from_epsg(28992).unwrap()),
+        );
         assert!(matches!(
             join_tiles(&[("c".into(), c.clone()), ("d".into(), d)]),
             Err(PriorError::TileCrs { .. })

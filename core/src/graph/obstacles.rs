@@ -172,7 +172,13 @@ fn stored_tiles(frame: &GridFrame, tiles: [usize; 2], ground: &GroundHeights<'_>
 
 /// Index into tile storage of the cell `(i, j)`, `None` outside the frame or
 /// in a tile not stored.
-fn stored_cell(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], i: i64, j: i64) -> Option<usize> {
+fn stored_cell(
+    frame: &GridFrame,
+    tiles: [usize; 2],
+    slot: &[u32],
+    i: i64,
+    j: i64,
+) -> Option<usize> {
     frame.index(i, j)?;
     let (i, j) = (i as usize, j as usize);
     let s = slot[(j / TILE) * tiles[0] + i / TILE];
@@ -180,7 +186,13 @@ fn stored_cell(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], i: i64, j: i6
 }
 
 /// [`stored_cell`] of the cell holding `xy`.
-fn stored_index(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], x: f32, y: f32) -> Option<usize> {
+fn stored_index(
+    frame: &GridFrame,
+    tiles: [usize; 2],
+    slot: &[u32],
+    x: f32,
+    y: f32,
+) -> Option<usize> {
     let (i, j) = frame.key(x, y);
     stored_cell(frame, tiles, slot, i, j)
 }
@@ -198,7 +210,10 @@ fn tiled_distance(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], occ: &[boo
             continue;
         }
         let (ti, tj) = (t % tiles[0], t / tiles[0]);
-        let (i0, j0) = ((ti * TILE) as i64 - halo as i64, (tj * TILE) as i64 - halo as i64);
+        let (i0, j0) = (
+            (ti * TILE) as i64 - halo as i64,
+            (tj * TILE) as i64 - halo as i64,
+        );
         let mut window = vec![false; side * side];
         for b in 0..side {
             for a in 0..side {

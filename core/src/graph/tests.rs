@@ -185,7 +185,10 @@ fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
     let r = g.report();
     // The bounding box is 640 m square (6.6e6 cells at 0.25 m); two 40 m patches and their tile rings are not.
     assert!(r.obstacle_cells_bbox > 6_000_000, "{r:?}");
-    assert!(r.obstacle_cells_stored * 20 < r.obstacle_cells_bbox, "{r:?}");
+    assert!(
+        r.obstacle_cells_stored * 20 < r.obstacle_cells_bbox,
+        "{r:?}"
+    );
     let mut checked = 0;
     for (i, p) in g.positions().iter().enumerate() {
         let d = wall
@@ -194,7 +197,11 @@ fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
             .fold(f32::INFINITY, f32::min);
         if d < 3.0 {
             // Chamfer distance on a 0.25 m grid: within half a cell and a few per cent.
-            assert!((g.clearance(i) - d).abs() < 0.4, "node {p:?}: {} vs {d}", g.clearance(i));
+            assert!(
+                (g.clearance(i) - d).abs() < 0.4,
+                "node {p:?}: {} vs {d}",
+                g.clearance(i)
+            );
             checked += 1;
         }
     }

@@ -217,7 +217,10 @@ mod tests {
         // wide at the wall, so two or three stops do, not twelve.
         assert!(c.stops_after <= 3, "{c:?}");
         assert_eq!(kept.len(), c.stops_after);
-        assert!(kept.iter().all(|k| candidates.iter().any(|c| c.xyz == k.xyz)));
+        assert!(
+            kept.iter()
+                .all(|k| candidates.iter().any(|c| c.xyz == k.xyz))
+        );
     }
 
     #[test]
@@ -233,15 +236,23 @@ mod tests {
         // Behind the wall (north of the house): never.
         assert!(!sees(&s, [m.xyz[0], 45.0, 0.0], &m, &p));
         // Out of range.
-        assert!(!sees(&s, [m.xyz[0], 30.0 - p.stop_range - 1.0, 0.0], &m, &p));
+        assert!(!sees(
+            &s,
+            [m.xyz[0], 30.0 - p.stop_range - 1.0, 0.0],
+            &m,
+            &p
+        ));
         let off = TargetParams {
             stop_range: 0.0,
             ..p.clone()
         };
-        let cands = vec![TargetPoint {
-            xyz: [28.0, 22.0, 0.0],
-            building: 1,
-        }; 3];
+        let cands = vec![
+            TargetPoint {
+                xyz: [28.0, 22.0, 0.0],
+                building: 1,
+            };
+            3
+        ];
         assert_eq!(consolidate(&cands, &[m], &s, &off).0.len(), 3);
         assert_eq!(consolidate(&cands, &[m], &s, &p).0.len(), 1);
     }

@@ -247,7 +247,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     write_cloud(&aerial_path, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
     eprintln!(
         "  {}: {} points, building completeness {:.2} % ({:.1} s)",
-        if a.prior.files.is_empty() { "airborne prior (simulated)" } else { "real prior" },
+        if a.prior.files.is_empty() {
+            "airborne prior (simulated)"
+        } else {
+            "real prior"
+        },
         prior.cloud.len(),
         before.overall.ratio.unwrap_or(0.0) * 100.0,
         t0.elapsed().as_secs_f64()
@@ -475,7 +479,13 @@ impl TimeLimit {
             return;
         }
         self.budgeted_round = w.planner_round;
-        let b = route_budget(route_m, points, regions, &self.params);
+        let perimeters: Vec<f64> = w
+            .targets
+            .regions
+            .iter()
+            .map(|r| perimeter(&r.polygon))
+            .collect();
+        let b = route_budget(route_m, points, &perimeters, &self.params);
         self.deadline = tokio::time::Instant::now() + Duration::from_secs_f64(b.wall_s);
         eprintln!(
             "  round {}: {route_m:.0} m over {points} points and {regions} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now (--timeout fixes one)",
@@ -495,6 +505,14 @@ impl TimeLimit {
     }
 }
 
+/// Length of a closed polygon's outline, metres.
+fn perimeter(ring: &[[f64; 2]]) -> f64 {
+    ring.iter()
+        .zip(ring.iter().cycle().skip(1))
+        .map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1]))
+        .sum()
+}
+
 /// The mission's scene and prior: the simulated airborne survey of
 /// [`mission_scene`], or the real survey of `--prior` over the city model.
 fn mission_prior(
@@ -512,7 +530,9 @@ fn mission_prior(
 /// they will read it): `--scene` itself, or its crop written to
 /// OUT/scene.obj (`--crop`; automatic when the scene is too large for the
 /// ground graph).
-pub(super) fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
+pub(super) fn mission_scene(
+    a: &DemoArgs,
+) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let Some(c) = super::crop::apply(&full, &a.scene(), &a.crop)? else {

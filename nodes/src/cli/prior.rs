@@ -5,7 +5,9 @@
 use std::path::PathBuf;
 
 use skyground_core::cloud::read_cloud;
-use skyground_core::prior::{CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame};
+use skyground_core::prior::{
+    CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame,
+};
 use skyground_core::scene::{Cropped, Window, load_scene};
 
 use super::aerial::{Survey, survey_of_real};
@@ -60,7 +62,12 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         .and_then(|s| super::field::scene_crs(s.split(',').next().unwrap_or(s)));
     let check = check_crs(cloud.crs.as_ref(), model_crs.as_ref())
         .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
-    eprintln!("  prior {}: {} points; {}", a.prior.describe(), cloud.len(), crs_line(&check));
+    eprintln!(
+        "  prior {}: {} points; {}",
+        a.prior.describe(),
+        cloud.len(),
+        crs_line(&check)
+    );
     let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (lo, hi) = full
         .bounds()
@@ -92,7 +99,9 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         );
         args.crop.crop = Some(CropArg::Window(w));
     }
-    eprintln!("  ground graph: tree crowns block only where points stand in the vehicle's height band (a multi-return survey sees under them)");
+    eprintln!(
+        "  ground graph: tree crowns block only where points stand in the vehicle's height band (a multi-return survey sees under them)"
+    );
     let (spec, scene, crop) = super::demo::mission_scene(&args)?;
     let prior = to_frame(&cloud, scene.origin);
     let survey = survey_of_real(scene, prior, &a.prior.describe())?;
@@ -121,7 +130,9 @@ fn crs_line(check: &CrsCheck) -> String {
         CrsCheck::Same(h) => format!("horizontal CRS EPSG:{h}, the city model's"),
         CrsCheck::Unchecked => "CRSs named without comparable EPSG codes: taken as equal".into(),
         CrsCheck::PriorUnknown(Some(m)) => {
-            format!("the prior states no CRS: taken to be the city model's {m} (the overlap check below guards against a wrong guess)")
+            format!(
+                "the prior states no CRS: taken to be the city model's {m} (the overlap check below guards against a wrong guess)"
+            )
         }
         CrsCheck::PriorUnknown(None) => {
             "neither the prior nor the city model states a CRS: taken as the same".into()

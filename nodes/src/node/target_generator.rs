@@ -12,7 +12,9 @@ use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
 use skyground_core::missing::{MissingPoint, Strategy};
-use skyground_core::targets::{BuildingPlan, Site, TargetParams, consolidate, generate_from_missing};
+use skyground_core::targets::{
+    BuildingPlan, Site, TargetParams, consolidate, generate_from_missing,
+};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::std_msgs::Header;
@@ -178,13 +180,14 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             continue;
         }
         let points = missing_points(cloud, skeletons);
-        let (mut targets, dropped) = match generate_from_missing(&points, strategy, site, &p.targets) {
-            Ok(v) => v,
-            Err(e) => {
-                rt.log.error(&format!("cannot generate targets: {e}"));
-                continue;
-            }
-        };
+        let (mut targets, dropped) =
+            match generate_from_missing(&points, strategy, site, &p.targets) {
+                Ok(v) => v,
+                Err(e) => {
+                    rt.log.error(&format!("cannot generate targets: {e}"));
+                    continue;
+                }
+            };
         let (kept, merged) = consolidate(&targets.points, &points, site, &p.targets);
         targets.points = kept;
         rt.log.info(&format!(
