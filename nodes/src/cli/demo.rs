@@ -259,8 +259,12 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let caster = Caster::new(&prior.scene).map_err(|e| err(e.to_string()))?;
     let (lo, hi) = caster.bounds().ok_or_else(|| err("empty scene".into()))?;
     let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-    let start_xy = free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
-        .ok_or_else(|| err("no free spot to start the vehicle".into()))?;
+    let start_xy = if a.prior.files.is_empty() {
+        free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
+            .ok_or_else(|| err("no free spot to start the vehicle".into()))?
+    } else {
+        super::prior::start_on_prior(&caster, &prior.cloud)?
+    };
 
     let mut record_args = vec![
         "record".to_string(),

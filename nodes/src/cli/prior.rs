@@ -4,7 +4,10 @@
 
 use std::path::PathBuf;
 
-use skyground_core::cloud::read_cloud;
+use skyground_core::cloud::{Cloud, read_cloud};
+use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::lidar::Caster;
+use skyground_core::vehicle::free_spot;
 use skyground_core::prior::{
     CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame,
 };
@@ -119,6 +122,58 @@ pub fn graph_params(p: &PriorArgs) -> Vec<String> {
     } else {
         vec!["graph.canopy_is_obstacle:=false".into()]
     }
+}
+
+/// Where the vehicle starts on a real prior: of free spots of the model on
+/// a 4 × 4 grid over the prior's extent, the one whose ground graph (built
+/// on the producer's classes, as the planner will on the classifier's) is
+/// largest. A real survey's ground is cut by cars, kerbs, quays and canals
+/// into hundreds of pieces (AHN3 Delft 1 + 2: 772), and the middle of the
+/// model stood on one of 23 nodes.
+pub fn start_on_prior(caster: &Caster, prior: &Cloud) -> Result<[f32; 2], RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let labels = prior
+        .label
+        .as_deref()
+        .ok_or_else(|| err("the prior has no classes to find the ground to start on".into()))?;
+    let extent = extent_xy(prior).ok_or_else(|| err("the prior is empty".into()))?;
+    let params = GraphParams {
+        canopy_is_obstacle: false,
+        ..GraphParams::default()
+    };
+    let mut best: Option<([f32; 2], usize)> = None;
+    for i in 0..4 {
+        for j in 0..4 {
+            let x = extent.min[0] + extent.size()[0] * (f64::from(i) + 0.5) / 4.0;
+            let y = extent.min[1] + extent.size()[1] * (f64::from(j) + 0.5) / 4.0;
+            let Some(s) = free_spot(caster, x as f32, y as f32, 2.0, 30.0) else {
+                continue;
+            };
+            let z = prior_ground_z(prior, labels, s);
+            let Ok(g) = GroundGraph::build(&prior.xyz, labels, [s[0], s[1], z], &params) else {
+                continue;
+            };
+            let n = g.report().nodes;
+            if best.is_none_or(|(_, m)| n > m) {
+                best = Some((s, n));
+            }
+        }
+    }
+    let (s, n) = best.ok_or_else(|| err("no free spot on the prior's ground to start the vehicle".into()))?;
+    eprintln!("  vehicle starts at ({:.1}, {:.1}): its ground graph on the prior's classes has {n} nodes, the largest of 16 spots tried", s[0], s[1]);
+    Ok(s)
+}
+
+/// The mean height of the prior's ground points within 3 m of `xy` (0 when none).
+fn prior_ground_z(prior: &Cloud, labels: &[u8], xy: [f32; 2]) -> f32 {
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for (p, &l) in prior.xyz.iter().zip(labels) {
+        if l == 2 && (p[0] - xy[0]).hypot(p[1] - xy[1]) < 3.0 {
+            sum += f64::from(p[2]);
+            n += 1;
+        }
+    }
+    if n > 0 { (sum / n as f64) as f32 } else { 0.0 }
 }
 
 fn area(w: &Window) -> f64 {
