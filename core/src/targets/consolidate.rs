@@ -80,18 +80,14 @@ pub fn consolidate(
     let mut seen = vec![false; missing.len()];
     let mut gain: Vec<usize> = cover.iter().map(Vec::len).collect();
     let mut kept = Vec::new();
-    loop {
-        // Lazy greedy would be faster; a few thousand candidates need no more.
-        let Some((best, &g)) = gain
-            .iter()
-            .enumerate()
-            .max_by(|(i, a), (j, b)| a.cmp(b).then(j.cmp(i)))
-        else {
-            break;
-        };
-        if g == 0 {
-            break;
-        }
+    // Lazy greedy would be faster; a few thousand candidates need no more.
+    // The candidate seeing most unseen gaps (the earliest on ties) is kept next.
+    while let Some((best, _)) = gain
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| **g > 0)
+        .max_by(|(i, a), (j, b)| a.cmp(b).then(j.cmp(i)))
+    {
         let mut by_building: HashMap<u32, usize> = HashMap::new();
         for &k in &cover[best] {
             if !seen[k] {

@@ -7,11 +7,11 @@ use std::path::PathBuf;
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::graph::{GraphParams, GroundGraph};
 use skyground_core::lidar::Caster;
-use skyground_core::vehicle::free_spot;
 use skyground_core::prior::{
     CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame,
 };
 use skyground_core::scene::{Cropped, Window, load_scene};
+use skyground_core::vehicle::free_spot;
 
 use super::aerial::{Survey, survey_of_real};
 use super::crop::CropArg;
@@ -159,8 +159,12 @@ pub fn start_on_prior(caster: &Caster, prior: &Cloud) -> Result<[f32; 2], Runtim
             }
         }
     }
-    let (s, n) = best.ok_or_else(|| err("no free spot on the prior's ground to start the vehicle".into()))?;
-    eprintln!("  vehicle starts at ({:.1}, {:.1}): its ground graph on the prior's classes has {n} nodes, the largest of 16 spots tried", s[0], s[1]);
+    let (s, n) =
+        best.ok_or_else(|| err("no free spot on the prior's ground to start the vehicle".into()))?;
+    eprintln!(
+        "  vehicle starts at ({:.1}, {:.1}): its ground graph on the prior's classes has {n} nodes, the largest of 16 spots tried",
+        s[0], s[1]
+    );
     Ok(s)
 }
 
