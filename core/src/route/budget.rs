@@ -81,7 +81,8 @@ mod tests {
         // (mostly points, a dozen small regions), 5460 simulated s measured.
         let small = vec![8.0; 12];
         let b = route_budget(2709.0, 310, &small, &p);
-        assert!((b.sim_s - 5460.0).abs() / 5460.0 < 0.25, "{b:?}");
+        // A limit, not a forecast: at least what was measured, not wildly more.
+        assert!(b.sim_s >= 5460.0 && b.sim_s <= 1.5 * 5460.0, "{b:?}");
         // 641 wall s measured on a loaded machine (two rounds: two per-round allowances).
         assert!(b.wall_s + p.per_round_s > 641.0, "{b:?}");
         let more = route_budget(5500.0, 871, &[], &p);
