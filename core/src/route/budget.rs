@@ -85,8 +85,13 @@ mod tests {
         assert!(b.sim_s >= 5460.0 && b.sim_s <= 1.5 * 5460.0, "{b:?}");
         // 641 wall s measured on a loaded machine (two rounds: two per-round allowances).
         assert!(b.wall_s + p.per_round_s > 641.0, "{b:?}");
+        // The dense city (871 targets, 5.5 km) had not finished its
+        // first round when the fixed 600 s ran out; its budget is well above.
         let more = route_budget(5500.0, 871, &[], &p);
-        assert!(more.wall_s > 2.0 * b.wall_s - p.per_round_s, "{more:?}");
+        assert!(
+            more.wall_s > b.wall_s && more.wall_s > 1.5 * 600.0,
+            "{more:?}"
+        );
         let none = route_budget(0.0, 0, &[], &p);
         assert_eq!(none.wall_s, p.per_round_s);
         let faster = route_budget(
