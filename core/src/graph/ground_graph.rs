@@ -34,6 +34,12 @@ pub struct GraphReport {
     pub unreachable_components: usize,
     /// Cells of the obstacle grid holding a blocking non-ground point.
     pub obstacle_cells: usize,
+    /// Obstacle-grid cells stored (tiles near ground only).
+    pub obstacle_cells_stored: usize,
+    /// Obstacle-grid cells a dense map over the bounding box would hold.
+    pub obstacle_cells_bbox: usize,
+    /// Node-grid cells (dense over the ground's bounding box).
+    pub node_grid_cells: usize,
 }
 
 /// Nodes on open ground joined where the vehicle can drive, restricted to the
@@ -192,6 +198,9 @@ impl GroundGraph {
             unreachable_nodes: cand_pos.len() - positions.len(),
             unreachable_components: other.len(),
             obstacle_cells: obstacles.occupied_cells(),
+            obstacle_cells_stored: obstacles.stored_cells().0,
+            obstacle_cells_bbox: obstacles.stored_cells().1,
+            node_grid_cells: frame.len(),
         };
         Ok(Self {
             graph,

@@ -9,11 +9,23 @@ use crate::cloud::class;
 /// Distances saturate here: nothing farther matters to a vehicle, metres.
 const FAR: f32 = 8.0;
 
-/// A 2D grid of obstacle cells and, per cell, the distance to the nearest one.
+/// Obstacle-map cells per tile side: 64 × 0.25 m = 16 m, twice the 8 m
+/// the distances saturate at, so one ring of tiles around the ground holds
+/// every obstacle that matters to it.
+const TILE: usize = 64;
+
+/// A 2D grid of obstacle cells and, per cell, the distance to the nearest
+/// one, stored in tiles only where there is ground (and one tile around it):
+/// memory grows with the drivable area, not with the bounding box.
 #[derive(Debug, Clone)]
 pub struct ObstacleMap {
     frame: GridFrame,
-    /// Distance from each cell centre to the nearest obstacle cell, metres (capped).
+    /// Tiles along x and y.
+    tiles: [usize; 2],
+    /// For each tile, its slot in `distance` (u32::MAX: not stored, no ground near).
+    slot: Vec<u32>,
+    /// Distance from each stored cell centre to the nearest obstacle cell,
+    /// metres (capped), TILE × TILE per stored tile.
     distance: Vec<f32>,
     /// Number of obstacle cells.
     occupied: usize,
@@ -55,12 +67,16 @@ impl ObstacleMap {
             resolution,
             0,
         );
-        let mut occ = vec![false; frame.len()];
+        let tiles = [frame.nx.div_ceil(TILE), frame.ny.div_ceil(TILE)];
+        let slot = stored_tiles(&frame, tiles, ground);
+        let stored = slot.iter().filter(|&&s| s != u32::MAX).count();
+        let mut occ = vec![false; stored * TILE * TILE];
+        let mut occupied = 0;
         for (p, &l) in xyz.iter().zip(labels) {
             if drivable(l) || l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
-            let Some(cell) = frame.index_of(p[0], p[1]) else {
+            let Some(cell) = stored_index(&frame, tiles, &slot, p[0], p[1]) else {
                 continue;
             };
             let canopy = class::fold(l) == class::VEGETATION && l != class::LOW_VEGETATION;
@@ -76,17 +92,25 @@ impl ObstacleMap {
                     _ => true,
                 }
             };
-            if blocks {
+            if blocks && !occ[cell] {
                 occ[cell] = true;
+                occupied += 1;
             }
         }
-        let occupied = occ.iter().filter(|&&o| o).count();
-        let distance = distance_field(&frame, &occ);
+        let distance = tiled_distance(&frame, tiles, &slot, &occ);
         Self {
             frame,
+            tiles,
+            slot,
             distance,
             occupied,
         }
+    }
+
+    /// Obstacle-map cells stored (the tiles near ground), and all cells of
+    /// the bounding box a dense map would hold.
+    pub fn stored_cells(&self) -> (usize, usize) {
+        (self.distance.len(), self.frame.len())
     }
 
     /// Number of obstacle cells.
@@ -97,7 +121,7 @@ impl ObstacleMap {
     /// Distance (xy) from `p` to the nearest obstacle, metres, capped at 8 m;
     /// 0 outside the mapped area (unknown ground is not driven on).
     pub fn clearance(&self, x: f32, y: f32) -> f32 {
-        self.frame.index_of(x, y).map_or(0.0, |k| self.distance[k])
+        stored_index(&self.frame, self.tiles, &self.slot, x, y).map_or(0.0, |k| self.distance[k])
     }
 
     /// True when every point of the segment `a → b` (xy) is at least `radius` from obstacles.
@@ -109,6 +133,111 @@ impl ObstacleMap {
             self.clearance(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])) >= radius
         })
     }
+}
+
+/// Which tiles are stored: every tile holding a node-grid cell with a
+/// ground height, and the ring around it; their slots in storage order.
+fn stored_tiles(frame: &GridFrame, tiles: [usize; 2], ground: &GroundHeights<'_>) -> Vec<u32> {
+    let g = ground.frame;
+    let mut want = vec![false; tiles[0] * tiles[1]];
+    for (k, z) in ground.z.iter().enumerate() {
+        if !z.is_finite() {
+            continue;
+        }
+        let (i, j) = (k % g.nx, k / g.nx);
+        let x = g.x0 + (i as f32 + 0.5) * g.cell;
+        let y = g.y0 + (j as f32 + 0.5) * g.cell;
+        let (ci, cj) = frame.key(x, y);
+        let (ti, tj) = (ci.div_euclid(TILE as i64), cj.div_euclid(TILE as i64));
+        for a in ti - 1..=ti + 1 {
+            for b in tj - 1..=tj + 1 {
+                if a >= 0 && b >= 0 && (a as usize) < tiles[0] && (b as usize) < tiles[1] {
+                    want[b as usize * tiles[0] + a as usize] = true;
+                }
+            }
+        }
+    }
+    let mut next = 0u32;
+    want.iter()
+        .map(|&w| {
+            if w {
+                next += 1;
+                next - 1
+            } else {
+                u32::MAX
+            }
+        })
+        .collect()
+}
+
+/// Index into tile storage of the cell `(i, j)`, `None` outside the frame or
+/// in a tile not stored.
+fn stored_cell(
+    frame: &GridFrame,
+    tiles: [usize; 2],
+    slot: &[u32],
+    i: i64,
+    j: i64,
+) -> Option<usize> {
+    frame.index(i, j)?;
+    let (i, j) = (i as usize, j as usize);
+    let s = slot[(j / TILE) * tiles[0] + i / TILE];
+    (s != u32::MAX).then(|| s as usize * TILE * TILE + (j % TILE) * TILE + i % TILE)
+}
+
+/// [`stored_cell`] of the cell holding `xy`.
+fn stored_index(
+    frame: &GridFrame,
+    tiles: [usize; 2],
+    slot: &[u32],
+    x: f32,
+    y: f32,
+) -> Option<usize> {
+    let (i, j) = frame.key(x, y);
+    stored_cell(frame, tiles, slot, i, j)
+}
+
+/// The distance field tile by tile: each stored tile's chamfer distances
+/// are computed on the tile grown by the saturation distance (neighbours'
+/// cells read where stored, free where not), so every obstacle within
+/// reach is seen and the result equals a dense map's.
+fn tiled_distance(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], occ: &[bool]) -> Vec<f32> {
+    let halo = (FAR / frame.cell).ceil() as usize + 1;
+    let side = TILE + 2 * halo;
+    let mut out = vec![FAR; occ.len()];
+    for (t, &s) in slot.iter().enumerate() {
+        if s == u32::MAX {
+            continue;
+        }
+        let (ti, tj) = (t % tiles[0], t / tiles[0]);
+        let (i0, j0) = (
+            (ti * TILE) as i64 - halo as i64,
+            (tj * TILE) as i64 - halo as i64,
+        );
+        let mut window = vec![false; side * side];
+        for b in 0..side {
+            for a in 0..side {
+                if let Some(k) = stored_cell(frame, tiles, slot, i0 + a as i64, j0 + b as i64) {
+                    window[b * side + a] = occ[k];
+                }
+            }
+        }
+        let local = GridFrame {
+            x0: 0.0,
+            y0: 0.0,
+            cell: frame.cell,
+            nx: side,
+            ny: side,
+        };
+        let d = distance_field(&local, &window);
+        let base = s as usize * TILE * TILE;
+        for b in 0..TILE {
+            for a in 0..TILE {
+                out[base + b * TILE + a] = d[(b + halo) * side + a + halo];
+            }
+        }
+    }
+    out
 }
 
 /// Two-pass chamfer distance (weights 1, √2) from every cell to the nearest

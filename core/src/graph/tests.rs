@@ -155,3 +155,55 @@ fn bridges_join_what_water_cuts_apart() {
         );
     }
 }
+
+/// Two 40 m patches of ground 600 m apart, each with a 3 m wall along x = x0 + 20.
+fn two_patches() -> (Vec<[f32; 3]>, Vec<u8>, Vec<[f32; 2]>) {
+    let (mut xyz, mut lab, mut wall) = (Vec::new(), Vec::new(), Vec::new());
+    for o in [0.0f32, 600.0] {
+        for i in 0..80 {
+            for j in 0..80 {
+                xyz.push([o + i as f32 * 0.5, o + j as f32 * 0.5, 0.0]);
+                lab.push(2);
+            }
+        }
+        for s in 0..300 {
+            let p = [o + 20.0, o + s as f32 * 0.1];
+            wall.push(p);
+            for h in 0..30 {
+                xyz.push([p[0], p[1], h as f32 * 0.1]);
+                lab.push(6);
+            }
+        }
+    }
+    (xyz, lab, wall)
+}
+
+#[test]
+fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
+    let (xyz, lab, wall) = two_patches();
+    let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
+    let r = g.report();
+    // The bounding box is 640 m square (6.6e6 cells at 0.25 m); two 40 m patches and their tile rings are not.
+    assert!(r.obstacle_cells_bbox > 6_000_000, "{r:?}");
+    assert!(
+        r.obstacle_cells_stored * 20 < r.obstacle_cells_bbox,
+        "{r:?}"
+    );
+    let mut checked = 0;
+    for (i, p) in g.positions().iter().enumerate() {
+        let d = wall
+            .iter()
+            .map(|w| (w[0] - p[0]).hypot(w[1] - p[1]))
+            .fold(f32::INFINITY, f32::min);
+        if d < 3.0 {
+            // Chamfer distance on a 0.25 m grid: within half a cell and a few per cent.
+            assert!(
+                (g.clearance(i) - d).abs() < 0.4,
+                "node {p:?}: {} vs {d}",
+                g.clearance(i)
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 20, "{checked}");
+}

@@ -6,14 +6,17 @@
 //!
 //! - [`RouteParams`] (`params`), [`RouteError`] (`error`);
 //! - `stops`: snapping targets ([`Stop`]); `tour`: the two tour builders on a cost matrix;
-//! - `plan`: [`plan`], [`replan`] → [`Route`].
+//! - `plan`: [`plan`], [`replan`] → [`Route`];
+//! - `budget`: how long a route takes ([`route_budget`]), the demo's time limit.
 
+mod budget;
 mod error;
 mod params;
 mod plan;
 mod stops;
 pub(crate) mod tour;
 
+pub use budget::{Budget, BudgetParams, route_budget};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
 pub use plan::{Route, Visited, plan, replan};

@@ -139,14 +139,14 @@ fn standoff_candidates(
 }
 
 /// How far a ray may run through its own building's grown cells.
-fn own_wall(site: &Site, params: &TargetParams) -> f32 {
+pub(super) fn own_wall(site: &Site, params: &TargetParams) -> f32 {
     params.clearance + site.cell * std::f32::consts::SQRT_2 + OWN_WALL_MARGIN
 }
 
 /// Whether building cells lie on the ray once it has left the building it
 /// starts on: the first run of building cells (at most `own` metres) is the
 /// building's own wall, any building cell after a free one blocks the view.
-fn occluded(site: &Site, from: [f32; 3], dir: [f32; 2], d: f32, own: f32) -> bool {
+pub(super) fn occluded(site: &Site, from: [f32; 3], dir: [f32; 2], d: f32, own: f32) -> bool {
     let mut t = 0.0;
     let mut leaving = true;
     while t < d {

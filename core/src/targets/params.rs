@@ -23,6 +23,11 @@ pub struct TargetParams {
     pub clearance: f32,
     /// Cell of the site grid, metres.
     pub cell: f32,
+    /// Consolidation: a stop serves the gaps within this range it sees,
+    /// metres (0: every generated target is kept).
+    pub stop_range: f32,
+    /// Consolidation: a gap is seen from at most this far off its wall's normal, degrees.
+    pub max_incidence_deg: f32,
 }
 
 impl Default for TargetParams {
@@ -36,6 +41,8 @@ impl Default for TargetParams {
             region_link: 3.0,
             clearance: 1.0,
             cell: 1.0,
+            stop_range: 20.0,
+            max_incidence_deg: 70.0,
         }
     }
 }
@@ -57,6 +64,9 @@ pub enum TargetParamsError {
     /// The field of view is not in (0°, 90°).
     #[error("target parameter `half_fov_deg` must lie in (0, 90), got {0}")]
     Fov(f32),
+    /// The largest incidence angle is not in (0°, 90°).
+    #[error("target parameter `max_incidence_deg` must lie in (0, 90), got {0}")]
+    Incidence(f32),
 }
 
 impl TargetParams {
@@ -91,6 +101,15 @@ impl TargetParams {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(TargetParamsError::NotPositive { name, value });
             }
+        }
+        if !(self.stop_range.is_finite() && self.stop_range >= 0.0) {
+            return Err(TargetParamsError::NotPositive {
+                name: "stop_range",
+                value: self.stop_range,
+            });
+        }
+        if !(self.max_incidence_deg > 0.0 && self.max_incidence_deg < 90.0) {
+            return Err(TargetParamsError::Incidence(self.max_incidence_deg));
         }
         if !(self.half_fov_deg > 0.0 && self.half_fov_deg < 90.0) {
             return Err(TargetParamsError::Fov(self.half_fov_deg));

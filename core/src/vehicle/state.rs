@@ -7,6 +7,11 @@ use super::config::VehicleConfig;
 use super::probe::{Terrain, goal_inside_building};
 use crate::lidar::Caster;
 
+/// The length over which the slope ahead is measured, metres (a small
+/// robot's wheelbase): with the 20° limit, steps up to 36 cm are climbed
+/// (lenient: a city model's surfaces meet with steps of 5–10 cm).
+const INCLINE_BASE_M: f32 = 1.0;
+
 /// Where the vehicle is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VehicleState {
@@ -154,7 +159,16 @@ impl Vehicle {
         let Some(nz) = terrain.ground_height(nx, ny) else {
             return block(self, "the terrain ends ahead".into());
         };
-        let incline = ((nz - p[2]) / step).atan().abs().to_degrees();
+        // Over a wheelbase, not over one time step: a 4 cm step made a 5 cm
+        // curb (or a city model's road surface 5 cm above the built ground)
+        // a 51° wall; a quay wall is still one over 1 m.
+        let base = INCLINE_BASE_M.max(step);
+        let incline = terrain
+            .ground_height(p[0] + c * base, p[1] + s * base)
+            .map_or((nz - p[2]) / step, |az| (az - p[2]) / base)
+            .atan()
+            .abs()
+            .to_degrees();
         if incline > self.config.max_incline_deg {
             return block(self, format!("slope of {incline:.0}° ahead"));
         }
@@ -270,6 +284,45 @@ mod tests {
             "{steps:?}"
         );
         assert!(v.state.position[0] < 20.0);
+    }
+
+    /// The test scene with a raised ground slab of height `h` over x 5..15.
+    fn with_step(h: f32) -> Scene {
+        let mut s = scene();
+        s.objects.push(SceneObject {
+            name: "kerb".into(),
+            kind: ObjectKind::Ground,
+            building: 0,
+        });
+        let b = s.vertices.len() as u32;
+        s.vertices.extend([
+            [5.0, -20.0, h],
+            [15.0, -20.0, h],
+            [15.0, 40.0, h],
+            [5.0, 40.0, h],
+        ]);
+        s.triangles.extend([[b, b + 1, b + 2], [b, b + 2, b + 3]]);
+        s.triangle_object.extend([2, 2]);
+        s
+    }
+
+    #[test]
+    fn climbs_kerbs_but_not_a_quay_wall() {
+        for (h, passes) in [(0.05, true), (0.3, true), (0.6, false), (1.5, false)] {
+            let c = Caster::new(&with_step(h)).unwrap();
+            let mut v = Vehicle::new(VehicleConfig::default(), &c, 0.0, 12.0, 0.0).unwrap();
+            v.set_goal([10.0, 12.0]);
+            let steps = run(&mut v, &c, 30.0);
+            if passes {
+                assert_eq!(steps, vec![Step::Arrived([10.0, 12.0])], "kerb of {h} m");
+            } else {
+                assert!(
+                    matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("slope")),
+                    "step of {h} m: {steps:?}"
+                );
+                assert!(v.state.position[0] < 5.0);
+            }
+        }
     }
 
     #[test]

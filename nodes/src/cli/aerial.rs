@@ -79,12 +79,7 @@ pub fn survey_of(
     params_file: Option<&std::path::Path>,
 ) -> Result<Survey, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    let mut params = ParamSet::default();
-    params.merge_yaml(DEFAULTS, "aerial", "config/aerial.yaml")?;
-    if let Some(f) = params_file {
-        params.merge_file(f, "aerial")?;
-    }
-    let p: Params = params.parse("aerial")?;
+    let p = params(params_file)?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
     let t1 = Instant::now();
     let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
@@ -114,6 +109,50 @@ pub fn survey_of(
         "where_the_gaps_are": gaps,
         "per_building": report.buildings,
         "seconds": {"survey": scan_s, "metrics": metric_s},
+    });
+    Ok(Survey {
+        scene,
+        cloud,
+        gt,
+        tau: p.tau_m,
+        summary,
+    })
+}
+
+/// config/aerial.yaml, then `params_file`.
+fn params(params_file: Option<&std::path::Path>) -> Result<Params, RuntimeError> {
+    let mut params = ParamSet::default();
+    params.merge_yaml(DEFAULTS, "aerial", "config/aerial.yaml")?;
+    if let Some(f) = params_file {
+        params.merge_file(f, "aerial")?;
+    }
+    Ok(params.parse("aerial")?)
+}
+
+/// A real survey (`cloud`, already in the scene's local frame) as the prior
+/// of `scene`: ground truth and completeness measured exactly as for the
+/// simulated survey (same GT spacing and τ, config/aerial.yaml).
+pub fn survey_of_real(
+    scene: Scene,
+    cloud: skyground_core::cloud::Cloud,
+    prior_name: &str,
+) -> Result<Survey, RuntimeError> {
+    let p = params(None)?;
+    let gt = sample_building_surfaces(&scene, p.gt_spacing_m);
+    let report = completeness_of_cloud(&gt, &cloud, p.tau_m);
+    let gaps = gap_profile(&scene, &gt, &cloud.xyz, p.tau_m);
+    let summary = json!({
+        "prior": prior_name,
+        "origin": scene.origin,
+        "buildings": scene.building_count(),
+        "points": cloud.len(),
+        "gt_samples": gt.xyz.len(),
+        "tau_m": p.tau_m,
+        "completeness": report.overall.ratio,
+        "completeness_walls": report.walls.ratio,
+        "completeness_roofs": report.roofs.ratio,
+        "mean_gt_distance_m": report.mean_gt_distance,
+        "where_the_gaps_are": gaps,
     });
     Ok(Survey {
         scene,

@@ -16,6 +16,8 @@ use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
 use skyground_core::plot::{BuildingGain, mission_picture};
+use skyground_core::prior::unlabelled;
+use skyground_core::route::{BudgetParams, route_budget};
 use skyground_core::scene::{Cropped, Scene, load_scene, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
@@ -45,6 +47,9 @@ pub struct DemoArgs {
     /// which every node then loads).
     #[command(flatten)]
     pub crop: super::crop::CropArgs,
+    /// A real aerial survey as the prior (`--prior`, `--prior-margin`).
+    #[command(flatten)]
+    pub prior: super::prior::PriorArgs,
     /// Output directory (aerial.las, resampled.las, mission.mcap, report.*, overview.png, logs).
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
@@ -52,9 +57,11 @@ pub struct DemoArgs {
     /// a loopback-only network namespace).
     #[arg(long)]
     pub no_netns: bool,
-    /// Wall seconds before giving up on the mission.
-    #[arg(long, default_value_t = 600.0)]
-    pub timeout: f64,
+    /// Wall seconds before giving up on the mission; default: the limit
+    /// follows the work (600 s until the first route is known, then each
+    /// round's budget from its length and stops, printed).
+    #[arg(long)]
+    pub timeout: Option<f64>,
     /// Simulated seconds per wall second.
     #[arg(long, default_value_t = 20.0)]
     pub time_factor: f64,
@@ -257,17 +264,18 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.scene(),
         a.out.display()
     );
-    let (scene_spec, scene, crop) = mission_scene(&a)?;
-    let prior = survey_of(scene, &scene_spec, None)?;
+    let (scene_spec, prior, crop) = mission_prior(&a)?;
     let before = completeness_of_cloud(&prior.gt, &prior.cloud, prior.tau);
     let aerial_path = a.out.join("aerial.las");
     // The classifier labels the prior itself: publish it without the simulator's labels.
-    let mut unlabelled = prior.cloud.clone();
-    unlabelled.label = None;
-    unlabelled.building = None;
-    write_cloud(&aerial_path, &unlabelled).map_err(|e| err(e.to_string()))?;
+    write_cloud(&aerial_path, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
     eprintln!(
-        "  airborne prior: {} points, building completeness {:.2} % ({:.1} s)",
+        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
+        if a.prior.files.is_empty() {
+            "airborne prior (simulated)"
+        } else {
+            "real prior"
+        },
         prior.cloud.len(),
         before.overall.ratio.unwrap_or(0.0) * 100.0,
         t0.elapsed().as_secs_f64()
@@ -275,7 +283,12 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let driver = if a.field.field {
         field_driver()
     } else {
-        sim_driver(&prior.scene, &scene_spec, a.time_factor)?
+        sim_driver(
+            &prior.scene,
+            &scene_spec,
+            a.time_factor,
+            (!a.prior.files.is_empty()).then_some(&prior.cloud),
+        )?
     };
 
     let mut record_args = vec![
@@ -300,8 +313,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         ("scene_classifier", vec![]),
         ("completeness_detector", detector_params),
         ("target_generator", vec![]),
-        ("global_planner", vec![]),
-        ("local_explorer", vec![]),
+        ("global_planner", super::prior::graph_params(&a.prior)),
+        ("local_explorer", super::prior::graph_params(&a.prior)),
         driver,
         (
             "cloud_publisher",
@@ -332,7 +345,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         odom.async_stream(),
     );
     futures::pin_mut!(c_s, p_s, v_s, r_s, o_s);
-    let deadline = tokio::time::Instant::now() + Duration::from_secs_f64(a.timeout);
+    let mut limit = TimeLimit::new(&a);
     let mut progress = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let mut w = Watch::default();
@@ -343,7 +356,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut why = String::from("interrupted");
     loop {
         tokio::select! {
-            _ = tokio::time::sleep_until(deadline) => { why = format!("timed out after {} s", a.timeout); break }
+            _ = tokio::time::sleep_until(limit.deadline) => { why = limit.why(t0); break }
             _ = tokio::time::sleep_until(robot_deadline), if a.field.field && w.first_stamp.is_none() => {
                 why = format!("no /state_estimation from a robot within {} s (is it on ROS_DOMAIN_ID {}, and publishing nav_msgs/Odometry there?)", a.field.robot_timeout, rt.domain.domain_id);
                 break
@@ -378,6 +391,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 w.unreachable = (value(s, "unreachable_points").unwrap_or(0), value(s, "unreachable_regions").unwrap_or(0));
                 w.greedy_m = value(s, "greedy_m").unwrap_or(w.greedy_m);
                 w.tsp_m = value(s, "tsp_m").unwrap_or(w.tsp_m);
+                limit.follow(&w, value(s, "target_points").unwrap_or(0), value(s, "target_regions").unwrap_or(0));
                 if s.message == "done" && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
                     w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
                     w.reached_total += w.done.0 + w.done.1;
@@ -458,19 +472,114 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     }
 }
 
+/// The demo's time limit: `--timeout`, or one that follows the work: a
+/// first allowance until a route is known, then each round's budget
+/// ([`route_budget`]) from the moment its route is.
+struct TimeLimit {
+    deadline: tokio::time::Instant,
+    fixed: Option<f64>,
+    budgeted_round: u32,
+    params: BudgetParams,
+}
+
+/// Wall seconds until the first route is known (prior, classification,
+/// detection, targets, graph).
+const FIRST_ROUTE_S: f64 = 600.0;
+
+impl TimeLimit {
+    fn new(a: &DemoArgs) -> Self {
+        let s = a.timeout.unwrap_or(FIRST_ROUTE_S);
+        Self {
+            deadline: tokio::time::Instant::now() + Duration::from_secs_f64(s),
+            fixed: a.timeout,
+            budgeted_round: 0,
+            params: BudgetParams {
+                time_factor: a.time_factor,
+                ..BudgetParams::default()
+            },
+        }
+    }
+
+    /// Gives the planner's current round its budget once its route is known.
+    fn follow(&mut self, w: &Watch, points: usize, regions: usize) {
+        let route_m = [w.tsp_m, w.greedy_m]
+            .into_iter()
+            .filter(|m| *m > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if self.fixed.is_some()
+            || w.planner_round <= self.budgeted_round
+            || !route_m.is_finite()
+            || points + regions == 0
+        {
+            return;
+        }
+        self.budgeted_round = w.planner_round;
+        let perimeters: Vec<f64> = w
+            .targets
+            .regions
+            .iter()
+            .map(|r| perimeter(&r.polygon))
+            .collect();
+        let b = route_budget(route_m, points, &perimeters, &self.params);
+        self.deadline = tokio::time::Instant::now() + Duration::from_secs_f64(b.wall_s);
+        eprintln!(
+            "  round {}: {route_m:.0} m over {points} points and {regions} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now (--timeout fixes one)",
+            w.planner_round, b.sim_s, b.wall_s
+        );
+    }
+
+    fn why(&self, t0: Instant) -> String {
+        match self.fixed {
+            Some(s) => format!("timed out after {s} s (--timeout)"),
+            None => format!(
+                "timed out after {:.0} s: round {} took longer than its budget",
+                t0.elapsed().as_secs_f64(),
+                self.budgeted_round
+            ),
+        }
+    }
+}
+
+/// Length of a closed polygon's outline, metres.
+fn perimeter(ring: &[[f64; 2]]) -> f64 {
+    ring.iter()
+        .zip(ring.iter().cycle().skip(1))
+        .map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1]))
+        .sum()
+}
+
+/// The mission's scene and prior: the simulated airborne survey of
+/// [`mission_scene`], or the real survey of `--prior` over the city model.
+fn mission_prior(
+    a: &DemoArgs,
+) -> Result<(String, super::aerial::Survey, Option<Cropped>), RuntimeError> {
+    if !a.prior.files.is_empty() {
+        return super::prior::real_prior(a);
+    }
+    let (scene_spec, scene, crop) = mission_scene(a)?;
+    let prior = survey_of(scene, &scene_spec, None)?;
+    Ok((scene_spec, prior, crop))
+}
+
 /// vehicle_sim and its parameters: the simulated robot, started at the free
-/// spot nearest the scene's middle.
+/// spot nearest the scene's middle, or on a real prior's largest ground.
 fn sim_driver(
     scene: &Scene,
     scene_spec: &str,
     time_factor: f64,
+    real_prior: Option<&Cloud>,
 ) -> Result<(&'static str, Vec<String>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let caster = Caster::new(scene).map_err(|e| err(e.to_string()))?;
-    let (lo, hi) = caster.bounds().ok_or_else(|| err("empty scene".into()))?;
-    let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-    let start_xy = free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
-        .ok_or_else(|| err("no free spot to start the vehicle".into()))?;
+    let start_xy = match real_prior {
+        Some(cloud) => super::prior::start_on_prior(&caster, cloud)?,
+        None => {
+            let (lo, hi) = caster.bounds().ok_or_else(|| err("empty scene".into()))?;
+            let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+            free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
+                .ok_or_else(|| err("no free spot to start the vehicle".into()))?
+        }
+    };
     Ok((
         "vehicle_sim",
         vec![
@@ -494,7 +603,9 @@ fn field_driver() -> (&'static str, Vec<String>) {
 /// they will read it): `--scene` itself, or its crop written to
 /// OUT/scene.obj (`--crop`; automatic when the scene is too large for the
 /// ground graph).
-fn mission_scene(a: &DemoArgs) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
+pub(super) fn mission_scene(
+    a: &DemoArgs,
+) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let Some(c) = super::crop::apply(&full, &a.scene(), &a.crop)? else {
@@ -586,6 +697,7 @@ fn report(
         // The figures count ground points against this scene's buildings: in
         // field mode they mean something only if the robot drove in this scene.
         "ground_truth": format!("building surfaces of the scene {}", a.scene()),
+        "prior": a.prior.describe(),
         "crop": crop.map(super::crop::to_json),
         "finished": finished,
         "ended_because": why,
@@ -630,8 +742,8 @@ fn report(
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
-        "\n## Mission\n\n| | |\n|---|---|\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer,
+        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        a.prior.describe(), w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer,
         if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s
     ));
     if a.field.field {

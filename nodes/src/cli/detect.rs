@@ -16,7 +16,7 @@ use skyground_core::metrics::{
 use skyground_core::missing::{DetectParams, detect_scene, evaluate, shift_missing};
 use skyground_core::plot::detection_picture_in;
 use skyground_core::scene::load_scene;
-use skyground_core::targets::{Site, TargetParams, generate};
+use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
 use crate::convert::detection::strategy_name;
 use crate::node::scene_classifier::load_model;
@@ -170,7 +170,15 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     let labels = cloud.label.as_deref().unwrap_or_default();
     let site =
         Site::from_cloud(&cloud.xyz, labels, pg.targets.cell, pg.targets.clearance).map_err(err)?;
-    let (targets, dropped) = generate(&detection, &site, &pg.targets).map_err(err)?;
+    let (mut targets, dropped) = generate(&detection, &site, &pg.targets).map_err(err)?;
+    // One stop for every gap it sees, shared between buildings (as target_generator does).
+    let (kept, consolidation) = consolidate(
+        &targets.points,
+        &detection.missing_points(),
+        &site,
+        &pg.targets,
+    );
+    targets.points = kept;
     let targets_s = t2.elapsed().as_secs_f64();
 
     let bpts: Vec<[f32; 3]> = cloud
@@ -250,6 +258,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "target_points": targets.points.len(),
         "target_regions": targets.regions.len(),
         "dropped": dropped,
+        "consolidation": consolidation,
         "footprints_used": used.len(),
         "density": detection.density,
         "detect_params": detection.params,

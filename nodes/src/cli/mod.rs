@@ -14,6 +14,7 @@ pub mod field;
 pub mod info;
 pub mod plan;
 pub mod play;
+pub mod prior;
 pub mod reconstruct;
 pub mod record;
 pub mod sink;

@@ -2,7 +2,9 @@
 //! /completeness, the skeletons on /detection_markers, the site from
 //! /classified_cloud) → ground targets (DESIGN.md step 4): /target_points
 //! for point-based buildings, /target_regions (one LINE_STRIP polygon per
-//! region, ns = building id) for region-based ones. Both latched.
+//! region, ns = building id) for region-based ones. Both latched. Point
+//! targets are consolidated first: one stop for every gap it sees, shared
+//! between buildings.
 
 use std::collections::BTreeMap;
 
@@ -10,7 +12,9 @@ use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
 use skyground_core::missing::{MissingPoint, Strategy};
-use skyground_core::targets::{BuildingPlan, Site, TargetParams, generate_from_missing};
+use skyground_core::targets::{
+    BuildingPlan, Site, TargetParams, consolidate, generate_from_missing,
+};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::std_msgs::Header;
@@ -177,13 +181,20 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             continue;
         }
         let points = missing_points(cloud, skeletons);
-        let (targets, dropped) = match generate_from_missing(&points, strategy, site, &p.targets) {
-            Ok(v) => v,
-            Err(e) => {
-                rt.log.error(&format!("cannot generate targets: {e}"));
-                continue;
-            }
-        };
+        let (mut targets, dropped) =
+            match generate_from_missing(&points, strategy, site, &p.targets) {
+                Ok(v) => v,
+                Err(e) => {
+                    rt.log.error(&format!("cannot generate targets: {e}"));
+                    continue;
+                }
+            };
+        let (kept, merged) = consolidate(&targets.points, &points, site, &p.targets);
+        targets.points = kept;
+        rt.log.info(&format!(
+            "round {round}: consolidated {} target points into {} stops; they see {} of {} missing points ({} before)",
+            merged.stops_before, merged.stops_after, merged.seen_after, merged.missing, merged.seen_before
+        ));
         rt.log.info(&format!(
             "round {round}: {} missing points → {} target points, {} regions; dropped {dropped:?}",
             points.len(),
