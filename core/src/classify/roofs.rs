@@ -149,7 +149,7 @@ fn walls_under_roofs(
     reach: f32,
 ) -> usize {
     const CELL: f32 = 0.5;
-    if !(reach >= 0.0) {
+    if reach.is_nan() || reach < 0.0 {
         return 0;
     }
     // Roof height per 0.5 m cell, spread over the reach around it.
@@ -210,7 +210,12 @@ fn roof_voxels(reps: &[[f32; 3]], check: &RoofCheck) -> (Vec<bool>, usize) {
 
 /// Per voxel: it is a building voxel whose object (building voxels linked
 /// within `link_m`, roof voxels included) holds a roof voxel.
-fn objects_with_roof(reps: &[[f32; 3]], building: &[bool], roof: &[bool], link_m: f32) -> Vec<bool> {
+fn objects_with_roof(
+    reps: &[[f32; 3]],
+    building: &[bool],
+    roof: &[bool],
+    link_m: f32,
+) -> Vec<bool> {
     let members: Vec<usize> = (0..reps.len())
         .filter(|&v| building[v] || roof[v])
         .collect();
@@ -349,7 +354,10 @@ mod tests {
         let counts = check_roofs(&xyz, &hag, &mut lab, &on());
         let wall = &lab[n0..n0 + 400];
         assert!(wall.iter().all(|l| *l == BUILDING), "{counts:?}");
-        assert!(lab[n0 + 400..].iter().all(|l| *l == VEGETATION), "{counts:?}");
+        assert!(
+            lab[n0 + 400..].iter().all(|l| *l == VEGETATION),
+            "{counts:?}"
+        );
         // The wall, and the ridge points the planes left as they came.
         assert!(counts.under_roof >= 400, "{counts:?}");
     }
