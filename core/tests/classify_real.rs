@@ -6,7 +6,7 @@
 //! The floors are the bars where the held-out figure meets them
 //! (AHN3 building F1 0.90, St Barth vegetation F1 0.85, a forest ≤ 1 %
 //! building) and today's figure less a small margin where it does not
-//! (St Barth building F1: 0.878 against 0.90); see the README's
+//! (St Barth building F1: 0.876 against 0.90); see the README's
 //! "Classification on real surveys" table.
 
 use std::path::PathBuf;
