@@ -1,6 +1,6 @@
 //! skyground-core: the ROS-free algorithms of skyground, as pure functions on plain data.
 //!
-//! Modules follow the method's data flow (see DESIGN.md): `cloud`, `crs`, `scene`, `prior` (a real survey as the prior) and
+//! Modules follow the method's data flow (see docs/design.md): `cloud`, `crs`, `scene`, `prior` (a real survey as the prior) and
 //! `lidar` hold the inputs and the simulated world; then `ground` (CSF),
 //! `features`, `forest` and `classify` (step 1), `footprint` (2), `slice`,
 //! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),

@@ -1,5 +1,5 @@
 //! Keeping DDS on this machine: run a command inside a fresh network namespace
-//! that has only loopback (with multicast routed to it), as DESIGN.md asks.
+//! that has only loopback (with multicast routed to it), as docs/design.md asks.
 
 use std::ffi::OsString;
 use std::os::unix::process::CommandExt;

@@ -1,4 +1,4 @@
-//! Step 1 of DESIGN.md as one pipeline: ground from the ground filter,
+//! Step 1 of docs/design.md as one pipeline: ground from the ground filter,
 //! then vegetation vs building by the Random Forest on per-point features;
 //! training on simulated scenes and evaluation against labels.
 //!

@@ -19,7 +19,7 @@ use crate::targets::Region;
 /// so rays skimming the terrain towards a wall's foot are not blocked by it.
 const GROUND_SKIP_M: f32 = 0.35;
 
-/// Local exploration of one region (DESIGN.md step 7).
+/// Local exploration of one region (docs/design.md step 7).
 #[derive(Debug, Clone)]
 pub struct Explorer {
     /// Shared, so the explorer can live in a node beside the route planner.

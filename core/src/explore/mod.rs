@@ -1,4 +1,4 @@
-//! Local exploration of one region (DESIGN.md step 7), TARE-style:
+//! Local exploration of one region (docs/design.md step 7), TARE-style:
 //! candidate viewpoints on the ground graph inside the region, scored by the
 //! still-uncovered surface each would see (range, vertical field of view,
 //! line of sight through known occupancy), chosen greedily with randomized

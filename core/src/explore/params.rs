@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::ExploreError;
 
-/// How a region is explored (DESIGN.md step 7).
+/// How a region is explored (docs/design.md step 7).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExploreParams {

@@ -1,4 +1,4 @@
-//! Per-point features for classification (DESIGN.md step 1): eigen-features
+//! Per-point features for classification (docs/design.md step 1): eigen-features
 //! of each point's k nearest neighbours, of fixed-radius neighbourhoods on a
 //! voxel-thinned cloud, vertical column extents, echoes (multiple returns)
 //! and the height above ground.

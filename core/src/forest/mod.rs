@@ -1,4 +1,4 @@
-//! A Random Forest classifier (DESIGN.md step 1): CART trees with Gini
+//! A Random Forest classifier (docs/design.md step 1): CART trees with Gini
 //! splits on bootstrap samples and random feature subsets, majority vote.
 //! Trees train and predict in parallel (rayon) and the result depends only
 //! on the data and the seed.

@@ -1,4 +1,4 @@
-//! The ground graph (DESIGN.md step 5): ground points downsampled to nodes on
+//! The ground graph (docs/design.md step 5): ground points downsampled to nodes on
 //! a square grid, edges where the vehicle fits (an obstacle map of non-ground
 //! points between ground + clearance and ground + vehicle height, inflated by
 //! the vehicle's radius) and the slope is drivable, cut to the component

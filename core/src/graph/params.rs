@@ -18,7 +18,7 @@ const REACH_PER_SPACING: f32 = 1.52;
 /// about 3.5 km × 3.5 km of ground at the default 0.25 m resolution).
 pub const MAX_OCCUPANCY_CELLS: f64 = 2.0e8;
 
-/// How the ground graph is built (DESIGN.md step 5).
+/// How the ground graph is built (docs/design.md step 5).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GraphParams {

@@ -1,5 +1,5 @@
 //! Ground filtering by the Cloth Simulation Filter (Zhang et al. 2016),
-//! DESIGN.md step 1, and every point's height above the terrain it finds.
+//! docs/design.md step 1, and every point's height above the terrain it finds.
 //!
 //! The cloud is turned upside down (z → −z) and a cloth of particles is
 //! dropped onto it from above: gravity pulls the particles down, springs

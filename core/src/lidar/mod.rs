@@ -1,4 +1,4 @@
-//! Ray casting against scene meshes and simulated LiDAR sensors (DESIGN.md
+//! Ray casting against scene meshes and simulated LiDAR sensors (docs/design.md
 //! step 8 "Vehicle + LiDAR" and the airborne prior of "Scenes").
 //!
 //! - [`Caster`]: a BVH over a [`Scene`](crate::scene::Scene), built once;

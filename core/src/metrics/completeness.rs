@@ -47,7 +47,7 @@ pub struct BuildingCompleteness {
     pub mean_gt_distance: Option<f64>,
 }
 
-/// Completeness of an observed cloud against GT samples (see DESIGN.md "Metrics").
+/// Completeness of an observed cloud against GT samples (see docs/design.md "Metrics").
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 pub struct CompletenessReport {
     /// Coverage radius τ, metres.

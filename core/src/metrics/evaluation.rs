@@ -1,4 +1,4 @@
-//! Before/after evaluation of a mission (DESIGN.md step 9, the paper's
+//! Before/after evaluation of a mission (docs/design.md step 9, the paper's
 //! Table 2): completeness and both distance terms for the aerial prior and
 //! for the merged cloud, overall and per building.
 

@@ -1,4 +1,4 @@
-//! Metrics (DESIGN.md "Metrics"): ground-truth samples of building surfaces,
+//! Metrics (docs/design.md "Metrics"): ground-truth samples of building surfaces,
 //! completeness against an observed cloud, and the two mean-distance terms.
 //!
 //! - [`gt`]: [`sample_building_surfaces`] → [`GtSamples`] (walls + roofs at

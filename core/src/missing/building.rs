@@ -1,4 +1,4 @@
-//! Missing-region detection of one building (DESIGN.md step 3).
+//! Missing-region detection of one building (docs/design.md step 3).
 
 use geo::{Area, CoordsIter, MultiPolygon};
 use rayon::prelude::*;

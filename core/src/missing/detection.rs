@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::skeleton::Skeleton;
 
-/// How a building's gaps should be supplemented (DESIGN.md step 4).
+/// How a building's gaps should be supplemented (docs/design.md step 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Strategy {
     /// R_missing < θ: stand at points that see each gap.

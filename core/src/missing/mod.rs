@@ -1,4 +1,4 @@
-//! Missing-region detection (DESIGN.md step 3, and the choice of step 4):
+//! Missing-region detection (docs/design.md step 3, and the choice of step 4):
 //! per building, the boundary points q_n of each slice contour are tested
 //! against the slice's points along the segment from the nearest skeleton
 //! point s_m; those without enough points near the wall are missing.

@@ -1,4 +1,4 @@
-//! Parameters of missing-region detection (DESIGN.md steps 3–4).
+//! Parameters of missing-region detection (docs/design.md steps 3–4).
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;

@@ -1,4 +1,4 @@
-//! Model accuracy against the ground-truth mesh (DESIGN.md "Metrics"):
+//! Model accuracy against the ground-truth mesh (docs/design.md "Metrics"):
 //! per building, the model's roof and wall faces are sampled (above the
 //! terrain, like the truth's samples) and the truth's samples are measured
 //! to the model and the model's samples to the truth's building mesh; the

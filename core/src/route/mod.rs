@@ -1,4 +1,4 @@
-//! The global route (DESIGN.md step 6): target points snapped to their
+//! The global route (docs/design.md step 6): target points snapped to their
 //! nearest reachable node, regions to the nodes inside them, graph distances
 //! between all of them, and a tour from the start — the paper's greedy
 //! alternation and a nearest-neighbour + 2-opt + Or-opt tour, the shorter one

@@ -16,7 +16,7 @@ pub enum TourChoice {
     Tsp,
 }
 
-/// How targets are tied to the graph and toured (DESIGN.md step 6).
+/// How targets are tied to the graph and toured (docs/design.md step 6).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RouteParams {

@@ -1,4 +1,4 @@
-//! Medial-axis skeleton of a structure's outline (DESIGN.md step 3): a
+//! Medial-axis skeleton of a structure's outline (docs/design.md step 3): a
 //! constrained Delaunay triangulation of the sampled contour, circumcentres
 //! of its inner triangles joined across non-constraint edges, short spurs
 //! pruned.

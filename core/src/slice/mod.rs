@@ -1,4 +1,4 @@
-//! Multi-layer slice projection (DESIGN.md step 3): a building's points cut
+//! Multi-layer slice projection (docs/design.md step 3): a building's points cut
 //! into horizontal bands, each band's 2D contour, and the slice contours
 //! clustered into single structures (podium, towers).
 //!

@@ -1,4 +1,4 @@
-//! Targets from a detection (DESIGN.md step 4): point targets on rays from
+//! Targets from a detection (docs/design.md step 4): point targets on rays from
 //! the skeleton through each missing point, region targets around clusters
 //! of missing boundary.
 

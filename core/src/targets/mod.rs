@@ -1,4 +1,4 @@
-//! Targets for the ground robot (DESIGN.md step 4): points to stand at and
+//! Targets for the ground robot (docs/design.md step 4): points to stand at and
 //! regions to explore. The plain types here are what the detector hands the
 //! planner; how they are generated lives beside them.
 //!

@@ -1,4 +1,4 @@
-//! Parameters of target generation (DESIGN.md step 4; θ lives in detection).
+//! Parameters of target generation (docs/design.md step 4; θ lives in detection).
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;

@@ -1,5 +1,5 @@
 //! The simulated ground vehicle: kinematics, terrain following and collision
-//! checks against the scene (DESIGN.md step 8). ROS-free: `vehicle_sim` drives it.
+//! checks against the scene (docs/design.md step 8). ROS-free: `vehicle_sim` drives it.
 
 mod config;
 mod probe;

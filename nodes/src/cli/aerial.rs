@@ -1,5 +1,5 @@
 //! `skyground aerial`: simulate the airborne survey of a scene and measure how
-//! complete its buildings are in it (DESIGN.md "Scenes", "Metrics").
+//! complete its buildings are in it (docs/design.md "Scenes", "Metrics").
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -1,4 +1,4 @@
-//! `skyground demo`: the whole sky–ground mission over DDS (DESIGN.md steps
+//! `skyground demo`: the whole sky–ground mission over DDS (docs/design.md steps
 //! 1–9). Every node is a process of its own on one domain; this process
 //! starts them, watches the mission's topics, closes the loop round by
 //! round, stops everything in order and proves the gain against ground

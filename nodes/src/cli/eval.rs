@@ -1,5 +1,5 @@
 //! `skyground eval`: the before/after evaluation of a mission offline
-//! (DESIGN.md "Metrics"): an aerial cloud and a merged cloud against a scene.
+//! (docs/design.md "Metrics"): an aerial cloud and a merged cloud against a scene.
 
 use std::path::{Path, PathBuf};
 

@@ -1,5 +1,5 @@
 //! `skyground reconstruct`: LoD2 models of a cloud's buildings
-//! (DESIGN.md step 10), written as CityJSON 2.0 and OBJ; with `--gt`,
+//! (docs/design.md step 10), written as CityJSON 2.0 and OBJ; with `--gt`,
 //! their accuracy against a scene's buildings.
 
 use std::path::{Path, PathBuf};

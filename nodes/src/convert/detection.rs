@@ -1,4 +1,4 @@
-//! Detection results (DESIGN.md step 3) as messages: /missing_points,
+//! Detection results (docs/design.md step 3) as messages: /missing_points,
 //! /completeness and the contour / skeleton markers.
 
 use geo::MultiPolygon;

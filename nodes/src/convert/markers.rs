@@ -125,7 +125,7 @@ fn identity_pose() -> skyground_msgs::geometry_msgs::Pose {
 }
 
 /// Regions as a MarkerArray: one closed LINE_STRIP per region, ns = the
-/// building id, ids counting per building (DESIGN.md /target_regions).
+/// building id, ids counting per building (docs/design.md /target_regions).
 pub fn regions_to_markers(header: &Header, regions: &[Region]) -> MarkerArray {
     let mut markers = vec![delete_all(header)];
     let mut per_building = std::collections::BTreeMap::<u32, i32>::new();

@@ -1,5 +1,5 @@
 //! completeness_detector: /classified_cloud (+ footprints, + /resampled_cloud
-//! in later rounds) → per building, where the walls are missing (DESIGN.md
+//! in later rounds) → per building, where the walls are missing (docs/design.md
 //! steps 2–3) → /missing_points, /completeness, /detection_markers.
 
 use std::path::Path;

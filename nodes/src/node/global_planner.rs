@@ -1,6 +1,6 @@
 //! global_planner: /classified_cloud + /target_points + /target_regions +
 //! /state_estimation → a ground graph, one route over every reachable
-//! target (DESIGN.md steps 5–6) → /global_path, then the route leg by leg on
+//! target (docs/design.md steps 5–6) → /global_path, then the route leg by leg on
 //! /local_path; regions are handed to local_explorer on /active_region and
 //! taken back when /explorer_status says it is done. Progress (and what was
 //! visited, so a restarted planner goes on) is on /planner_status.

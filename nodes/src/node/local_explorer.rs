@@ -1,5 +1,5 @@
 //! local_explorer: TARE-style exploration of the region the global planner
-//! hands over on /active_region (DESIGN.md step 7): viewpoints on the ground
+//! hands over on /active_region (docs/design.md step 7): viewpoints on the ground
 //! graph inside it, scored by the missing wall they would see, visited in a
 //! short tour on /local_path until the gain per metre runs out; then "done"
 //! on /explorer_status. Every building point the vehicle scans is merged

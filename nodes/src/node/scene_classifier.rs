@@ -1,5 +1,5 @@
 //! scene_classifier: /aerial_cloud → ground by CSF, vegetation vs building by
-//! the Random Forest → /classified_cloud (label field, latched). DESIGN.md step 1.
+//! the Random Forest → /classified_cloud (label field, latched). docs/design.md step 1.
 
 use std::path::Path;
 

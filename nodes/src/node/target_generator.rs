@@ -1,6 +1,6 @@
 //! target_generator: /missing_points (+ the strategy per building on
 //! /completeness, the skeletons on /detection_markers, the site from
-//! /classified_cloud) → ground targets (DESIGN.md step 4): /target_points
+//! /classified_cloud) → ground targets (docs/design.md step 4): /target_points
 //! for point-based buildings, /target_regions (one LINE_STRIP polygon per
 //! region, ns = building id) for region-based ones. Both latched. Point
 //! targets are consolidated first: one stop for every gap it sees, shared

@@ -1,4 +1,4 @@
-//! The QoS profiles skyground topics use (DESIGN.md topic table), said explicitly
+//! The QoS profiles skyground topics use (docs/design.md topic table), said explicitly
 //! because ros2-client's subscription default is best effort, depth 1.
 
 use ros2_client::QosProfile;
