@@ -5,7 +5,7 @@
 //! points on a large plane are building, and building points with no large
 //! plane in reach are vegetation.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::num::NonZeroUsize;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -96,7 +96,9 @@ pub fn check_roofs(
                 && xyz[i].iter().all(|v| v.is_finite())
         })
         .collect();
-    // One representative per voxel; every candidate knows its voxel.
+    // One representative per voxel, its first point; every candidate knows
+    // its voxel. (`features::voxel::thin` gives centroids, which move the
+    // held-out figures the shipped settings were reported with.)
     let inv = 1.0 / check.voxel_m.max(1e-3);
     let mut voxel_of: HashMap<[i32; 3], u32> = HashMap::new();
     let mut reps: Vec<[f32; 3]> = Vec::new();
@@ -112,9 +114,8 @@ pub fn check_roofs(
     if reps.len() <= check.k {
         return counts;
     }
-    let roof = roof_voxels(&reps, check);
-    counts.roofs = roof.1;
-    let roof = roof.0;
+    let (roof, roofs) = roof_voxels(&reps, check);
+    counts.roofs = roofs;
     // Building voxels: those holding a building point after the forest.
     let mut building = vec![false; reps.len()];
     for (n, &i) in cand.iter().enumerate() {
@@ -190,8 +191,7 @@ fn roof_voxels(reps: &[[f32; 3]], check: &RoofCheck) -> (Vec<bool>, usize) {
     };
     let nb = neighbourhoods(reps, check.k);
     let (planes, label) = grow_planes_with(reps, &nb, &params, false);
-    let mut cells: Vec<std::collections::HashSet<[i32; 2]>> =
-        vec![std::collections::HashSet::new(); planes.len()];
+    let mut cells: Vec<HashSet<[i32; 2]>> = vec![HashSet::new(); planes.len()];
     for (p, &l) in reps.iter().zip(&label) {
         if l != NO_PLANE {
             cells[l as usize].insert([(p[0] * 2.0).floor() as i32, (p[1] * 2.0).floor() as i32]);
@@ -249,14 +249,14 @@ fn objects_with_roof(
             uf.union(a, b as usize);
         }
     }
-    let mut has_roof: HashMap<usize, bool> = HashMap::new();
+    let with_roof: HashSet<usize> = members
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| roof[**v])
+        .map(|(a, _)| uf.find(a))
+        .collect();
     for (a, &v) in members.iter().enumerate() {
-        if roof[v] {
-            has_roof.insert(uf.find(a), true);
-        }
-    }
-    for (a, &v) in members.iter().enumerate() {
-        keep[v] = has_roof.contains_key(&uf.find(a));
+        keep[v] = with_roof.contains(&uf.find(a));
     }
     keep
 }

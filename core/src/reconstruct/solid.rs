@@ -374,8 +374,9 @@ mod tests {
     use super::super::partition::{Grid, regions, trace};
     use super::*;
 
-    #[test]
-    fn gable_and_tower_shells_are_closed() {
+    /// The traced partition of a 10 × 8 m block on a 1 m grid (one empty
+    /// cell around it), cell (i, j) labelled by `label`, and each region's label.
+    fn partition(label: impl Fn(usize, usize) -> u32) -> (Partition, Vec<u32>) {
         let g = Grid {
             lo: [0.0, 0.0],
             cell: 1.0,
@@ -385,18 +386,25 @@ mod tests {
         let mut labels = vec![0u32; 120];
         for j in 1..9 {
             for i in 1..11 {
-                // Two gable halves (1, 2) and a tower (3) on the south half.
-                labels[j * 12 + i] = if (7..10).contains(&i) && (2..4).contains(&j) {
-                    3
-                } else if j < 5 {
-                    1
-                } else {
-                    2
-                };
+                labels[j * 12 + i] = label(i, j);
             }
         }
         let (region, code) = regions(&g, &mut labels, 1);
-        let mut p = trace(&g, &region, code.len() as u32, 0.3);
+        (trace(&g, &region, code.len() as u32, 0.3), code)
+    }
+
+    #[test]
+    fn gable_and_tower_shells_are_closed() {
+        // Two gable halves (1, 2) and a tower (3) on the south half.
+        let (mut p, code) = partition(|i, j| {
+            if (7..10).contains(&i) && (2..4).contains(&j) {
+                3
+            } else if j < 5 {
+                1
+            } else {
+                2
+            }
+        });
         let h = move |r: u32, xy: [f64; 2]| match r {
             0 => 0.0,
             r => match code[r as usize - 1] {
@@ -434,26 +442,15 @@ mod tests {
 
     #[test]
     fn a_crossing_hidden_by_level_merging_is_split() {
-        let g = Grid {
-            lo: [0.0, 0.0],
-            cell: 1.0,
-            nx: 12,
-            ny: 10,
-        };
-        let mut labels = vec![0u32; 120];
-        for j in 1..9 {
-            for i in 1..11 {
-                labels[j * 12 + i] = if j >= 7 {
-                    3
-                } else if i < 6 {
-                    1
-                } else {
-                    2
-                };
+        let (mut p, code) = partition(|i, j| {
+            if j >= 7 {
+                3
+            } else if i < 6 {
+                1
+            } else {
+                2
             }
-        }
-        let (region, code) = regions(&g, &mut labels, 1);
-        let mut p = trace(&g, &region, code.len() as u32, 0.3);
+        });
         // Where regions 1, 2 and 3 meet (y = 7), 1 is 1 cm above 2 but
         // 2 merges into 3's level and 1 does not, so 1 reads higher there;
         // at the south end 2 is a metre higher.
