@@ -21,6 +21,18 @@ pub enum FootprintError {
         /// What is wrong.
         source: ParseError,
     },
+    /// The file names a horizontal CRS other than the cloud's.
+    #[error(
+        "{path}: the footprints are in {file} but the cloud in {cloud}: reproject the footprints to the cloud's CRS first (e.g. ogr2ogr -t_srs)"
+    )]
+    CrsMismatch {
+        /// The file.
+        path: PathBuf,
+        /// The CRS the file names.
+        file: String,
+        /// The cloud's CRS.
+        cloud: String,
+    },
     /// Neither the extension nor the content says GeoJSON, CityJSON or OBJ.
     #[error(
         "{path}: unknown footprint format (expected .geojson/.json GeoJSON, CityJSON .json, or .obj)"
