@@ -78,6 +78,27 @@ impl GroundGraph {
         start: [f32; 3],
         params: &GraphParams,
     ) -> Result<Self, GraphError> {
+        Self::build_from(xyz, labels, Some(start), params)
+    }
+
+    /// Builds the graph and keeps its largest component, starting at that
+    /// component's node nearest its middle: where a robot set down on a
+    /// survey nobody has walked reaches most (a real tile's ground comes in
+    /// hundreds of pieces, and its middle may stand on one of a few nodes).
+    pub fn build_largest(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        params: &GraphParams,
+    ) -> Result<Self, GraphError> {
+        Self::build_from(xyz, labels, None, params)
+    }
+
+    fn build_from(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        start: Option<[f32; 3]>,
+        params: &GraphParams,
+    ) -> Result<Self, GraphError> {
         params.validate()?;
         if labels.len() != xyz.len() {
             return Err(GraphError::LabelLength {
@@ -132,33 +153,42 @@ impl GroundGraph {
             &frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params,
         );
 
-        let start_node = nearest_in(
-            &frame,
-            &cell_cand,
-            &cand_pos,
-            [start[0], start[1]],
-            params.max_start_snap_m,
-        )
-        .ok_or(GraphError::StartOffGraph {
-            x: start[0],
-            y: start[1],
-            distance: nearest_in(
-                &frame,
-                &cell_cand,
-                &cand_pos,
-                [start[0], start[1]],
-                f32::INFINITY,
-            )
-            .map_or(f32::INFINITY, |(_, d)| d),
-            max: params.max_start_snap_m,
-        })?
-        .0;
+        let snapped = match start {
+            Some(start) => Some(
+                nearest_in(
+                    &frame,
+                    &cell_cand,
+                    &cand_pos,
+                    [start[0], start[1]],
+                    params.max_start_snap_m,
+                )
+                .ok_or(GraphError::StartOffGraph {
+                    x: start[0],
+                    y: start[1],
+                    distance: nearest_in(
+                        &frame,
+                        &cell_cand,
+                        &cand_pos,
+                        [start[0], start[1]],
+                        f32::INFINITY,
+                    )
+                    .map_or(f32::INFINITY, |(_, d)| d),
+                    max: params.max_start_snap_m,
+                })?
+                .0,
+            ),
+            None => None,
+        };
 
         let mut uf = UnionFind::<usize>::new(cand_pos.len());
         for &(a, b, _) in &edges {
             uf.union(a as usize, b as usize);
         }
         let labels_cc = uf.into_labeling();
+        let start_node = match snapped {
+            Some(n) => n,
+            None => middle_of_largest(&labels_cc, &cand_pos).ok_or(GraphError::NoGround)?,
+        };
         let keep_label = labels_cc[start_node];
         let mut other = std::collections::HashSet::new();
         let mut new_index = vec![u32::MAX; cand_pos.len()];
@@ -478,4 +508,23 @@ fn csr(n: usize, edges: &[(u32, u32, f32)]) -> (Vec<usize>, Vec<u32>, Vec<f32>) 
         }
     }
     (deg, adj, w)
+}
+
+/// The node of the largest component (ties: the lowest label) nearest
+/// (xy) that component's mean position.
+fn middle_of_largest(labels: &[usize], pos: &[[f32; 3]]) -> Option<usize> {
+    let mut count = std::collections::HashMap::<usize, usize>::new();
+    for &l in labels {
+        *count.entry(l).or_default() += 1;
+    }
+    let (&largest, _) = count
+        .iter()
+        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0)))?;
+    let members = || (0..labels.len()).filter(move |&i| labels[i] == largest);
+    let n = members().count() as f32;
+    let mean = members().fold([0.0f32; 2], |m, i| {
+        [m[0] + pos[i][0] / n, m[1] + pos[i][1] / n]
+    });
+    let d = |i: &usize| (pos[*i][0] - mean[0]).powi(2) + (pos[*i][1] - mean[1]).powi(2);
+    members().min_by(|a, b| d(a).total_cmp(&d(b)))
 }
