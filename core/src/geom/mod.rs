@@ -1,0 +1,10 @@
+//! The shared geometry layer: one implementation of each small geometric
+//! concept the pipeline steps use, on the field's crates.
+//!
+//! - [`eigen`]: the 3×3 symmetric eigen solver (nalgebra).
+//! - [`segment`]: point-to-segment projection and distance in the plane (geo).
+//! - [`ring`]: point-in-polygon for a ring of points (geo).
+
+pub mod eigen;
+pub mod ring;
+pub mod segment;
