@@ -11,7 +11,7 @@ use skyground_core::lidar::bench::street_poses;
 use skyground_core::lidar::spinning::revolution_rays;
 use skyground_core::lidar::synthetic::dense_scene;
 use skyground_core::lidar::{
-    AirborneConfig, Caster, LidarConfig, Ray, airborne_scan, bench_rays, scan,
+    AirborneConfig, CastBackend, Caster, LidarConfig, Ray, airborne_scan, bench_rays, scan,
 };
 use skyground_core::scene::{REFERENCE_SEED, Scene, reference_scene};
 
@@ -28,6 +28,40 @@ fn print_figures(name: &str, scene: &Scene) {
             f.rays
         ),
         Err(e) => eprintln!("{name}: {e}"),
+    }
+}
+
+/// The two ray-cast backends side by side on the reference scene: build and
+/// VLP-16 revolutions from 4 street poses, one thread and the rayon pool.
+fn backends(c: &mut Criterion) {
+    let reference = reference_scene(REFERENCE_SEED);
+    let config = LidarConfig::default();
+    for (name, backend) in [("bvh", CastBackend::Bvh), ("parry", CastBackend::Parry)] {
+        let mut g = c.benchmark_group(format!("backend_build_reference/{name}"));
+        g.sample_size(10);
+        g.bench_function("build", |b| {
+            b.iter(|| {
+                Caster::with_backend(black_box(&reference), backend).map(|c| c.triangle_count())
+            })
+        });
+        g.finish();
+        let Ok(rc) = Caster::with_backend(&reference, backend) else {
+            eprintln!("reference scene did not build with {name}");
+            return;
+        };
+        let rays: Vec<Ray> = street_poses(&rc, 4)
+            .iter()
+            .flat_map(|p| revolution_rays(&config, p))
+            .collect();
+        let mut g = c.benchmark_group(format!("backend_cast_reference/{name}"));
+        g.throughput(Throughput::Elements(rays.len() as u64));
+        g.bench_function("one_thread", |b| {
+            b.iter(|| rays.iter().filter_map(|r| rc.cast_ray(r)).count())
+        });
+        g.bench_function("cast_many", |b| {
+            b.iter(|| rc.cast_many(black_box(&rays)).len())
+        });
+        g.finish();
     }
 }
 
@@ -104,6 +138,7 @@ fn main() {
         .warm_up_time(std::time::Duration::from_secs(1))
         .measurement_time(std::time::Duration::from_secs(3))
         .configure_from_args();
+    backends(&mut c);
     benches(&mut c);
     c.final_summary();
 }
