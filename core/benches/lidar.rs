@@ -31,13 +31,31 @@ fn print_figures(name: &str, scene: &Scene) {
     }
 }
 
-/// The two ray-cast backends side by side on the reference scene: build and
-/// VLP-16 revolutions from 4 street poses, one thread and the rayon pool.
-fn backends(c: &mut Criterion) {
-    let reference = reference_scene(REFERENCE_SEED);
+/// Times VLP-16 revolutions from 4 street poses of `caster` as group `name`,
+/// one thread and the rayon pool.
+fn cast_group(c: &mut Criterion, name: &str, caster: &Caster) {
     let config = LidarConfig::default();
+    let rays: Vec<Ray> = street_poses(caster, 4)
+        .iter()
+        .flat_map(|p| revolution_rays(&config, p))
+        .collect();
+    let mut g = c.benchmark_group(name);
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    g.bench_function("one_thread", |b| {
+        b.iter(|| rays.iter().filter_map(|r| caster.cast_ray(r)).count())
+    });
+    g.bench_function("cast_many", |b| {
+        b.iter(|| caster.cast_many(black_box(&rays)).len())
+    });
+    g.finish();
+}
+
+/// The two ray-cast backends side by side on the reference scene (build,
+/// then casting), and an airborne survey with the default one.
+fn reference(c: &mut Criterion) {
+    let reference = reference_scene(REFERENCE_SEED);
     for (name, backend) in [("bvh", CastBackend::Bvh), ("parry", CastBackend::Parry)] {
-        let mut g = c.benchmark_group(format!("backend_build_reference/{name}"));
+        let mut g = c.benchmark_group(format!("build_reference/{name}"));
         g.sample_size(10);
         g.bench_function("build", |b| {
             b.iter(|| {
@@ -45,24 +63,20 @@ fn backends(c: &mut Criterion) {
             })
         });
         g.finish();
-        let Ok(rc) = Caster::with_backend(&reference, backend) else {
-            eprintln!("reference scene did not build with {name}");
-            return;
-        };
-        let rays: Vec<Ray> = street_poses(&rc, 4)
-            .iter()
-            .flat_map(|p| revolution_rays(&config, p))
-            .collect();
-        let mut g = c.benchmark_group(format!("backend_cast_reference/{name}"));
-        g.throughput(Throughput::Elements(rays.len() as u64));
-        g.bench_function("one_thread", |b| {
-            b.iter(|| rays.iter().filter_map(|r| rc.cast_ray(r)).count())
-        });
-        g.bench_function("cast_many", |b| {
-            b.iter(|| rc.cast_many(black_box(&rays)).len())
-        });
-        g.finish();
+        match Caster::with_backend(&reference, backend) {
+            Ok(rc) => cast_group(c, &format!("cast_reference/{name}"), &rc),
+            Err(e) => eprintln!("reference scene did not build with {name}: {e}"),
+        }
     }
+    let Ok(rc) = Caster::new(&reference) else {
+        return;
+    };
+    let mut g = c.benchmark_group("airborne_reference");
+    g.sample_size(10);
+    g.bench_function("default_survey", |b| {
+        b.iter(|| airborne_scan(&rc, &AirborneConfig::default()).map(|c| c.len()))
+    });
+    g.finish();
 }
 
 fn benches(c: &mut Criterion) {
@@ -78,45 +92,9 @@ fn benches(c: &mut Criterion) {
         eprintln!("dense scene did not build");
         return;
     };
+    cast_group(c, "cast_dense_1M", &caster);
     let config = LidarConfig::default();
     let poses = street_poses(&caster, 4);
-    let rays: Vec<Ray> = poses
-        .iter()
-        .flat_map(|p| revolution_rays(&config, p))
-        .collect();
-    let mut g = c.benchmark_group("cast_dense_1M");
-    g.throughput(Throughput::Elements(rays.len() as u64));
-    g.bench_function("one_thread", |b| {
-        b.iter(|| rays.iter().filter_map(|r| caster.cast_ray(r)).count())
-    });
-    g.bench_function("cast_many", |b| {
-        b.iter(|| caster.cast_many(black_box(&rays)).len())
-    });
-    g.finish();
-
-    let reference = reference_scene(REFERENCE_SEED);
-    if let Ok(rc) = Caster::new(&reference) {
-        let rays: Vec<Ray> = street_poses(&rc, 4)
-            .iter()
-            .flat_map(|p| revolution_rays(&config, p))
-            .collect();
-        let mut g = c.benchmark_group("cast_reference");
-        g.throughput(Throughput::Elements(rays.len() as u64));
-        g.bench_function("one_thread", |b| {
-            b.iter(|| rays.iter().filter_map(|r| rc.cast_ray(r)).count())
-        });
-        g.bench_function("cast_many", |b| {
-            b.iter(|| rc.cast_many(black_box(&rays)).len())
-        });
-        g.finish();
-        let mut g = c.benchmark_group("airborne_reference");
-        g.sample_size(10);
-        g.bench_function("default_survey", |b| {
-            b.iter(|| airborne_scan(&rc, &AirborneConfig::default()).map(|c| c.len()))
-        });
-        g.finish();
-    }
-
     let mut g = c.benchmark_group("scan_dense_1M");
     g.throughput(Throughput::Elements(
         (config.columns() * config.beams as usize) as u64,
@@ -138,7 +116,7 @@ fn main() {
         .warm_up_time(std::time::Duration::from_secs(1))
         .measurement_time(std::time::Duration::from_secs(3))
         .configure_from_args();
-    backends(&mut c);
+    reference(&mut c);
     benches(&mut c);
     c.final_summary();
 }

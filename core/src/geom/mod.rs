@@ -3,11 +3,13 @@
 //!
 //! - [`eigen`]: the 3×3 symmetric eigen solver (nalgebra).
 //! - [`segment`]: point-to-segment projection and distance in the plane (geo).
+//! - [`grid`]: the 2D grid frame and the occupancy rasters' morphology.
 //! - [`ring`]: point-in-polygon for a ring of points (geo).
 //! - `fixtures` (tests only): point sets the unit tests share.
 
 pub mod eigen;
 #[cfg(test)]
 pub(crate) mod fixtures;
+pub mod grid;
 pub mod ring;
 pub mod segment;
