@@ -33,6 +33,16 @@ fn real(name: &str) -> Option<Cloud> {
     Some(read_cloud(&path).unwrap_or_else(|e| panic!("{name}: {e}")))
 }
 
+/// The ground filter's total error against the producer's class 2 is at most 5 %.
+fn assert_ground(name: &str, cloud: &Cloud) {
+    let g = ground_error(name, cloud);
+    assert!(
+        g.total_error <= 0.05,
+        "{name}: ground total error {}",
+        g.total_error
+    );
+}
+
 /// The ground filter's total error against the producer's class 2.
 fn ground_error(name: &str, cloud: &Cloud) -> GroundReport {
     let labels = cloud.label.as_ref().expect("labelled file");
@@ -169,12 +179,7 @@ fn assert_open_bars(name: &str, b: &Bars) {
 fn ign_montpellier_ground_detection_and_graph() {
     let name = "ign_montpellier_150x100m.laz";
     let Some(cloud) = real(name) else { return };
-    let g = ground_error(name, &cloud);
-    assert!(
-        g.total_error <= 0.05,
-        "ground total error {}",
-        g.total_error
-    );
+    assert_ground(name, &cloud);
     assert_met_bars(name, &detect_and_plan(name, &cloud));
 }
 
@@ -182,24 +187,14 @@ fn ign_montpellier_ground_detection_and_graph() {
 fn ign_stbarth_ground() {
     let name = "ign_stbarth_100x100m.laz";
     let Some(cloud) = real(name) else { return };
-    let g = ground_error(name, &cloud);
-    assert!(
-        g.total_error <= 0.05,
-        "ground total error {}",
-        g.total_error
-    );
+    assert_ground(name, &cloud);
 }
 
 #[test]
 fn ahn3_delft_detection_and_graph() {
     for name in ["ahn3_delft_1.laz", "ahn3_delft_2.laz"] {
         let Some(cloud) = real(name) else { return };
-        let g = ground_error(name, &cloud);
-        assert!(
-            g.total_error <= 0.05,
-            "ground total error {}",
-            g.total_error
-        );
+        assert_ground(name, &cloud);
         assert_met_bars(name, &detect_and_plan(name, &cloud));
     }
 }

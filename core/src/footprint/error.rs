@@ -75,6 +75,13 @@ pub enum ParseError {
     },
 }
 
+/// A [`ParseError::Shape`] saying `what`.
+pub(super) fn shape(what: &str) -> ParseError {
+    ParseError::Shape {
+        what: what.to_string(),
+    }
+}
+
 /// Why one polygon of a file was skipped (the file still loads).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RingProblem {

@@ -1,7 +1,6 @@
 //! The ground graph: nodes on open ground, edges the vehicle can drive,
 //! only the part reachable from the start.
 
-use petgraph::graph::UnGraph;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
@@ -10,8 +9,8 @@ use super::error::GraphError;
 use super::grid::GridFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
-use super::polygon::contains;
 use crate::density::Density;
+use crate::geom::ring::Ring;
 
 /// Ground cells this far from known ground still get a height, so walls at
 /// the edge of large roofs are measured against the street beside them.
@@ -46,8 +45,6 @@ pub struct GraphReport {
 /// connected component of the start.
 #[derive(Debug, Clone)]
 pub struct GroundGraph {
-    /// The graph (node weight: position; edge weight: length in metres).
-    pub(super) graph: UnGraph<[f32; 3], f32>,
     /// Node positions (the node's index is its position here).
     pub(super) positions: Vec<[f32; 3]>,
     /// Distance (xy) from each node to the nearest obstacle, metres (capped at 8).
@@ -203,15 +200,10 @@ impl GroundGraph {
                 other.insert(l);
             }
         }
-        let mut graph = UnGraph::<[f32; 3], f32>::with_capacity(positions.len(), edges.len());
-        for p in &positions {
-            graph.add_node(*p);
-        }
         let mut kept_edges = Vec::new();
         for &(a, b, w) in &edges {
             let (a, b) = (new_index[a as usize], new_index[b as usize]);
             if a != u32::MAX && b != u32::MAX {
-                graph.add_edge(a.into(), b.into(), w);
                 kept_edges.push((a, b, w));
             }
         }
@@ -233,7 +225,6 @@ impl GroundGraph {
             node_grid_cells: frame.len(),
         };
         Ok(Self {
-            graph,
             start: new_index[start_node] as usize,
             positions,
             clearance,
@@ -248,11 +239,6 @@ impl GroundGraph {
             params: params.clone(),
             blocked_spots: Vec::new(),
         })
-    }
-
-    /// The petgraph graph (node weight: position; edge weight: metres).
-    pub fn graph(&self) -> &UnGraph<[f32; 3], f32> {
-        &self.graph
     }
 
     /// Node positions; node `i` is at `positions()[i]`.
@@ -270,12 +256,14 @@ impl GroundGraph {
         self.positions.is_empty()
     }
 
-    /// Edges as `(a, b, length_m)`, each once.
+    /// Edges as `(a, b, length_m)` with `a < b`, each once (cut ones at infinite length).
     pub fn edges(&self) -> Vec<(usize, usize, f32)> {
-        self.graph
-            .raw_edges()
-            .iter()
-            .map(|e| (e.source().index(), e.target().index(), e.weight))
+        (0..self.positions.len())
+            .flat_map(|u| {
+                (self.adj_start[u]..self.adj_start[u + 1])
+                    .map(move |e| (u, self.adj[e] as usize, self.adj_w[e]))
+                    .filter(|&(u, v, _)| u < v)
+            })
             .collect()
     }
 
@@ -337,10 +325,11 @@ impl GroundGraph {
 
     /// Nodes whose xy lies inside `polygon` (a ring, open or closed).
     pub fn nodes_in_polygon(&self, polygon: &[[f64; 2]]) -> Vec<usize> {
+        let ring = Ring::new(polygon);
         self.positions
             .iter()
             .enumerate()
-            .filter(|(_, p)| contains(polygon, [f64::from(p[0]), f64::from(p[1])]))
+            .filter(|(_, p)| ring.contains([f64::from(p[0]), f64::from(p[1])]))
             .map(|(i, _)| i)
             .filter(|&i| self.indexed(i))
             .collect()
