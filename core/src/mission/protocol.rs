@@ -7,6 +7,7 @@
 use std::str::FromStr;
 
 use crate::route::Visited;
+use crate::vehicle::{Step, VehicleState};
 
 /// `DiagnosticStatus.level` OK.
 pub const OK: u8 = 0;
@@ -443,6 +444,22 @@ impl VehicleStatus {
         })
     }
 
+    /// What a simulated vehicle's step says, if anything (arrived or blocked).
+    pub fn from_step(name: &str, step: &Step, state: &VehicleState) -> Option<Self> {
+        let (event, goal) = match step {
+            Step::Arrived(goal) => (VehicleEvent::Arrived, *goal),
+            Step::Blocked { goal, reason } => (VehicleEvent::Blocked(reason.clone()), *goal),
+            Step::Idle | Step::Moving => return None,
+        };
+        Some(VehicleStatus {
+            name: name.into(),
+            event,
+            goal,
+            at: [state.position[0], state.position[1]],
+            odometer_m: f64::from(state.odometer),
+        })
+    }
+
     /// Whether it is about the pose `goal` (xy within 1 mm).
     pub fn is_for(&self, goal: [f32; 3]) -> bool {
         (self.goal[0] - goal[0]).abs() < 1e-3 && (self.goal[1] - goal[1]).abs() < 1e-3
@@ -533,6 +550,28 @@ mod tests {
             let s = VehicleStatus { name: "vehicle_sim".into(), event, goal: [g.0, g.1], at: [at.0, at.1], odometer_m: odo };
             prop_assert_eq!(VehicleStatus::from_wire(&s.to_wire()), Ok(s));
         }
+    }
+
+    #[test]
+    fn a_vehicle_step_says_arrived_or_blocked_and_nothing_else() {
+        let state = VehicleState {
+            position: [3.0, 4.0, 1.0],
+            yaw: 0.0,
+            speed: 0.0,
+            yaw_rate: 0.0,
+            odometer: 12.5,
+        };
+        let blocked = Step::Blocked {
+            goal: [5.0, 6.0],
+            reason: "wall".into(),
+        };
+        let s = VehicleStatus::from_step("vehicle_sim", &blocked, &state).expect("a status");
+        assert_eq!(s.event, VehicleEvent::Blocked("wall".into()));
+        assert_eq!((s.goal, s.at, s.odometer_m), ([5.0, 6.0], [3.0, 4.0], 12.5));
+        assert_eq!(s.to_wire().level, WARN);
+        let arrived = VehicleStatus::from_step("vehicle_sim", &Step::Arrived([5.0, 6.0]), &state);
+        assert_eq!(arrived.map(|s| s.event), Some(VehicleEvent::Arrived));
+        assert_eq!(VehicleStatus::from_step("v", &Step::Moving, &state), None);
     }
 
     #[test]
