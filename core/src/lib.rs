@@ -22,6 +22,7 @@ pub mod ground;
 pub mod lidar;
 pub mod metrics;
 pub mod missing;
+pub mod mission;
 pub mod plot;
 pub mod prior;
 pub mod reconstruct;

@@ -150,10 +150,14 @@ def test_region_is_explored_and_its_coverage_rises(spawn, ros, prior):
     assert exploring, f"region {region} was never reported exploring: {states()[:5]}"
     before, after = float(exploring[0]["coverage"]), float(finished["coverage"])
 
-    # The region the planner handed over: the one on /active_region with that index.
-    handed = [m for a in active.msgs for m in a.markers
-              if m.action == Marker.ADD and m.type == Marker.LINE_STRIP and str(m.id) == region]
-    assert handed and handed[0].text == f"round {rnd}", [(m.id, m.text) for a in active.msgs for m in a.markers]
+    # The region the planner handed over: /planner_status names its index, building and round,
+    # /active_region carries its polygon (ns = the building).
+    named = [values(s) for a in planner.msgs for s in a.status
+             if values(s).get("active_region") == region and values(s).get("round") == rnd]
+    assert named, f"/planner_status never named region {region} of round {rnd}"
+    handed = [m for a in active.msgs for m in a.markers if m.action == Marker.ADD
+              and m.type == Marker.LINE_STRIP and m.ns == named[0]["active_building"]]
+    assert handed, [(m.ns, m.id) for a in active.msgs for m in a.markers]
     poly, samples = surface(handed[0])
 
     # Independent look: the region's missing wall samples near a point of the aerial prior, then

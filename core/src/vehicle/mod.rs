@@ -3,8 +3,10 @@
 
 mod config;
 mod probe;
+mod schedule;
 mod state;
 
 pub use config::VehicleConfig;
 pub use probe::{Terrain, free_spot, goal_inside_building};
+pub use schedule::{Every, ScanSchedule};
 pub use state::{Step, Vehicle, VehicleState};

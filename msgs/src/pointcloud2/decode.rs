@@ -4,7 +4,7 @@ use skyground_core::cloud::Cloud;
 
 use super::datatype;
 use super::error::PointCloud2Error;
-use crate::sensor_msgs::PointCloud2;
+use crate::sensor_msgs::{PointCloud2, PointField};
 
 /// A decoded cloud and what was left out of it.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -13,6 +13,31 @@ pub struct Decoded {
     pub cloud: Cloud,
     /// Points dropped because x, y or z was NaN or infinite.
     pub dropped_non_finite: usize,
+    /// Every other FLOAT32 field (count 1), by name, in field order: the
+    /// named extra columns of [`super::encode_with`].
+    pub extra: Vec<(String, Vec<f32>)>,
+}
+
+/// The fields [`decode`] reads into the cloud itself.
+const KNOWN: [&str; 8] = [
+    "x",
+    "y",
+    "z",
+    "intensity",
+    "label",
+    "building",
+    "return_number",
+    "number_of_returns",
+];
+
+impl Decoded {
+    /// The extra column called `name`, if the message had one.
+    pub fn column(&self, name: &str) -> Option<&[f32]> {
+        self.extra
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
 }
 
 /// Where one field lives in a point record.
@@ -89,7 +114,25 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
         });
     }
 
-    let mut out = Decoded::default();
+    let extra: Vec<(String, usize)> = msg
+        .fields
+        .iter()
+        .filter(|f| f.datatype == PointField::FLOAT32 && f.count == 1)
+        .filter(|f| !KNOWN.contains(&f.name.as_str()))
+        .filter(|f| {
+            (f.offset as usize)
+                .checked_add(4)
+                .is_some_and(|e| e <= point_step)
+        })
+        .map(|f| (f.name.clone(), f.offset as usize))
+        .collect();
+    let mut out = Decoded {
+        extra: extra
+            .iter()
+            .map(|(n, _)| (n.clone(), Vec::with_capacity(points)))
+            .collect(),
+        ..Decoded::default()
+    };
     let cloud = &mut out.cloud;
     cloud.xyz.reserve_exact(points);
     cloud.intensity = intensity.map(|_| Vec::with_capacity(points));
@@ -138,6 +181,10 @@ pub fn decode(msg: &PointCloud2) -> Result<Decoded, PointCloud2Error> {
         }
         if let (Some(values), Some(s)) = (cloud.number_of_returns.as_mut(), number_of_returns) {
             values.push(integer(record, s, index, msg)?);
+        }
+        for ((_, values), (_, o)) in out.extra.iter_mut().zip(&extra) {
+            let v = datatype::read_f64(record, *o, PointField::FLOAT32).unwrap_or(f64::NAN);
+            values.push(v as f32);
         }
     }
     Ok(out)

@@ -20,6 +20,8 @@ struct Layout {
     intensity: Option<usize>,
     /// Offset of `building`, when written.
     building: Option<usize>,
+    /// Offsets of the extra FLOAT32 columns, in their order.
+    extra: Vec<usize>,
     /// Offset of `label`, when written.
     label: Option<usize>,
     /// Offsets of `return_number` and `number_of_returns`, when written.
@@ -31,7 +33,7 @@ struct Layout {
 impl Layout {
     /// Widest fields first so that no field needs inner padding; the record is
     /// padded to the coordinate size so every point starts aligned.
-    fn of(cloud: &Cloud, opts: &EncodeOptions) -> Self {
+    fn of(cloud: &Cloud, extra: usize, opts: &EncodeOptions) -> Self {
         let coordinate = if opts.double { 8 } else { 4 };
         let mut end = 3 * coordinate;
         let mut place = |present: bool, size: usize| {
@@ -43,6 +45,7 @@ impl Layout {
         };
         let intensity = place(cloud.intensity.is_some(), 4);
         let building = place(cloud.building.is_some(), 4);
+        let extra = (0..extra).filter_map(|_| place(true, 4)).collect();
         let label = place(cloud.label.is_some(), 1);
         let has_echo = cloud.return_number.is_some() && cloud.number_of_returns.is_some();
         let echo = place(has_echo, 1).zip(place(has_echo, 1));
@@ -50,6 +53,7 @@ impl Layout {
             coordinate,
             intensity,
             building,
+            extra,
             label,
             echo,
             point_step: end.next_multiple_of(coordinate),
@@ -57,7 +61,7 @@ impl Layout {
     }
 
     /// The `PointField` list, in offset order.
-    fn fields(&self) -> Vec<PointField> {
+    fn fields(&self, extra: &[(&str, &[f32])]) -> Vec<PointField> {
         let coordinate_type = if self.coordinate == 8 {
             PointField::FLOAT64
         } else {
@@ -82,6 +86,9 @@ impl Layout {
             self.building
                 .map(|o| field("building", o, PointField::UINT32)),
         );
+        for (&o, (name, _)) in self.extra.iter().zip(extra) {
+            fields.push(field(name, o, PointField::FLOAT32));
+        }
         fields.extend(self.label.map(|o| field("label", o, PointField::UINT8)));
         if let Some((rn, nr)) = self.echo {
             fields.push(field("return_number", rn, PointField::UINT8));
@@ -113,7 +120,20 @@ impl Layout {
 /// `u32::MAX` bytes, so points beyond that (over 178 M points at 24 bytes
 /// each) are left out; `width` always equals the points written.
 pub fn encode(cloud: &Cloud, header: Header, opts: &EncodeOptions) -> PointCloud2 {
-    let layout = Layout::of(cloud, opts);
+    encode_with(cloud, &[], header, opts)
+}
+
+/// As [`encode`], with named extra FLOAT32 columns (e.g. `nx`, `ny`) placed
+/// after `building`; a column shorter than the cloud is padded with zeros.
+/// Standard `PointField`s: any PointCloud2 reader sees them, [`super::decode`]
+/// returns them in [`super::Decoded::extra`].
+pub fn encode_with(
+    cloud: &Cloud,
+    extra: &[(&str, &[f32])],
+    header: Header,
+    opts: &EncodeOptions,
+) -> PointCloud2 {
+    let layout = Layout::of(cloud, extra.len(), opts);
     let step = layout.point_step;
     let max_points = u32::MAX as usize / step;
     let n = cloud.len().min(max_points);
@@ -141,6 +161,10 @@ pub fn encode(cloud: &Cloud, header: Header, opts: &EncodeOptions) -> PointCloud
             let v = building.get(i).copied().unwrap_or_default();
             put(record, o, &v.to_le_bytes());
         }
+        for (&o, (_, column)) in layout.extra.iter().zip(extra) {
+            let v = column.get(i).copied().unwrap_or_default();
+            put(record, o, &v.to_le_bytes());
+        }
         if let Some(o) = layout.label {
             put(record, o, &[label.get(i).copied().unwrap_or_default()]);
         }
@@ -153,7 +177,7 @@ pub fn encode(cloud: &Cloud, header: Header, opts: &EncodeOptions) -> PointCloud
         header,
         height: 1,
         width: n as u32,
-        fields: layout.fields(),
+        fields: layout.fields(extra),
         is_bigendian: false,
         point_step: step as u32,
         row_step: (n * step) as u32,
@@ -195,6 +219,45 @@ mod tests {
             offsets(&msg),
             [("x".into(), 0, 7), ("y".into(), 4, 7), ("z".into(), 8, 7)]
         );
+    }
+
+    #[test]
+    fn extra_columns_follow_building_as_float32() {
+        let mut cloud = Cloud::from_xyz(vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
+        cloud.building = Some(vec![7, 8]);
+        cloud.label = Some(vec![6, 6]);
+        let nx = [0.5f32, -0.25];
+        let msg = encode_with(
+            &cloud,
+            &[("nx", &nx), ("ny", &[1.0])],
+            Header::default(),
+            &EncodeOptions::default(),
+        );
+        assert_eq!(
+            offsets(&msg)[3..],
+            [
+                ("building".into(), 12, 6),
+                ("nx".into(), 16, 7),
+                ("ny".into(), 20, 7),
+                ("label".into(), 24, 2),
+            ]
+        );
+        assert_eq!(msg.point_step, 28);
+        assert_eq!(&msg.data[28 + 16..28 + 20], &(-0.25f32).to_le_bytes());
+        // The short column is padded with zeros.
+        assert_eq!(&msg.data[28 + 20..28 + 24], &0.0f32.to_le_bytes());
+        let d = super::super::decode(&msg).expect("decodes");
+        assert_eq!(d.cloud, cloud);
+        assert_eq!(d.column("nx"), Some(&nx[..]));
+        assert_eq!(d.column("ny"), Some(&[1.0, 0.0][..]));
+        assert_eq!(d.column("nz"), None);
+        // Through tiles too (how big clouds travel).
+        let mut joiner = super::super::tiles::Assembler::new(1);
+        let whole = super::super::tiles::split(msg.clone(), 1)
+            .into_iter()
+            .find_map(|t| joiner.push(t))
+            .expect("joined");
+        assert_eq!(super::super::decode(&whole).map(|d| d.extra), Ok(d.extra));
     }
 
     #[test]

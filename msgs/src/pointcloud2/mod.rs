@@ -10,6 +10,6 @@ mod encode;
 mod error;
 
 pub use decode::{Decoded, decode};
-pub use encode::{EncodeOptions, encode};
+pub use encode::{EncodeOptions, encode, encode_with};
 pub use error::PointCloud2Error;
 pub mod tiles;

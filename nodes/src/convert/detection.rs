@@ -3,12 +3,17 @@
 
 use geo::MultiPolygon;
 use skyground_core::cloud::Cloud;
-use skyground_core::missing::{BuildingDetection, Detection, Strategy};
+use std::collections::BTreeMap;
+
+use skyground_core::missing::{BuildingDetection, Detection, MissingPoint, Strategy};
+use skyground_core::targets::BuildingPlan;
 use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus};
+use skyground_msgs::pointcloud2::{Decoded, EncodeOptions, encode_with};
+use skyground_msgs::sensor_msgs::PointCloud2;
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
-use super::diagnostics::{kv, status};
+use super::diagnostics::{kv, status, value};
 use super::markers::{delete_all, line_list, line_strip, points, rgb};
 
 /// The missing points as a cloud with x, y, z and building.
@@ -18,6 +23,78 @@ pub fn missing_cloud(d: &Detection, origin: [f64; 3]) -> Cloud {
     c.building = Some(missing.iter().map(|m| m.building).collect());
     c.origin = origin;
     c
+}
+
+/// The extra columns of /missing_points: each point's outward normal and
+/// the skeleton point its ray starts from (xy; the detector's are 2-D).
+pub const MISSING_COLUMNS: [&str; 4] = ["nx", "ny", "sx", "sy"];
+
+/// /missing_points: x, y, z, building and the [`MISSING_COLUMNS`], so the
+/// target generator gets the detector's own missing points back.
+pub fn missing_message(d: &Detection, origin: [f64; 3], header: Header) -> PointCloud2 {
+    let missing = d.missing_points();
+    let column = |f: fn(&MissingPoint) -> f32| missing.iter().map(f).collect::<Vec<f32>>();
+    let columns = [
+        column(|m| m.normal[0]),
+        column(|m| m.normal[1]),
+        column(|m| m.skeleton[0]),
+        column(|m| m.skeleton[1]),
+    ];
+    let extra: Vec<(&str, &[f32])> = MISSING_COLUMNS
+        .iter()
+        .zip(&columns)
+        .map(|(n, c)| (*n, c.as_slice()))
+        .collect();
+    let opts = EncodeOptions { double: false };
+    encode_with(&missing_cloud(d, origin), &extra, header, &opts)
+}
+
+/// The missing points of a decoded /missing_points; an error names the
+/// column a publisher older than the normals left out.
+pub fn missing_from_message(d: &Decoded) -> Result<Vec<MissingPoint>, String> {
+    let c = &d.cloud;
+    let column = |name: &str| {
+        d.column(name)
+            .filter(|v| v.len() == c.len())
+            .ok_or_else(|| format!("/missing_points has no `{name}` column: is the completeness_detector from an older skyground?"))
+    };
+    let [nx, ny, sx, sy] = [column("nx")?, column("ny")?, column("sx")?, column("sy")?];
+    let ids = c
+        .building
+        .as_deref()
+        .ok_or("/missing_points has no `building` field")?;
+    Ok((0..c.len())
+        .map(|i| MissingPoint {
+            xyz: c.xyz[i],
+            building: ids.get(i).copied().unwrap_or(0),
+            normal: [nx[i], ny[i]],
+            skeleton: [sx[i], sy[i]],
+        })
+        .collect())
+}
+
+/// Per-building plans (strategy, ground height) and the detection round
+/// from /completeness; skipped buildings have none.
+pub fn plans_from_completeness(arr: &DiagnosticArray) -> (BTreeMap<u32, BuildingPlan>, u32) {
+    let mut plans = BTreeMap::new();
+    let mut round = 0;
+    for s in &arr.status {
+        round = value(s, "round").unwrap_or(round);
+        let (Some(b), Some(k), Some(ground_z)) = (
+            value::<u32>(s, "building"),
+            value::<String>(s, "strategy"),
+            value::<f32>(s, "ground_z"),
+        ) else {
+            continue;
+        };
+        let strategy = if k == strategy_name(Strategy::RegionBased) {
+            Strategy::RegionBased
+        } else {
+            Strategy::PointBased
+        };
+        plans.insert(b, BuildingPlan { strategy, ground_z });
+    }
+    (plans, round)
 }
 
 /// The strategy's name on /completeness.
@@ -151,23 +228,78 @@ pub fn detection_markers(header: &Header, d: &Detection) -> MarkerArray {
     out
 }
 
-/// Skeleton segments per building back from the markers (for the target
-/// generator, which aims from the skeleton through each missing point).
-pub fn skeletons_from_markers(
-    array: &MarkerArray,
-) -> std::collections::BTreeMap<u32, Vec<[[f64; 2]; 2]>> {
-    let mut out: std::collections::BTreeMap<u32, Vec<[[f64; 2]; 2]>> = Default::default();
-    for m in &array.markers {
-        let Some(id) =
-            m.ns.strip_prefix("skeleton/")
-                .and_then(|s| s.parse::<u32>().ok())
-        else {
-            continue;
-        };
-        let segs = out.entry(id).or_default();
-        for pair in m.points.chunks_exact(2) {
-            segs.push([[pair[0].x, pair[0].y], [pair[1].x, pair[1].y]]);
-        }
+#[cfg(test)]
+mod tests {
+    use skyground_core::footprint::{DeriveParams, SplitParams};
+    use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
+    use skyground_core::missing::{DetectParams, detect_scene};
+    use skyground_core::scene::load_scene;
+    use skyground_core::targets::{
+        Site, TargetParams, consolidate, generate, generate_from_missing,
+    };
+    use skyground_msgs::pointcloud2::decode;
+    use skyground_msgs::pointcloud2::tiles::{Assembler, split};
+
+    use super::*;
+
+    /// What travels: /missing_points (in tiles, as the transport sends big
+    /// clouds) and /completeness, decoded as target_generator does.
+    fn through_the_topics(
+        d: &Detection,
+        origin: [f64; 3],
+    ) -> (Vec<MissingPoint>, BTreeMap<u32, BuildingPlan>) {
+        let header = Header::default();
+        let mut assembler = Assembler::new(500);
+        let whole = split(missing_message(d, origin, header.clone()), 500)
+            .into_iter()
+            .find_map(|t| assembler.push(t))
+            .expect("the tiles make one cloud");
+        let decoded = decode(&whole).expect("decodes");
+        let points = missing_from_message(&decoded).expect("has the columns");
+        let (plans, _) = plans_from_completeness(&completeness_array(&header, d, 0));
+        (points, plans)
     }
-    out
+
+    #[test]
+    fn targets_from_the_topics_equal_skyground_detect_on_the_reference_scene() {
+        let scene = load_scene("reference").expect("the reference scene");
+        let caster = Caster::new(&scene).expect("a caster");
+        let aerial = airborne_scan(&caster, &AirborneConfig::default()).expect("a prior");
+        // θ low enough that both strategies occur on this scene.
+        let dp = DetectParams {
+            theta: 0.12,
+            ..DetectParams::default()
+        };
+        let split_p = SplitParams::default();
+        let (d, _) = detect_scene(&aerial, None, None, &split_p, &DeriveParams::default(), &dp)
+            .expect("detection");
+        let tp = TargetParams::default();
+        let site = Site::from_classified(&aerial, &tp).expect("a site");
+        // Offline, as `skyground detect`.
+        let (mut offline, _) = generate(&d, &site, &tp).expect("targets");
+        offline.points = consolidate(&offline.points, &d.missing_points(), &site, &tp).0;
+        // Online, as target_generator.
+        let (points, plans) = through_the_topics(&d, aerial.origin);
+        assert_eq!(points, d.missing_points());
+        let (mut online, _) = generate_from_missing(&points, &plans, &site, &tp).expect("targets");
+        online.points = consolidate(&online.points, &points, &site, &tp).0;
+        println!(
+            "{} missing points → {} target points, {} regions",
+            points.len(),
+            offline.points.len(),
+            offline.regions.len()
+        );
+        assert!(offline.points.len() > 20 && !offline.regions.is_empty());
+        assert_eq!(online, offline);
+    }
+
+    #[test]
+    fn missing_points_without_their_columns_are_an_error() {
+        let mut c = Cloud::from_xyz(vec![[1.0, 2.0, 3.0]]);
+        c.building = Some(vec![4]);
+        let msg =
+            skyground_msgs::pointcloud2::encode(&c, Header::default(), &EncodeOptions::default());
+        let e = missing_from_message(&decode(&msg).expect("decodes")).expect_err("no normals");
+        assert!(e.contains("`nx`"), "{e}");
+    }
 }

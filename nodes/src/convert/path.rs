@@ -1,8 +1,14 @@
 //! nav_msgs/Path and odometry helpers.
 
+use futures::StreamExt;
+use skyground_core::vehicle::VehicleState;
 use skyground_msgs::geometry_msgs::PoseStamped;
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::std_msgs::Header;
+use tokio::sync::mpsc;
+
+use crate::convert::tf::yaw_quaternion;
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 
 /// A Path through `pts` (orientation identity), every pose with `header`.
 pub fn path(header: &Header, pts: &[[f32; 3]]) -> Path {
@@ -41,6 +47,53 @@ pub fn odom_position(o: &Odometry) -> Option<[f32; 3]> {
     let q = &o.pose.pose.position;
     let p = [q.x as f32, q.y as f32, q.z as f32];
     p.iter().all(|v| v.is_finite()).then_some(p)
+}
+
+/// Odometry of a vehicle state in `header.frame_id`, body frame `child`.
+pub fn odometry(header: Header, child: &str, s: &VehicleState) -> Odometry {
+    let mut o = Odometry {
+        header,
+        child_frame_id: child.into(),
+        ..Odometry::default()
+    };
+    o.pose.pose.position.x = f64::from(s.position[0]);
+    o.pose.pose.position.y = f64::from(s.position[1]);
+    o.pose.pose.position.z = f64::from(s.position[2]);
+    o.pose.pose.orientation = yaw_quaternion(s.yaw);
+    o.twist.twist.linear.x = f64::from(s.speed);
+    o.twist.twist.angular.z = f64::from(s.yaw_rate);
+    o
+}
+
+/// Reads Paths from every topic of `topics` into `tx` (as their points); a
+/// latched route (/global_path) is read as latched, legs as they come.
+pub fn read_paths(
+    rt: &mut NodeRuntime,
+    topics: &[String],
+    tx: &mpsc::Sender<Vec<[f32; 3]>>,
+) -> Result<(), RuntimeError> {
+    for topic in topics {
+        let q = if topic == "/global_path" {
+            qos::latched(1)
+        } else {
+            qos::reliable(10)
+        };
+        let sub = rt.subscription::<Path>(topic, q)?;
+        let (tx, log, topic) = (tx.clone(), rt.log.clone(), topic.clone());
+        tokio::spawn(async move {
+            let s = sub.async_stream();
+            futures::pin_mut!(s);
+            while let Some(m) = s.next().await {
+                match m {
+                    Ok((m, _)) => {
+                        let _ = tx.send(path_points(&m)).await;
+                    }
+                    Err(e) => log.error(&format!("{topic}: unreadable message: {e}")),
+                }
+            }
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]

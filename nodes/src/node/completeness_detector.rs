@@ -9,14 +9,14 @@ use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
 use skyground_core::footprint::{DeriveParams, Footprint, SplitParams, load_footprints};
-use skyground_core::missing::{DetectParams, Detection, detect_scene};
+use skyground_core::missing::{DetectParams, detect_scene};
+use skyground_core::mission::PlannerStatus;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
-use crate::convert::detection::{completeness_array, detection_markers, missing_cloud};
-use crate::convert::diagnostics::value;
+use crate::convert::detection::{completeness_array, detection_markers, missing_message};
+use crate::convert::diagnostics::statuses;
 use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
 use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
 
@@ -52,43 +52,17 @@ struct Setup {
     derive: DeriveParams,
 }
 
-fn run_detection(
-    setup: &Setup,
-    aerial: &Cloud,
-    extra: Option<&Cloud>,
-) -> Result<(Detection, Vec<Footprint>), String> {
-    detect_scene(
-        aerial,
-        extra,
-        setup.footprints.as_deref(),
-        &setup.split,
-        &setup.derive,
-        &setup.detect,
-    )
-    .map_err(|e| e.to_string())
-}
-
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
     p.detect
         .validate()
         .map_err(|e| RuntimeError::Node(format!("detect params: {e}")))?;
-    let mut aerial_sub = CloudSubscription::new(
-        rt,
-        &p.input_topic,
-        qos::latched(256),
-        p.transport.tile_points,
-    )?;
-    let mut resampled_sub = if p.resampled_topic.is_empty() {
-        None
-    } else {
-        Some(CloudSubscription::new(
-            rt,
-            &p.resampled_topic,
-            qos::latched(256),
-            p.transport.tile_points,
-        )?)
+    let tile = p.transport.tile_points;
+    let mut aerial_sub = CloudSubscription::new(rt, &p.input_topic, qos::latched(256), tile)?;
+    let mut resampled_sub = match p.resampled_topic.as_str() {
+        "" => None,
+        t => Some(CloudSubscription::new(rt, t, qos::latched(256), tile)?),
     };
     let planner_sub = if p.planner_status_topic.is_empty() {
         None
@@ -164,9 +138,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 }
                 None => break,
             },
-            Some(Ok((arr, _))) = planner_s.next() => {
-                if let Some(s) = arr.status.first().filter(|s| s.message == "done") {
-                    route_done = value::<u32>(s, "round");
+            Some(m) = planner_s.next() => {
+                for s in statuses(&rt.log, m, PlannerStatus::from_wire) {
+                    route_done = (s.phase == "done").then_some(s.round).or(route_done);
                 }
                 false
             }
@@ -176,9 +150,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             continue;
         };
         let t0 = std::time::Instant::now();
-        let (job_setup, job_cloud, job_extra) = (setup.clone(), cloud.clone(), resampled.clone());
+        let (s, c, extra) = (setup.clone(), cloud.clone(), resampled.clone());
         let result = tokio::task::spawn_blocking(move || {
-            run_detection(&job_setup, &job_cloud, job_extra.as_ref())
+            let f = s.footprints.as_deref();
+            detect_scene(&c, extra.as_ref(), f, &s.split, &s.derive, &s.detect)
         })
         .await
         .map_err(|e| RuntimeError::Node(format!("detection task: {e}")))?;
@@ -191,21 +166,15 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         };
         let mut header = header.clone();
         header.stamp = rt.now();
-        let missing = missing_cloud(&detection, cloud.origin);
+        let n_missing: usize = detection.buildings.iter().map(|b| b.missing.len()).sum();
         rt.log.info(&format!(
-            "round {round}: {} buildings, {} missing boundary points, R_missing {:.3} ({:.2} s)",
+            "round {round}: {} buildings, {n_missing} missing boundary points, R_missing {:.3} ({:.2} s)",
             detection.buildings.len(),
-            missing.len(),
             detection.r_missing(),
             t0.elapsed().as_secs_f64()
         ));
-        missing_pub
-            .publish(encode(
-                &missing,
-                header.clone(),
-                &EncodeOptions { double: false },
-            ))
-            .await?;
+        let msg = missing_message(&detection, cloud.origin, header.clone());
+        missing_pub.publish(msg).await?;
         if let Err(e) = status_pub
             .async_publish(completeness_array(&header, &detection, round))
             .await

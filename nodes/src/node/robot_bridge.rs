@@ -7,12 +7,14 @@ use std::time::Duration;
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::follow::{FollowConfig, FollowEvent, Follower};
-use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
+use skyground_core::mission::{VehicleEvent, VehicleStatus};
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::geometry_msgs::{Point, PointStamped};
-use skyground_msgs::nav_msgs::{Odometry, Path};
+use skyground_msgs::nav_msgs::Odometry;
 use skyground_msgs::std_msgs::Header;
 
-use crate::convert::path::{odom_position, path_points};
+use crate::convert::diagnostics::array;
+use crate::convert::path::{odom_position, read_paths};
 use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
 
 #[derive(Debug, Deserialize)]
@@ -31,46 +33,18 @@ pub const SPEC: NodeSpec = NodeSpec {
     live: &["follow."],
 };
 
-fn kv(key: &str, v: f32) -> KeyValue {
-    KeyValue {
-        key: key.into(),
-        value: v.to_string(),
-    }
-}
-
 /// `/vehicle_status` as vehicle_sim words it, so the planners need not know
 /// which of the two drives.
-fn status(
-    header: Header,
-    ok: bool,
-    message: String,
-    goal: [f32; 3],
-    f: &Follower,
-) -> DiagnosticArray {
+fn status(header: Header, event: VehicleEvent, goal: [f32; 3], f: &Follower) -> DiagnosticArray {
     let at = f.position().unwrap_or(goal);
-    DiagnosticArray {
-        header,
-        status: vec![DiagnosticStatus {
-            level: if ok {
-                DiagnosticStatus::OK
-            } else {
-                DiagnosticStatus::WARN
-            },
-            name: "robot_bridge".into(),
-            message,
-            hardware_id: String::new(),
-            values: vec![
-                kv("goal_x", goal[0]),
-                kv("goal_y", goal[1]),
-                kv("x", at[0]),
-                kv("y", at[1]),
-                KeyValue {
-                    key: "odometer_m".into(),
-                    value: f.odometer.to_string(),
-                },
-            ],
-        }],
-    }
+    let s = VehicleStatus {
+        name: "robot_bridge".into(),
+        event,
+        goal: [goal[0], goal[1]],
+        at: [at[0], at[1]],
+        odometer_m: f64::from(f.odometer),
+    };
+    array(header, s.to_wire())
 }
 
 /// Runs the node until it is asked to stop.
@@ -80,22 +54,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
     let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
     let (tx, mut legs) = tokio::sync::mpsc::channel::<Vec<[f32; 3]>>(16);
-    for topic in &p.path_topics {
-        let sub = rt.subscription::<Path>(topic, qos::reliable(10))?;
-        let (tx, log, topic) = (tx.clone(), rt.log.clone(), topic.clone());
-        tokio::spawn(async move {
-            let s = sub.async_stream();
-            futures::pin_mut!(s);
-            while let Some(m) = s.next().await {
-                match m {
-                    Ok((m, _)) => {
-                        let _ = tx.send(path_points(&m)).await;
-                    }
-                    Err(e) => log.error(&format!("{topic}: unreadable message: {e}")),
-                }
-            }
-        });
-    }
+    read_paths(rt, &p.path_topics, &tx)?;
     let odom_s = odom.async_stream();
     futures::pin_mut!(odom_s);
     let mut f = Follower::new(p.follow);
@@ -148,7 +107,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 FollowEvent::Arrived { goal } => {
                     rt.log
                         .info(&format!("arrived at ({:.1}, {:.1})", goal[0], goal[1]));
-                    let s = status(header.clone(), true, "arrived".into(), goal, &f);
+                    let s = status(header.clone(), VehicleEvent::Arrived, goal, &f);
                     let _ = status_pub.async_publish(s).await;
                 }
                 FollowEvent::Blocked { goal, reason } => {
@@ -156,13 +115,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         "blocked going to ({:.1}, {:.1}): {reason}",
                         goal[0], goal[1]
                     ));
-                    let s = status(
-                        header.clone(),
-                        false,
-                        format!("blocked: {reason}"),
-                        goal,
-                        &f,
-                    );
+                    let s = status(header.clone(), VehicleEvent::Blocked(reason), goal, &f);
                     let _ = status_pub.async_publish(s).await;
                 }
             }

@@ -1,0 +1,19 @@
+//! The mission's executive as plain state machines (docs/design.md steps
+//! 5–7): typed events in, typed commands out, no ROS. Nodes translate
+//! messages to [`planner::PlannerEvent`] / [`explorer::ExplorerEvent`] and
+//! the commands back to messages.
+//!
+//! - `protocol`: the status structs every node speaks, and their wire form;
+//! - `ground`: the one ground graph planner and explorer share, blocked spots included;
+//! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
+//! - `explorer`: when a region starts and ends, when scans count.
+
+pub mod explorer;
+pub mod ground;
+pub mod planner;
+pub mod protocol;
+
+pub use protocol::{
+    BlockedSpot, ExplorerState, ExplorerStatus, Phase, PlannerStatus, ProtocolError, VehicleEvent,
+    VehicleStatus, Wire,
+};

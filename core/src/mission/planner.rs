@@ -1,0 +1,463 @@
+//! The global planner's executive: waits for the classified cloud, the
+//! target set and a position, plans a route (a new target set is a new
+//! round), drives it leg by leg, hands regions to the explorer, takes
+//! blocked spots out of the ground graph and replans, gives a stop up after
+//! `block_retries` blocked tries, and goes on after a restart from its own
+//! latched status.
+
+use crate::graph::{GraphParams, GroundGraph};
+use crate::route::{Route, RouteParams, Stop, Visited, replan};
+use crate::targets::{Region, TargetPoint, TargetSet};
+
+use super::ground;
+use super::protocol::{
+    BlockedSpot, ExplorerState, ExplorerStatus, Phase, PlannerStatus, VehicleEvent, VehicleStatus,
+};
+
+/// How far beyond the vehicle's radius the obstacle that blocked it is
+/// looked for: the vehicle stops when its body is within one step of it.
+pub const BLOCK_AHEAD_M: f32 = 0.4;
+
+/// What the planner needs to know.
+#[derive(Debug, Clone)]
+pub struct PlannerConfig {
+    /// Ground graph settings.
+    pub graph: GraphParams,
+    /// Route settings.
+    pub route: RouteParams,
+    /// Tries per stop before a blocked stop is given up.
+    pub block_retries: u32,
+}
+
+/// What happens to the planner.
+#[derive(Debug, Clone)]
+pub enum PlannerEvent {
+    /// The classified cloud (new or again): the graph is rebuilt.
+    Cloud {
+        /// Points.
+        xyz: Vec<[f32; 3]>,
+        /// Their classes.
+        labels: Vec<u8>,
+    },
+    /// The point half of a target set; `stamp` joins it with its regions.
+    Points {
+        /// Targets.
+        points: Vec<TargetPoint>,
+        /// The set's stamp.
+        stamp: u64,
+    },
+    /// The region half of a target set.
+    Regions {
+        /// Regions.
+        regions: Vec<Region>,
+        /// The set's stamp.
+        stamp: u64,
+    },
+    /// Where the vehicle is.
+    Position([f32; 3]),
+    /// The planner's own latched status, as a restarted planner finds it.
+    Restore(PlannerStatus),
+    /// The vehicle arrived or is blocked.
+    Vehicle(VehicleStatus),
+    /// The explorer's state.
+    Explorer(ExplorerStatus),
+    /// Time passes: plan if needed, say where the mission is.
+    Tick,
+}
+
+/// What the planner asks its node to do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlannerCommand {
+    /// Log at info level.
+    Info(String),
+    /// Log a warning.
+    Warn(String),
+    /// Log an error.
+    Error(String),
+    /// Publish the whole route.
+    GlobalPath(Vec<[f32; 3]>),
+    /// Send a leg to the vehicle.
+    Leg(Vec<[f32; 3]>),
+    /// Hand a region to the explorer (`None`: take it back).
+    ActiveRegion(Option<Region>),
+    /// Publish the status.
+    Status(PlannerStatus),
+}
+
+/// The global planner's state machine.
+#[derive(Debug)]
+pub struct Planner {
+    config: PlannerConfig,
+    cloud: Option<(Vec<[f32; 3]>, Vec<u8>)>,
+    points: Option<(Vec<TargetPoint>, u64)>,
+    regions: Option<(Vec<Region>, u64)>,
+    /// Targets as of the last route; a new set is a new round.
+    targets: TargetSet,
+    round: u32,
+    position: Option<[f32; 3]>,
+    graph: Option<GroundGraph>,
+    route: Option<Route>,
+    visited: Visited,
+    unreachable: (usize, usize),
+    phase: Phase,
+    need_plan: bool,
+    retries: u32,
+    restored: Option<PlannerStatus>,
+    blocked: Vec<BlockedSpot>,
+    out: Vec<PlannerCommand>,
+}
+
+impl Planner {
+    /// A planner waiting for its inputs.
+    pub fn new(config: PlannerConfig) -> Self {
+        Planner {
+            config,
+            cloud: None,
+            points: None,
+            regions: None,
+            targets: TargetSet::default(),
+            round: 0,
+            position: None,
+            graph: None,
+            route: None,
+            visited: Visited::default(),
+            unreachable: (0, 0),
+            phase: Phase::Waiting,
+            need_plan: false,
+            retries: 0,
+            restored: None,
+            blocked: Vec::new(),
+            out: Vec::new(),
+        }
+    }
+
+    /// The mission round (1 for the first target set); counted here only.
+    pub fn round(&self) -> u32 {
+        self.round
+    }
+
+    /// Where the mission is.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// Takes in one event; returns what to do, in order.
+    pub fn handle(&mut self, event: PlannerEvent) -> Vec<PlannerCommand> {
+        match event {
+            PlannerEvent::Cloud { xyz, labels } => {
+                self.cloud = Some((xyz, labels));
+                self.graph = None;
+                self.need_plan = true;
+            }
+            PlannerEvent::Points { points, stamp } => {
+                self.points = Some((points, stamp));
+                self.need_plan = true;
+            }
+            PlannerEvent::Regions { regions, stamp } => {
+                self.regions = Some((regions, stamp));
+                self.need_plan = true;
+            }
+            PlannerEvent::Position(p) => self.position = Some(p),
+            PlannerEvent::Restore(s) => self.restore(s),
+            PlannerEvent::Vehicle(v) => self.on_vehicle(&v),
+            PlannerEvent::Explorer(e) => self.on_explorer(&e),
+            PlannerEvent::Tick => {
+                if self.need_plan {
+                    self.plan();
+                }
+                self.out.push(PlannerCommand::Status(self.status()));
+            }
+        }
+        std::mem::take(&mut self.out)
+    }
+
+    /// The status as it goes on /planner_status.
+    pub fn status(&self) -> PlannerStatus {
+        let route = self.route.as_ref();
+        let active_region = match self.phase {
+            Phase::Exploring(k) => match self.stop(k) {
+                Some(Stop::Region(i)) => self.targets.regions.get(i).map(|r| (i, r.building)),
+                _ => None,
+            },
+            _ => None,
+        };
+        PlannerStatus {
+            phase: self.phase.word().into(),
+            round: self.round,
+            target_points: self.targets.points.len(),
+            target_regions: self.targets.regions.len(),
+            visited: self.visited.clone(),
+            unreachable_points: self.unreachable.0,
+            unreachable_regions: self.unreachable.1,
+            stops: route.map_or(0, |r| r.order.len()),
+            route_m: route.map_or(0.0, |r| r.length_m),
+            greedy_m: route.map_or(0.0, |r| r.greedy_length_m),
+            tsp_m: route.map_or(0.0, |r| r.tsp_length_m),
+            active_region,
+            blocked: self.blocked.clone(),
+        }
+    }
+
+    fn stop(&self, k: usize) -> Option<Stop> {
+        self.route.as_ref().and_then(|r| r.order.get(k)).copied()
+    }
+
+    fn restore(&mut self, s: PlannerStatus) {
+        if self.route.is_some() || self.restored.is_some() {
+            return;
+        }
+        self.out.push(PlannerCommand::Info(format!(
+            "restored round {}: {} points and {} regions visited, {} blocked spots",
+            s.round,
+            s.visited.points.len(),
+            s.visited.regions.len(),
+            s.blocked.len()
+        )));
+        if let Some(g) = self.graph.as_mut() {
+            ground::apply(g, &s.blocked);
+        }
+        self.blocked = s.blocked.clone();
+        self.restored = Some(s);
+    }
+
+    /// (Re)plans when every input is there.
+    fn plan(&mut self) {
+        let (
+            Some((xyz, labels)),
+            Some((points, t_points)),
+            Some((regions, t_regions)),
+            Some(position),
+        ) = (
+            self.cloud.as_ref(),
+            self.points.as_ref(),
+            self.regions.as_ref(),
+            self.position,
+        )
+        else {
+            return;
+        };
+        // The generator stamps both halves of a target set alike: wait for the pair;
+        // while the explorer has the vehicle, plan when it hands back.
+        if t_points != t_regions || matches!(self.phase, Phase::Exploring(_)) {
+            return;
+        }
+        self.need_plan = false;
+        if self.graph.is_none() {
+            match ground::build(xyz, labels, position, &self.config.graph, &self.blocked) {
+                Ok(g) => {
+                    self.out.push(PlannerCommand::Info(format!(
+                        "ground graph: {:?}",
+                        g.report()
+                    )));
+                    self.graph = Some(g);
+                }
+                Err(e) => {
+                    self.out.push(PlannerCommand::Error(format!(
+                        "cannot build the ground graph: {e}"
+                    )));
+                    return;
+                }
+            }
+        }
+        let targets = TargetSet {
+            points: points.clone(),
+            regions: regions.clone(),
+        };
+        if targets != self.targets {
+            self.new_round(targets);
+        }
+        let Some(graph) = self.graph.as_ref() else {
+            return;
+        };
+        match replan(
+            graph,
+            &self.targets,
+            &self.visited,
+            position,
+            &self.config.route,
+        ) {
+            Ok(route) => {
+                self.out.push(PlannerCommand::Info(format!(
+                    "round {}: route over {} stops, {:.0} m (greedy {:.0} m, TSP {:.0} m), {} points and {} regions unreachable",
+                    self.round,
+                    route.order.len(),
+                    route.length_m,
+                    route.greedy_length_m,
+                    route.tsp_length_m,
+                    route.unreachable_points.len(),
+                    route.unreachable_regions.len(),
+                )));
+                self.unreachable = (
+                    route.unreachable_points.len(),
+                    route.unreachable_regions.len(),
+                );
+                self.out
+                    .push(PlannerCommand::GlobalPath(route.waypoints.clone()));
+                self.route = Some(route);
+                self.out.push(PlannerCommand::ActiveRegion(None));
+                self.start_leg(0);
+            }
+            Err(e) => self
+                .out
+                .push(PlannerCommand::Error(format!("cannot plan: {e}"))),
+        }
+    }
+
+    /// New targets: a new round, or the restored one if it matches.
+    fn new_round(&mut self, targets: TargetSet) {
+        self.visited = Visited::default();
+        self.retries = 0;
+        self.round += 1;
+        if let Some(s) = self.restored.take()
+            && s.target_points == targets.points.len()
+            && s.target_regions == targets.regions.len()
+        {
+            self.round = s.round;
+            self.visited = s.visited;
+        }
+        self.targets = targets;
+    }
+
+    /// Sends leg `k` (the path to stop `k`) to the vehicle, or ends the route.
+    fn start_leg(&mut self, k: usize) {
+        let Some(route) = self.route.as_ref() else {
+            return;
+        };
+        if k >= route.order.len() {
+            self.phase = Phase::Done;
+            self.out.push(PlannerCommand::Info(format!(
+                "round {}: route done",
+                self.round
+            )));
+            self.out.push(PlannerCommand::Status(self.status()));
+            return;
+        }
+        self.phase = Phase::Driving(k);
+        self.out.push(PlannerCommand::Leg(leg(route, k)));
+    }
+
+    fn on_explorer(&mut self, e: &ExplorerStatus) {
+        let Phase::Exploring(k) = self.phase else {
+            return;
+        };
+        let Some(Stop::Region(i)) = self.stop(k) else {
+            return;
+        };
+        if let ExplorerState::Done {
+            region,
+            round,
+            coverage,
+        } = e.state
+            && region == i
+            && round == self.round
+        {
+            self.out.push(PlannerCommand::Info(format!(
+                "region {i} explored (coverage {coverage})"
+            )));
+            self.visited.regions.push(i);
+            self.out.push(PlannerCommand::ActiveRegion(None));
+            self.start_leg(k + 1);
+        }
+    }
+
+    fn on_vehicle(&mut self, v: &VehicleStatus) {
+        let Phase::Driving(k) = self.phase else {
+            return;
+        };
+        let Some(goal) = self.route.as_ref().and_then(|r| leg_goal(r, k)) else {
+            return;
+        };
+        let ours = v.is_for(goal);
+        match &v.event {
+            VehicleEvent::Arrived if ours => self.arrived(k),
+            VehicleEvent::Arrived => {}
+            VehicleEvent::Blocked(_) => self.blocked_at(k, v, ours),
+        }
+    }
+
+    fn arrived(&mut self, k: usize) {
+        match self.stop(k) {
+            Some(Stop::Point(i)) => {
+                self.visited.points.push(i);
+                self.retries = 0;
+                self.start_leg(k + 1);
+            }
+            Some(Stop::Region(i)) => {
+                self.phase = Phase::Exploring(k);
+                let region = self.targets.regions.get(i).cloned();
+                self.out.push(PlannerCommand::ActiveRegion(region));
+                // The explorer joins the region with this status: send it at once.
+                self.out.push(PlannerCommand::Status(self.status()));
+            }
+            None => {}
+        }
+    }
+
+    /// Something the prior did not show stands between the vehicle and a
+    /// pose of its leg: the graph forgets the ground just ahead of it, so
+    /// later routes go around. The vehicle itself skips to the next pose;
+    /// only when it gives up the leg's last one is a new route needed.
+    fn blocked_at(&mut self, k: usize, v: &VehicleStatus, ours: bool) {
+        if let Some(g) = self.graph.as_mut() {
+            let (dx, dy) = (v.goal[0] - v.at[0], v.goal[1] - v.at[1]);
+            let len = dx.hypot(dy);
+            if len > 1e-3 {
+                let ahead = g.params().vehicle_radius_m + BLOCK_AHEAD_M;
+                let spot = BlockedSpot {
+                    at: [v.at[0] + dx / len * ahead, v.at[1] + dy / len * ahead],
+                    radius: ahead,
+                };
+                let cut = ground::apply(g, std::slice::from_ref(&spot));
+                self.blocked.push(spot);
+                self.out.push(PlannerCommand::Info(format!(
+                    "blocked near ({:.1}, {:.1}): {cut} graph edges taken out",
+                    spot.at[0], spot.at[1]
+                )));
+            }
+        }
+        if !ours {
+            return;
+        }
+        // A per-stop count, kept across replans, gives the stop up when every
+        // way round is blocked too.
+        self.retries += 1;
+        if self.retries > self.config.block_retries {
+            let stop = self.stop(k);
+            self.out.push(PlannerCommand::Warn(format!(
+                "giving up stop {stop:?} after {} blocked tries",
+                self.retries
+            )));
+            match stop {
+                Some(Stop::Point(i)) => self.visited.points.push(i),
+                Some(Stop::Region(i)) => self.visited.regions.push(i),
+                None => {}
+            }
+            self.retries = 0;
+        }
+        // New way-points from where the vehicle is.
+        self.need_plan = true;
+        self.phase = Phase::Waiting;
+    }
+}
+
+/// The way-points of leg `k`: from the previous stop's arrival to this one's.
+fn leg(route: &Route, k: usize) -> Vec<[f32; 3]> {
+    let from = if k == 0 {
+        0
+    } else {
+        route.arrivals.get(k - 1).copied().unwrap_or(0)
+    };
+    let to = route.arrivals.get(k).copied().unwrap_or(from);
+    match route.waypoints.get(from..=to) {
+        Some(w) if !w.is_empty() => w.to_vec(),
+        _ => route.waypoints.last().copied().into_iter().collect(),
+    }
+}
+
+fn leg_goal(route: &Route, k: usize) -> Option<[f32; 3]> {
+    route.waypoints.get(*route.arrivals.get(k)?).copied()
+}
+
+#[cfg(test)]
+#[path = "planner_tests.rs"]
+mod tests;

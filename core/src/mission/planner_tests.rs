@@ -1,0 +1,283 @@
+use super::*;
+
+/// Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
+pub(crate) fn strip() -> (Vec<[f32; 3]>, Vec<u8>) {
+    let mut xyz = Vec::new();
+    for i in 0..160 {
+        for j in 0..40 {
+            xyz.push([i as f32 * 0.25, j as f32 * 0.25, 0.0]);
+        }
+    }
+    let labels = vec![crate::cloud::class::GROUND; xyz.len()];
+    (xyz, labels)
+}
+
+fn region_at(x: f64, y: f64) -> Region {
+    Region {
+        building: 7,
+        polygon: vec![
+            [x - 2.0, y - 2.0],
+            [x + 2.0, y - 2.0],
+            [x + 2.0, y + 2.0],
+            [x - 2.0, y + 2.0],
+        ],
+        z: 0.0,
+    }
+}
+
+fn planner(block_retries: u32) -> Planner {
+    Planner::new(PlannerConfig {
+        graph: GraphParams::default(),
+        route: RouteParams::default(),
+        block_retries,
+    })
+}
+
+/// A planner fed with the strip, two points and one region, at (1, 5).
+fn ready(block_retries: u32, stamp: u64) -> (Planner, Vec<PlannerCommand>) {
+    let mut p = planner(block_retries);
+    let (xyz, labels) = strip();
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+    let points = vec![
+        TargetPoint {
+            xyz: [10.0, 5.0, 0.0],
+            building: 1,
+        },
+        TargetPoint {
+            xyz: [35.0, 5.0, 0.0],
+            building: 2,
+        },
+    ];
+    p.handle(PlannerEvent::Points { points, stamp });
+    p.handle(PlannerEvent::Regions {
+        regions: vec![region_at(22.0, 5.0)],
+        stamp,
+    });
+    let out = p.handle(PlannerEvent::Tick);
+    (p, out)
+}
+
+fn legs(out: &[PlannerCommand]) -> Vec<Vec<[f32; 3]>> {
+    out.iter()
+        .filter_map(|c| match c {
+            PlannerCommand::Leg(l) => Some(l.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+fn arrived(at: [f32; 3]) -> PlannerEvent {
+    PlannerEvent::Vehicle(VehicleStatus {
+        name: "vehicle_sim".into(),
+        event: VehicleEvent::Arrived,
+        goal: [at[0], at[1]],
+        at: [at[0], at[1]],
+        odometer_m: 0.0,
+    })
+}
+
+fn blocked(goal: [f32; 3], at: [f32; 2]) -> PlannerEvent {
+    PlannerEvent::Vehicle(VehicleStatus {
+        name: "vehicle_sim".into(),
+        event: VehicleEvent::Blocked("obstacle ahead".into()),
+        goal: [goal[0], goal[1]],
+        at,
+        odometer_m: 0.0,
+    })
+}
+
+fn done(region: usize, round: u32) -> PlannerEvent {
+    PlannerEvent::Explorer(ExplorerStatus {
+        state: ExplorerState::Done {
+            region,
+            round,
+            coverage: 0.9,
+        },
+        resampled_points: 0,
+    })
+}
+
+/// Drives the mission to its end; returns the stops reached in order.
+fn drive(p: &mut Planner, mut out: Vec<PlannerCommand>) -> Vec<String> {
+    let mut log = Vec::new();
+    for _ in 0..20 {
+        let Some(leg) = legs(&out).pop() else { break };
+        let goal = *leg.last().expect("a leg has a pose");
+        out = p.handle(arrived(goal));
+        if let Phase::Exploring(_) = p.phase() {
+            let Some((i, b)) = p.status().active_region else {
+                panic!("no active region")
+            };
+            assert!(
+                out.iter()
+                    .any(|c| matches!(c, PlannerCommand::ActiveRegion(Some(r)) if r.building == b))
+            );
+            log.push(format!("region {i}"));
+            // A stale "done" of another round is not ours.
+            assert!(p.handle(done(i, p.round() + 1)).is_empty());
+            out = p.handle(done(i, p.round()));
+            assert!(out.contains(&PlannerCommand::ActiveRegion(None)));
+        } else {
+            log.push(format!("point at {:.0}", goal[0]));
+        }
+    }
+    log
+}
+
+#[test]
+fn a_mission_runs_every_stop_once_and_ends_done() {
+    let (mut p, out) = ready(2, 1);
+    assert_eq!(p.round(), 1);
+    assert!(
+        out.iter()
+            .any(|c| matches!(c, PlannerCommand::GlobalPath(w) if w.len() > 10))
+    );
+    assert_eq!(p.phase(), Phase::Driving(0));
+    let log = drive(&mut p, out);
+    assert_eq!(log.len(), 3, "{log:?}");
+    assert!(log.contains(&"region 0".to_string()), "{log:?}");
+    assert_eq!(p.phase(), Phase::Done);
+    let s = p.status();
+    assert_eq!((s.visited.points.len(), s.visited.regions.len()), (2, 1));
+    assert_eq!(s.phase, "done");
+    // The same targets again: no new round.
+    p.handle(PlannerEvent::Regions {
+        regions: vec![region_at(22.0, 5.0)],
+        stamp: 1,
+    });
+    p.handle(PlannerEvent::Tick);
+    assert_eq!(p.round(), 1);
+}
+
+#[test]
+fn halves_of_different_target_sets_are_not_planned() {
+    let mut p = planner(2);
+    let (xyz, labels) = strip();
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+    p.handle(PlannerEvent::Points {
+        points: vec![],
+        stamp: 1,
+    });
+    p.handle(PlannerEvent::Regions {
+        regions: vec![region_at(22.0, 5.0)],
+        stamp: 2,
+    });
+    let out = p.handle(PlannerEvent::Tick);
+    assert!(legs(&out).is_empty());
+    assert_eq!((p.round(), p.phase()), (0, Phase::Waiting));
+}
+
+#[test]
+fn new_targets_start_a_new_round() {
+    let (mut p, out) = ready(2, 1);
+    drive(&mut p, out);
+    let points = vec![TargetPoint {
+        xyz: [30.0, 8.0, 0.0],
+        building: 3,
+    }];
+    p.handle(PlannerEvent::Points { points, stamp: 2 });
+    p.handle(PlannerEvent::Regions {
+        regions: vec![],
+        stamp: 2,
+    });
+    let out = p.handle(PlannerEvent::Tick);
+    assert_eq!(p.round(), 2);
+    assert_eq!(legs(&out).len(), 1);
+    assert!(p.status().visited.points.is_empty());
+}
+
+#[test]
+fn a_blocked_stop_is_replanned_around_then_given_up() {
+    let (mut p, out) = ready(1, 1);
+    let goal = *legs(&out)[0].last().expect("pose");
+    assert!((goal[0] - 10.0).abs() < 1.0, "first stop {goal:?}");
+    // Blocked at x = 6 on the way to x = 10: the spot ahead is taken out.
+    let out = p.handle(blocked(goal, [6.0, 5.0]));
+    assert!(legs(&out).is_empty());
+    assert_eq!(p.phase(), Phase::Waiting);
+    let spots = p.status().blocked;
+    assert_eq!(spots.len(), 1);
+    let d = (spots[0].at[0] - 6.0).hypot(spots[0].at[1] - 5.0);
+    assert!(
+        (d - spots[0].radius).abs() < 1e-4 && spots[0].at[0] > 6.0,
+        "{spots:?}"
+    );
+    let out = p.handle(PlannerEvent::Tick);
+    let leg = &legs(&out)[0];
+    for q in leg {
+        let d = (q[0] - spots[0].at[0]).hypot(q[1] - spots[0].at[1]);
+        assert!(
+            d > spots[0].radius,
+            "replanned leg passes the blocked spot at {q:?}"
+        );
+    }
+    // Once more blocked: more than block_retries = 1 tries, the stop is given up.
+    p.handle(blocked(goal, [7.0, 3.0]));
+    assert_eq!(p.status().visited.points, vec![0]);
+    let out = p.handle(PlannerEvent::Tick);
+    let next = *legs(&out)[0].last().expect("pose");
+    assert!(
+        (next[0] - 10.0).abs() > 3.0,
+        "still going to the given-up stop: {next:?}"
+    );
+}
+
+#[test]
+fn a_restarted_planner_goes_on_where_it_was() {
+    let (mut before, out) = ready(2, 1);
+    let goal = *legs(&out)[0].last().expect("pose");
+    before.handle(arrived(goal));
+    before.handle(blocked([30.0, 5.0, 0.0], [14.0, 5.0]));
+    let saved = before.status();
+    assert_eq!(saved.visited.points, vec![0]);
+
+    // Restarted: the latched status arrives before the route.
+    let mut p = planner(2);
+    let mut restored = saved.clone();
+    restored.round = 4;
+    p.handle(PlannerEvent::Restore(restored));
+    let (xyz, labels) = strip();
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position(goal));
+    let points = vec![
+        TargetPoint {
+            xyz: [10.0, 5.0, 0.0],
+            building: 1,
+        },
+        TargetPoint {
+            xyz: [35.0, 5.0, 0.0],
+            building: 2,
+        },
+    ];
+    p.handle(PlannerEvent::Points { points, stamp: 1 });
+    p.handle(PlannerEvent::Regions {
+        regions: vec![region_at(22.0, 5.0)],
+        stamp: 1,
+    });
+    p.handle(PlannerEvent::Tick);
+    let s = p.status();
+    assert_eq!(s.round, 4);
+    assert_eq!(s.visited.points, vec![0]);
+    assert_eq!(s.stops, 2, "the visited point is not planned again");
+    assert_eq!(s.blocked, saved.blocked);
+    // A restore that does not match the target set is a new round.
+    let mut q = planner(2);
+    let mut other = saved;
+    other.target_points = 9;
+    q.handle(PlannerEvent::Restore(other));
+    let (xyz, labels) = strip();
+    q.handle(PlannerEvent::Cloud { xyz, labels });
+    q.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+    q.handle(PlannerEvent::Points {
+        points: vec![],
+        stamp: 1,
+    });
+    q.handle(PlannerEvent::Regions {
+        regions: vec![region_at(22.0, 5.0)],
+        stamp: 1,
+    });
+    q.handle(PlannerEvent::Tick);
+    assert_eq!((q.round(), q.status().visited.points.len()), (1, 0));
+}
