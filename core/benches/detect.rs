@@ -5,33 +5,28 @@
 mod planning_scene;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use skyground_core::missing::{DetectParams, GroundGrid, detect_all_on};
+use skyground_core::missing::{DetectParams, detect_all_on};
 use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, generate};
 
 fn bench(c: &mut Criterion) {
     let scene = load_scene("reference").expect("reference scene");
-    let planning_scene::Prior {
-        xyz: all,
-        labels,
-        buildings: xyz,
-        ids: bid,
-        ground,
-        ..
-    } = planning_scene::prior(&scene);
-    eprintln!("{} building points", xyz.len());
-    let terrain = GroundGrid::from_points(&ground, 2.0, 40).expect("ground");
+    let p = planning_scene::prior(&scene);
+    eprintln!("{} building points", p.buildings.len());
+    let terrain = p.terrain();
     let params = DetectParams::default();
     let mut g = c.benchmark_group("detect");
     g.sample_size(10);
     g.bench_function("detect_all reference prior", |b| {
-        b.iter(|| detect_all_on(&xyz, &bid, None, Some(&terrain), &params).expect("detect"))
+        b.iter(|| {
+            detect_all_on(&p.buildings, &p.ids, None, Some(&terrain), &params).expect("detect")
+        })
     });
-    let det = detect_all_on(&xyz, &bid, None, Some(&terrain), &params).expect("detect");
+    let det = detect_all_on(&p.buildings, &p.ids, None, Some(&terrain), &params).expect("detect");
     let tp = TargetParams::default();
     g.bench_function("site + generate", |b| {
         b.iter(|| {
-            let site = Site::from_cloud(&all, &labels, tp.cell, tp.clearance).expect("site");
+            let site = Site::from_cloud(&p.xyz, &p.labels, tp.cell, tp.clearance).expect("site");
             generate(&det, &site, &tp).expect("targets")
         })
     });

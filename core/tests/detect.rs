@@ -28,7 +28,7 @@ type Prior = (Vec<[f32; 3]>, Vec<u32>, Vec<[f32; 3]>, GroundGrid);
 /// Building points and ids of a scene's airborne prior (ground-truth labels).
 fn prior_buildings(scene: &Scene) -> Prior {
     let p = planning_scene::prior(scene);
-    let terrain = GroundGrid::from_points(&p.ground, 2.0, 40).unwrap();
+    let terrain = p.terrain();
     (p.buildings, p.ids, p.xyz, terrain)
 }
 

@@ -170,14 +170,7 @@ fn reference_scene_derived_footprints_match_the_truth() {
     assert_eq!(derived.len(), truth.len());
 
     // The height-jump split must not cut the podium from its towers.
-    let cut = derive(
-        &pts,
-        &DeriveParams {
-            height_jump_m: 3.0,
-            ..DeriveParams::default()
-        },
-    )
-    .unwrap();
+    let cut = derive_with_height_split(&pts);
     let cut_matches = match_footprints(&cut, &truth);
     let cut_worst = cut_matches.iter().map(|m| m.iou).fold(1.0, f64::min);
     println!(
@@ -238,14 +231,7 @@ fn touching_buildings_split_at_height_jumps() {
     grid(50.0, 8.0, 10.0, 14.0, 30.0);
 
     let plain = derive(&pts, &DeriveParams::default()).unwrap();
-    let cut = derive(
-        &pts,
-        &DeriveParams {
-            height_jump_m: 3.0,
-            ..DeriveParams::default()
-        },
-    )
-    .unwrap();
+    let cut = derive_with_height_split(&pts);
     println!(
         "touching pair + podium: {} footprints without the height split, {} with it",
         plain.len(),
@@ -558,4 +544,13 @@ fn bad_inputs_give_typed_errors_or_skips() {
         0.0
     );
     let _ = Area::unsigned_area(&geo::MultiPolygon::<f64>::new(vec![]));
+}
+
+/// Footprints derived with the height-jump split on (3 m).
+fn derive_with_height_split(pts: &[[f32; 3]]) -> Vec<Footprint> {
+    let params = DeriveParams {
+        height_jump_m: 3.0,
+        ..DeriveParams::default()
+    };
+    derive(pts, &params).unwrap()
 }

@@ -484,13 +484,7 @@ fn completeness_full_empty_and_partial() {
     assert_eq!(mean_gt_distance(&gt, &[]), None);
 
     // Building 2 deleted from the cloud: exactly building 1's share remains.
-    let kept: Vec<[f32; 3]> = gt
-        .xyz
-        .iter()
-        .zip(&gt.building)
-        .filter(|(_, b)| **b == 1)
-        .map(|(p, _)| *p)
-        .collect();
+    let kept = gt.of_building(1);
     let half = completeness(&gt, &kept, 0.25);
     let share = kept.len() as f64 / gt.len() as f64;
     assert!((half.overall.ratio.unwrap() - share).abs() < 1e-12);

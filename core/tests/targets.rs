@@ -3,7 +3,7 @@
 //! tree), point targets against their standoff range, regions against the
 //! shape the planner expects.
 
-use skyground_core::missing::{DetectParams, GroundGrid, Strategy, detect_all_on};
+use skyground_core::missing::{DetectParams, Strategy, detect_all_on};
 use skyground_core::scene::{ObjectKind, load_scene};
 use skyground_core::targets::{Site, TargetParams, generate};
 
@@ -13,23 +13,16 @@ mod planning_scene;
 #[test]
 fn reference_targets_are_outside_obstacles_and_in_range() {
     let scene = load_scene("reference").unwrap();
-    let planning_scene::Prior {
-        caster,
-        xyz: all,
-        labels,
-        buildings: xyz,
-        ids: bid,
-        ground,
-    } = planning_scene::prior(&scene);
-    let terrain = GroundGrid::from_points(&ground, 2.0, 40).unwrap();
+    let p = planning_scene::prior(&scene);
+    let terrain = p.terrain();
     // θ low enough that both strategies occur on this scene.
     let dp = DetectParams {
         theta: 0.12,
         ..DetectParams::default()
     };
-    let det = detect_all_on(&xyz, &bid, None, Some(&terrain), &dp).unwrap();
+    let det = detect_all_on(&p.buildings, &p.ids, None, Some(&terrain), &dp).unwrap();
     let tp = TargetParams::default();
-    let site = Site::from_cloud(&all, &labels, tp.cell, tp.clearance).unwrap();
+    let site = Site::from_cloud(&p.xyz, &p.labels, tp.cell, tp.clearance).unwrap();
     let (set, dropped) = generate(&det, &site, &tp).unwrap();
     let point_buildings = det
         .buildings
@@ -55,8 +48,8 @@ fn reference_targets_are_outside_obstacles_and_in_range() {
     let mut inside = 0;
     for t in &set.points {
         let o = [t.xyz[0], t.xyz[1], t.xyz[2] + 0.3];
-        if let Some(hit) = caster.cast(o, [0.0, 0.0, 1.0], 200.0) {
-            let kind = caster.object(hit.object).map(|ob| ob.kind);
+        if let Some(hit) = p.caster.cast(o, [0.0, 0.0, 1.0], 200.0) {
+            let kind = p.caster.object(hit.object).map(|ob| ob.kind);
             let solid = matches!(kind, Some(ObjectKind::Building | ObjectKind::Vegetation));
             if solid && hit.normal[2] > 0.0 {
                 inside += 1;

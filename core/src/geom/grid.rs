@@ -119,6 +119,42 @@ pub fn close(src: &[bool], nx: usize, ny: usize, r: usize) -> Vec<bool> {
     square_filter(&grown, nx, ny, r, false)
 }
 
+/// Fills unknown (NaN) cells of a row-major `nx × ny` height grid from their
+/// known 4-neighbours' mean, `steps` rings deep (each ring from the last).
+pub fn fill_holes(z: &mut [f32], nx: usize, ny: usize, steps: usize) {
+    for _ in 0..steps {
+        let prev = z.to_vec();
+        let mut changed = false;
+        for j in 0..ny {
+            for i in 0..nx {
+                if prev[j * nx + i].is_finite() {
+                    continue;
+                }
+                let near = [
+                    (i.wrapping_sub(1), j),
+                    (i + 1, j),
+                    (i, j.wrapping_sub(1)),
+                    (i, j + 1),
+                ];
+                let (mut s, mut c) = (0.0, 0);
+                for (a, b) in near {
+                    if a < nx && b < ny && prev[b * nx + a].is_finite() {
+                        s += prev[b * nx + a];
+                        c += 1;
+                    }
+                }
+                if c > 0 {
+                    z[j * nx + i] = s / c as f32;
+                    changed = true;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -147,5 +183,17 @@ mod tests {
         let row: Vec<usize> = (0..nx).filter(|&i| c[nx + i]).collect();
         assert_eq!(row, vec![2, 3, 4, 5, 6]);
         assert_eq!(c.iter().filter(|&&v| v).count(), 5);
+    }
+
+    #[test]
+    fn holes_fill_ring_by_ring() {
+        let nan = f32::NAN;
+        let mut z = vec![1.0, nan, nan, nan, 3.0, nan];
+        fill_holes(&mut z, 3, 2, 1);
+        // Row 0: 1 ? ?, row 1: ? 3 ?: one ring reaches all but the far corner.
+        assert_eq!((z[1], z[3], z[5]), (2.0, 2.0, 3.0));
+        assert!(z[2].is_nan());
+        fill_holes(&mut z, 3, 2, 5);
+        assert_eq!(z[2], 2.5);
     }
 }

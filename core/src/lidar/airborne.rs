@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::caster::Caster;
-use super::config_error::{ConfigError, check};
+use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::{INTENSITY_FULL_SCALE, reflectance};
 use super::noise::Stream;
 use super::ray::{Hit, Ray, cross, dot, normalize};
@@ -226,12 +226,7 @@ impl AirborneConfig {
             self.canopy_interception,
             "must be in (0, 1]",
         )?;
-        check(
-            (0.0..=1.0).contains(&self.dropout),
-            "dropout",
-            self.dropout,
-            "must be in [0, 1]",
-        )
+        check_dropout(self.dropout)
     }
 
     /// Swath width on flat ground at flying height, metres.

@@ -62,7 +62,8 @@ pub enum CastBackend {
 #[derive(Debug, Clone)]
 enum Index {
     Bvh(Bvh),
-    Parry(ParryMesh),
+    /// Boxed: parry's mesh carries a large inline header.
+    Parry(Box<ParryMesh>),
 }
 
 impl Index {
@@ -165,7 +166,7 @@ impl Caster {
         Ok(Self {
             index: match backend {
                 CastBackend::Bvh => Index::Bvh(Bvh::new(tris, ids)),
-                CastBackend::Parry => Index::Parry(ParryMesh::new(tris, ids)),
+                CastBackend::Parry => Index::Parry(Box::new(ParryMesh::new(tris, ids))),
             },
             triangle_object: scene.triangle_object.clone(),
             objects: scene.objects.clone(),

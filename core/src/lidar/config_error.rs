@@ -29,3 +29,13 @@ pub(crate) fn check(
         })
     }
 }
+
+/// `dropout`, the share of pulses lost, must lie in [0, 1].
+pub(crate) fn check_dropout(dropout: f32) -> Result<(), ConfigError> {
+    check(
+        (0.0..=1.0).contains(&dropout),
+        "dropout",
+        dropout,
+        "must be in [0, 1]",
+    )
+}

@@ -1,5 +1,6 @@
 //! Sensor poses: position plus yaw, pitch, roll.
 
+use nalgebra::Rotation3;
 use serde::{Deserialize, Serialize};
 
 /// Where a sensor is and how it is turned, in the scene's local frame.
@@ -30,14 +31,9 @@ impl Pose {
 
     /// The rotation matrix (rows) taking sensor-frame vectors to the map frame.
     pub fn rotation(&self) -> [[f32; 3]; 3] {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        let (sr, cr) = self.roll.sin_cos();
-        [
-            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-            [-sp, cp * sr, cp * cr],
-        ]
+        // nalgebra's roll-pitch-yaw is the same `Rz(yaw) · Ry(pitch) · Rx(roll)`.
+        let r = Rotation3::from_euler_angles(self.roll, self.pitch, self.yaw);
+        std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]))
     }
 }
 

@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::caster::Caster;
-use super::config_error::{ConfigError, check};
+use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::return_intensity;
 use super::noise::{Stream, combine};
 use super::pose::{Pose, rotate};
@@ -104,12 +104,7 @@ impl LidarConfig {
             self.range_noise_sigma,
             "must be finite and ≥ 0",
         )?;
-        check(
-            (0.0..=1.0).contains(&self.dropout),
-            "dropout",
-            self.dropout,
-            "must be in [0, 1]",
-        )
+        check_dropout(self.dropout)
     }
 
     /// Firings per revolution (columns of the range image).

@@ -113,13 +113,7 @@ mod tests {
         let scene = reference_scene(7);
         let gt = sample_building_surfaces(&scene, 1.0);
         // Before: nothing but building 1's samples; after: every sample.
-        let one: Vec<[f32; 3]> = gt
-            .xyz
-            .iter()
-            .zip(&gt.building)
-            .filter(|(_, b)| **b == 1)
-            .map(|(p, _)| *p)
-            .collect();
+        let one = gt.of_building(1);
         let e = evaluate(
             &scene,
             &gt,

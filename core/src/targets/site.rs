@@ -119,9 +119,7 @@ impl Site {
                 }
             })
             .collect();
-        for _ in 0..FILL_STEPS {
-            ground = fill_once(&ground, size);
-        }
+        crate::geom::grid::fill_holes(&mut ground, size[0], size[1], FILL_STEPS);
         let r = (clearance / cell).ceil() as isize;
         Ok(Site {
             origin: lo,
@@ -147,32 +145,6 @@ impl Site {
             .map(|k| self.ground[k])
             .filter(|g| g.is_finite())
     }
-}
-
-fn fill_once(ground: &[f32], size: [usize; 2]) -> Vec<f32> {
-    let mut out = ground.to_vec();
-    for j in 0..size[1] {
-        for i in 0..size[0] {
-            if ground[j * size[0] + i].is_finite() {
-                continue;
-            }
-            let (mut s, mut c) = (0.0, 0);
-            for (di, dj) in [(-1isize, 0isize), (1, 0), (0, -1), (0, 1)] {
-                let (a, b) = (i as isize + di, j as isize + dj);
-                if a >= 0 && b >= 0 && (a as usize) < size[0] && (b as usize) < size[1] {
-                    let g = ground[b as usize * size[0] + a as usize];
-                    if g.is_finite() {
-                        s += g;
-                        c += 1;
-                    }
-                }
-            }
-            if c > 0 {
-                out[j * size[0] + i] = s / c as f32;
-            }
-        }
-    }
-    out
 }
 
 fn grow(occ: &[bool], size: [usize; 2], r: isize) -> Vec<bool> {

@@ -9,6 +9,7 @@ use std::sync::OnceLock;
 use skyground_core::cloud::class;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{GtSamples, SurfaceKind, sample_building_surfaces};
+use skyground_core::missing::GroundGrid;
 use skyground_core::scene::{ObjectKind, REFERENCE_SEED, Scene, reference_scene};
 use skyground_core::targets::{Region, TargetPoint, TargetSet};
 
@@ -52,6 +53,13 @@ pub struct Prior {
     pub ids: Vec<u32>,
     /// Ground points (class 2).
     pub ground: Vec<[f32; 3]>,
+}
+
+impl Prior {
+    /// The detector's terrain from the ground points (2 m cells, holes filled 40 deep).
+    pub fn terrain(&self) -> GroundGrid {
+        GroundGrid::from_points(&self.ground, 2.0, 40).unwrap()
+    }
 }
 
 /// The default airborne survey of `scene`, split into buildings and ground.

@@ -30,42 +30,32 @@ fn town() -> Scene {
     );
     ground.quad(g[0], g[1], g[2], g[3]);
     b.add("terrain", ObjectKind::Ground, 0, &ground);
-    b.add(
-        "a",
-        ObjectKind::Building,
-        1,
-        &block(10.0, 10.0, 20.0, 20.0, 10.0),
-    );
-    b.add(
-        "b",
-        ObjectKind::Building,
-        2,
-        &block(40.0, 10.0, 50.0, 20.0, 10.0),
-    );
-    b.add(
-        "c",
-        ObjectKind::Building,
-        3,
-        &block(80.0, 80.0, 95.0, 95.0, 10.0),
-    );
-    b.add(
-        "d_south",
-        ObjectKind::Building,
-        4,
-        &block(85.0, 40.0, 88.0, 50.0, 6.0),
-    );
-    b.add(
-        "d_north",
-        ObjectKind::Building,
-        4,
-        &block(85.0, 50.0, 88.0, 60.0, 6.0),
-    );
-    b.add(
-        "tree_1",
-        ObjectKind::Vegetation,
-        0,
-        &block(29.0, 29.0, 31.0, 31.0, 8.0),
-    );
+    let blocks: [(&str, ObjectKind, u32, [f64; 5]); 6] = [
+        ("a", ObjectKind::Building, 1, [10.0, 10.0, 20.0, 20.0, 10.0]),
+        ("b", ObjectKind::Building, 2, [40.0, 10.0, 50.0, 20.0, 10.0]),
+        ("c", ObjectKind::Building, 3, [80.0, 80.0, 95.0, 95.0, 10.0]),
+        (
+            "d_south",
+            ObjectKind::Building,
+            4,
+            [85.0, 40.0, 88.0, 50.0, 6.0],
+        ),
+        (
+            "d_north",
+            ObjectKind::Building,
+            4,
+            [85.0, 50.0, 88.0, 60.0, 6.0],
+        ),
+        (
+            "tree_1",
+            ObjectKind::Vegetation,
+            0,
+            [29.0, 29.0, 31.0, 31.0, 8.0],
+        ),
+    ];
+    for (name, kind, id, [x0, y0, x1, y1, h]) in blocks {
+        b.add(name, kind, id, &block(x0, y0, x1, y1, h));
+    }
     b.finish()
 }
 
