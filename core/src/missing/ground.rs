@@ -77,37 +77,7 @@ impl GroundGrid {
                 }
             })
             .collect();
-        for _ in 0..fill {
-            let prev = z.clone();
-            let mut changed = false;
-            for j in 0..size[1] {
-                for i in 0..size[0] {
-                    if prev[j * size[0] + i].is_finite() {
-                        continue;
-                    }
-                    let (mut s, mut c) = (0.0, 0);
-                    let near = [
-                        (i.wrapping_sub(1), j),
-                        (i + 1, j),
-                        (i, j.wrapping_sub(1)),
-                        (i, j + 1),
-                    ];
-                    for (a, b) in near {
-                        if a < size[0] && b < size[1] && prev[b * size[0] + a].is_finite() {
-                            s += prev[b * size[0] + a];
-                            c += 1;
-                        }
-                    }
-                    if c > 0 {
-                        z[j * size[0] + i] = s / c as f32;
-                        changed = true;
-                    }
-                }
-            }
-            if !changed {
-                break;
-            }
-        }
+        crate::geom::grid::fill_holes(&mut z, size[0], size[1], fill);
         Some(GroundGrid {
             origin: lo,
             far: hi,
