@@ -11,7 +11,7 @@ use skyground_core::lidar::bench::street_poses;
 use skyground_core::lidar::spinning::revolution_rays;
 use skyground_core::lidar::synthetic::dense_scene;
 use skyground_core::lidar::{
-    AirborneConfig, Caster, LidarConfig, Ray, airborne_scan, bench_rays, scan,
+    AirborneConfig, CastBackend, Caster, LidarConfig, Ray, airborne_scan, bench_rays, scan,
 };
 use skyground_core::scene::{REFERENCE_SEED, Scene, reference_scene};
 
@@ -31,6 +31,54 @@ fn print_figures(name: &str, scene: &Scene) {
     }
 }
 
+/// Times VLP-16 revolutions from 4 street poses of `caster` as group `name`,
+/// one thread and the rayon pool.
+fn cast_group(c: &mut Criterion, name: &str, caster: &Caster) {
+    let config = LidarConfig::default();
+    let rays: Vec<Ray> = street_poses(caster, 4)
+        .iter()
+        .flat_map(|p| revolution_rays(&config, p))
+        .collect();
+    let mut g = c.benchmark_group(name);
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    g.bench_function("one_thread", |b| {
+        b.iter(|| rays.iter().filter_map(|r| caster.cast_ray(r)).count())
+    });
+    g.bench_function("cast_many", |b| {
+        b.iter(|| caster.cast_many(black_box(&rays)).len())
+    });
+    g.finish();
+}
+
+/// The two ray-cast backends side by side on the reference scene (build,
+/// then casting), and an airborne survey with the default one.
+fn reference(c: &mut Criterion) {
+    let reference = reference_scene(REFERENCE_SEED);
+    for (name, backend) in [("bvh", CastBackend::Bvh), ("parry", CastBackend::Parry)] {
+        let mut g = c.benchmark_group(format!("build_reference/{name}"));
+        g.sample_size(10);
+        g.bench_function("build", |b| {
+            b.iter(|| {
+                Caster::with_backend(black_box(&reference), backend).map(|c| c.triangle_count())
+            })
+        });
+        g.finish();
+        match Caster::with_backend(&reference, backend) {
+            Ok(rc) => cast_group(c, &format!("cast_reference/{name}"), &rc),
+            Err(e) => eprintln!("reference scene did not build with {name}: {e}"),
+        }
+    }
+    let Ok(rc) = Caster::new(&reference) else {
+        return;
+    };
+    let mut g = c.benchmark_group("airborne_reference");
+    g.sample_size(10);
+    g.bench_function("default_survey", |b| {
+        b.iter(|| airborne_scan(&rc, &AirborneConfig::default()).map(|c| c.len()))
+    });
+    g.finish();
+}
+
 fn benches(c: &mut Criterion) {
     let scene = dense_scene(1_000_000, 1);
     let mut g = c.benchmark_group("bvh_build");
@@ -44,45 +92,9 @@ fn benches(c: &mut Criterion) {
         eprintln!("dense scene did not build");
         return;
     };
+    cast_group(c, "cast_dense_1M", &caster);
     let config = LidarConfig::default();
     let poses = street_poses(&caster, 4);
-    let rays: Vec<Ray> = poses
-        .iter()
-        .flat_map(|p| revolution_rays(&config, p))
-        .collect();
-    let mut g = c.benchmark_group("cast_dense_1M");
-    g.throughput(Throughput::Elements(rays.len() as u64));
-    g.bench_function("one_thread", |b| {
-        b.iter(|| rays.iter().filter_map(|r| caster.cast_ray(r)).count())
-    });
-    g.bench_function("cast_many", |b| {
-        b.iter(|| caster.cast_many(black_box(&rays)).len())
-    });
-    g.finish();
-
-    let reference = reference_scene(REFERENCE_SEED);
-    if let Ok(rc) = Caster::new(&reference) {
-        let rays: Vec<Ray> = street_poses(&rc, 4)
-            .iter()
-            .flat_map(|p| revolution_rays(&config, p))
-            .collect();
-        let mut g = c.benchmark_group("cast_reference");
-        g.throughput(Throughput::Elements(rays.len() as u64));
-        g.bench_function("one_thread", |b| {
-            b.iter(|| rays.iter().filter_map(|r| rc.cast_ray(r)).count())
-        });
-        g.bench_function("cast_many", |b| {
-            b.iter(|| rc.cast_many(black_box(&rays)).len())
-        });
-        g.finish();
-        let mut g = c.benchmark_group("airborne_reference");
-        g.sample_size(10);
-        g.bench_function("default_survey", |b| {
-            b.iter(|| airborne_scan(&rc, &AirborneConfig::default()).map(|c| c.len()))
-        });
-        g.finish();
-    }
-
     let mut g = c.benchmark_group("scan_dense_1M");
     g.throughput(Throughput::Elements(
         (config.columns() * config.beams as usize) as u64,
@@ -104,6 +116,7 @@ fn main() {
         .warm_up_time(std::time::Duration::from_secs(1))
         .measurement_time(std::time::Duration::from_secs(3))
         .configure_from_args();
+    reference(&mut c);
     benches(&mut c);
     c.final_summary();
 }

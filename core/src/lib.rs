@@ -16,6 +16,7 @@ pub mod field;
 pub mod follow;
 pub mod footprint;
 pub mod forest;
+pub mod geom;
 pub mod graph;
 pub mod ground;
 pub mod lidar;

@@ -7,7 +7,7 @@
 use thiserror::Error;
 
 use crate::cloud::Cloud;
-use crate::crs::{Crs, wkt_facts};
+use crate::crs::Crs;
 use crate::scene::Window;
 
 /// Why a survey cannot be the prior of a city model.
@@ -77,16 +77,6 @@ pub enum CrsCheck {
     ModelUnknown(String),
 }
 
-/// The horizontal EPSG code of a CRS: the projected part of a compound CRS
-/// (EPSG:7415 = RD New + NAP height → 28992), else the CRS's own code.
-pub fn horizontal_epsg(crs: &Crs) -> Option<u32> {
-    crs.wkt
-        .as_deref()
-        .and_then(|w| wkt_facts(w).ok())
-        .and_then(|f| f.horizontal_epsg.or(f.epsg))
-        .or(crs.epsg)
-}
-
 /// Checks that the prior and the model share their horizontal CRS (their
 /// heights may be in different vertical datums: AHN and 3DBAG both use NAP,
 /// but the check is horizontal only).
@@ -94,7 +84,7 @@ pub fn check_crs(prior: Option<&Crs>, model: Option<&Crs>) -> Result<CrsCheck, P
     match (prior, model) {
         (None, m) => Ok(CrsCheck::PriorUnknown(m.map(Crs::label))),
         (Some(p), None) => Ok(CrsCheck::ModelUnknown(p.label())),
-        (Some(p), Some(m)) => match (horizontal_epsg(p), horizontal_epsg(m)) {
+        (Some(p), Some(m)) => match (p.horizontal_epsg(), m.horizontal_epsg()) {
             (Some(a), Some(b)) if a == b => Ok(CrsCheck::Same(a)),
             (Some(a), Some(b)) => Err(PriorError::CrsMismatch {
                 prior: p.label(),
@@ -116,7 +106,7 @@ pub fn join_tiles(tiles: &[(String, Cloud)]) -> Result<Cloud, PriorError> {
             return Err(PriorError::EmptyTile { tile: name.clone() });
         }
     }
-    let h = |c: &Cloud| c.crs.as_ref().and_then(horizontal_epsg);
+    let h = |c: &Cloud| c.crs.as_ref().and_then(Crs::horizontal_epsg);
     let label = |c: &Cloud| c.crs.as_ref().map_or("no CRS".to_string(), Crs::label);
     let mut out = first.clone();
     for (name, c) in rest {
@@ -235,7 +225,7 @@ mod tests {
     fn rd_new_and_rd_new_plus_nap_share_their_horizontal_crs() {
         let rd = Crs::from_epsg(28992).unwrap();
         let rd_nap = Crs::from_epsg(7415).unwrap();
-        assert_eq!(horizontal_epsg(&rd_nap), Some(28992));
+        assert_eq!(rd_nap.horizontal_epsg(), Some(28992));
         assert_eq!(
             check_crs(Some(&rd), Some(&rd_nap)).unwrap(),
             CrsCheck::Same(28992)

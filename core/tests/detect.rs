@@ -9,8 +9,7 @@
 use std::time::Instant;
 
 use geo::{Area, Contains, Coord, LineString, MultiPolygon, Polygon};
-use skyground_core::cloud::{class, read_cloud};
-use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
+use skyground_core::cloud::read_cloud;
 use skyground_core::metrics::sample_building_surfaces;
 use skyground_core::missing::{
     DetectParams, Detection, GroundGrid, SkipReason, Strategy, detect_all, detect_all_on,
@@ -20,29 +19,17 @@ use skyground_core::scene::{Scene, load_scene};
 
 mod common;
 use common::real_file;
+#[path = "planning_scene/mod.rs"]
+mod planning_scene;
 
 /// Building points, their ids, all points, and the terrain.
 type Prior = (Vec<[f32; 3]>, Vec<u32>, Vec<[f32; 3]>, GroundGrid);
 
 /// Building points and ids of a scene's airborne prior (ground-truth labels).
 fn prior_buildings(scene: &Scene) -> Prior {
-    let caster = Caster::new(scene).unwrap();
-    let cloud = airborne_scan(&caster, &AirborneConfig::default()).unwrap();
-    let labels = cloud.label.as_ref().unwrap();
-    let ids = cloud.building.as_ref().unwrap();
-    let (mut xyz, mut bid) = (Vec::new(), Vec::new());
-    for k in 0..cloud.xyz.len() {
-        if labels[k] == class::BUILDING && ids[k] > 0 {
-            xyz.push(cloud.xyz[k]);
-            bid.push(ids[k]);
-        }
-    }
-    let ground: Vec<[f32; 3]> = (0..cloud.xyz.len())
-        .filter(|&k| labels[k] == class::GROUND)
-        .map(|k| cloud.xyz[k])
-        .collect();
-    let terrain = GroundGrid::from_points(&ground, 2.0, 40).unwrap();
-    (xyz, bid, cloud.xyz, terrain)
+    let p = planning_scene::prior(scene);
+    let terrain = GroundGrid::from_points(&p.ground, 2.0, 40).unwrap();
+    (p.buildings, p.ids, p.xyz, terrain)
 }
 
 fn print_detection(det: &Detection) {

@@ -4,7 +4,8 @@
 use proptest::prelude::*;
 use skyground_core::lidar::synthetic::{SyntheticBuilder, boxes_on_plane, dense_scene};
 use skyground_core::lidar::{
-    AirborneConfig, Caster, CasterError, FlightPattern, LidarConfig, Pose, Ray, airborne_scan, scan,
+    AirborneConfig, CastBackend, Caster, CasterError, FlightPattern, LidarConfig, Pose, Ray,
+    airborne_scan, scan,
 };
 use skyground_core::scene::{ObjectKind, Scene, SceneObject};
 
@@ -291,6 +292,40 @@ proptest! {
             prop_assert_eq!(*h, caster.cast_ray(r));
         }
     }
+}
+
+/// parry3d's mesh finds the same closest hits as the hand-written BVH on
+/// the reference scene (VLP-16 revolutions from street poses): rays grazing
+/// a shared edge may go either way, so at most 0.1 % may differ.
+#[test]
+fn parry_backend_equals_bvh_on_the_reference_scene() {
+    let scene = skyground_core::scene::reference_scene(skyground_core::scene::REFERENCE_SEED);
+    let bvh = Caster::with_backend(&scene, CastBackend::Bvh).unwrap();
+    let parry = Caster::with_backend(&scene, CastBackend::Parry).unwrap();
+    assert_eq!(parry.backend(), CastBackend::Parry);
+    assert_eq!(bvh.triangle_count(), parry.triangle_count());
+    let config = LidarConfig::default();
+    let rays: Vec<Ray> = skyground_core::lidar::bench::street_poses(&bvh, 4)
+        .iter()
+        .flat_map(|p| skyground_core::lidar::spinning::revolution_rays(&config, p))
+        .collect();
+    let (a, b) = (bvh.cast_many(&rays), parry.cast_many(&rays));
+    let hits = a.iter().flatten().count();
+    assert!(hits > rays.len() / 4, "{hits} of {} rays hit", rays.len());
+    let differ = a
+        .iter()
+        .zip(&b)
+        .filter(|(x, y)| match (x, y) {
+            (Some(x), Some(y)) => (x.t - y.t).abs() > 1e-4 * x.t.max(1.0) || x.object != y.object,
+            (None, None) => false,
+            _ => true,
+        })
+        .count();
+    assert!(
+        differ * 1000 <= rays.len(),
+        "{differ} of {} rays differ",
+        rays.len()
+    );
 }
 
 /// A street along x at y = 0 between two rows of boxes, with a park and

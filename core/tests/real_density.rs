@@ -8,7 +8,7 @@
 //!   errors are left out): the share of missing points whose nearest input
 //!   point is a producer building point, and each target's distance to one;
 //! - the share of candidate ground nodes the graph reaches from the start
-//!   `skyground plan` uses (the ground point nearest the cloud's middle).
+//!   `skyground plan` uses (the middle of the largest piece of ground).
 //!
 //! Absent data → `SKIPPED`, the test passes.
 
@@ -31,6 +31,16 @@ fn real(name: &str) -> Option<Cloud> {
         return None;
     }
     Some(read_cloud(&path).unwrap_or_else(|e| panic!("{name}: {e}")))
+}
+
+/// The ground filter's total error against the producer's class 2 is at most 5 %.
+fn assert_ground(name: &str, cloud: &Cloud) {
+    let g = ground_error(name, cloud);
+    assert!(
+        g.total_error <= 0.05,
+        "{name}: ground total error {}",
+        g.total_error
+    );
 }
 
 /// The ground filter's total error against the producer's class 2.
@@ -79,25 +89,31 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
     }
     let check = producer_check(&cloud.xyz, labels, &detection.missing_xyz(), &at);
 
-    let (lo, hi) = cloud.bounds().unwrap();
-    let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-    let d = |q: &[f32; 3]| (q[0] - mid[0]).powi(2) + (q[1] - mid[1]).powi(2);
-    let start = cloud
+    let graph = GroundGraph::build_largest(&cloud.xyz, labels, &GraphParams::default()).unwrap();
+    let start = graph.positions()[graph.start_node()];
+    let g = graph.report();
+    let reachable_share = g.nodes as f64 / g.candidate_nodes.max(1) as f64;
+    // The most any vehicle could reach here: every point that is not ground,
+    // building, water or bridge deleted (trees, cars, hedges, fences gone).
+    let fixed = |l: &u8| matches!(*l, class::GROUND | class::BUILDING | 9 | 17 | 26);
+    let (bxyz, blabels): (Vec<[f32; 3]>, Vec<u8>) = cloud
         .xyz
         .iter()
         .zip(labels)
-        .filter(|(_, l)| **l == class::GROUND)
-        .map(|(q, _)| *q)
-        .min_by(|a, b| d(a).total_cmp(&d(b)))
-        .unwrap();
-    let graph = GroundGraph::build(&cloud.xyz, labels, start, &GraphParams::default()).unwrap();
-    let g = graph.report();
-    let reachable_share = g.nodes as f64 / g.candidate_nodes.max(1) as f64;
+        .filter(|(_, l)| fixed(l))
+        .map(|(p, l)| (*p, *l))
+        .unzip();
+    let bound = GroundGraph::build(&bxyz, &blabels, start, &GraphParams::default())
+        .unwrap()
+        .report();
+    let bound_share = bound.nodes as f64 / bound.candidate_nodes.max(1) as f64;
     let dp = detection.params.as_ref().unwrap();
     println!(
         "{name}: buildings {:.1} pts/m² → slice {} m, cell {} m, δ {} m; {} footprints; \
-         ground → node spacing {} m: {} of {} candidate nodes reachable ({:.3}); \
-         {} of {} missing points nearest a producer building point ({:.3}); \
+         ground → node spacing {} m: {} of {} candidate nodes reachable ({:.3}; \
+         with only ground, buildings, water and bridges standing {} of {}, {:.3}); \
+         {} of {} missing points nearest a producer building point ({:.3}), \
+         {} within 0.5 m of one in plan ({:.3}); \
          {} target positions ({} points, {} regions), farthest {:.1} m from a building point, {} beyond 30 m",
         detection.density.map_or(f32::NAN, |d| d.points_per_m2),
         dp.slice.spacing,
@@ -108,9 +124,14 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
         g.nodes,
         g.candidate_nodes,
         reachable_share,
+        bound.nodes,
+        bound.candidate_nodes,
+        bound_share,
         check.missing_on_building,
         check.missing_points,
         check.missing_on_building_share,
+        check.missing_on_outline,
+        check.missing_on_outline_share,
         check.targets,
         targets.points.len(),
         targets.regions.len(),
@@ -123,8 +144,14 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
     }
 }
 
-/// Met: every target within 30 m of a producer building point.
-fn assert_targets_beside_buildings(name: &str, b: &Bars) {
+/// Met: every target within 30 m of a producer building point, and ≥ 95 %
+/// of missing points on a producer building's outline seen from above.
+fn assert_met_bars(name: &str, b: &Bars) {
+    assert!(
+        b.check.missing_on_outline_share >= 0.95,
+        "{name}: {:.3} of missing points within 0.5 m (plan) of a building point",
+        b.check.missing_on_outline_share
+    );
     assert!(
         b.check.targets_beyond_reach == 0,
         "{name}: {} targets beyond 30 m of a building point (farthest {:.1} m)",
@@ -152,43 +179,28 @@ fn assert_open_bars(name: &str, b: &Bars) {
 fn ign_montpellier_ground_detection_and_graph() {
     let name = "ign_montpellier_150x100m.laz";
     let Some(cloud) = real(name) else { return };
-    let g = ground_error(name, &cloud);
-    assert!(
-        g.total_error <= 0.05,
-        "ground total error {}",
-        g.total_error
-    );
-    assert_targets_beside_buildings(name, &detect_and_plan(name, &cloud));
+    assert_ground(name, &cloud);
+    assert_met_bars(name, &detect_and_plan(name, &cloud));
 }
 
 #[test]
 fn ign_stbarth_ground() {
     let name = "ign_stbarth_100x100m.laz";
     let Some(cloud) = real(name) else { return };
-    let g = ground_error(name, &cloud);
-    assert!(
-        g.total_error <= 0.05,
-        "ground total error {}",
-        g.total_error
-    );
+    assert_ground(name, &cloud);
 }
 
 #[test]
 fn ahn3_delft_detection_and_graph() {
     for name in ["ahn3_delft_1.laz", "ahn3_delft_2.laz"] {
         let Some(cloud) = real(name) else { return };
-        let g = ground_error(name, &cloud);
-        assert!(
-            g.total_error <= 0.05,
-            "ground total error {}",
-            g.total_error
-        );
-        assert_targets_beside_buildings(name, &detect_and_plan(name, &cloud));
+        assert_ground(name, &cloud);
+        assert_met_bars(name, &detect_and_plan(name, &cloud));
     }
 }
 
 #[test]
-#[ignore = "bars not met yet (missing points low on walls, enclosed gardens, canals): docs/density.md"]
+#[ignore = "the bars as written: 3D nearest point (walls unseen from the air are nearest the ground at their foot; the plan-view bar is asserted above) and reachable share (impossible on Delft: buildings and water alone leave 0.63 and 0.61): docs/density.md"]
 fn missing_points_on_buildings_and_reachable_ground() {
     for name in [
         "ign_montpellier_150x100m.laz",

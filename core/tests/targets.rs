@@ -3,28 +3,24 @@
 //! tree), point targets against their standoff range, regions against the
 //! shape the planner expects.
 
-use skyground_core::cloud::class;
-use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::missing::{DetectParams, GroundGrid, Strategy, detect_all_on};
 use skyground_core::scene::{ObjectKind, load_scene};
 use skyground_core::targets::{Site, TargetParams, generate};
 
+#[path = "planning_scene/mod.rs"]
+mod planning_scene;
+
 #[test]
 fn reference_targets_are_outside_obstacles_and_in_range() {
     let scene = load_scene("reference").unwrap();
-    let caster = Caster::new(&scene).unwrap();
-    let cloud = airborne_scan(&caster, &AirborneConfig::default()).unwrap();
-    let labels = cloud.label.as_ref().unwrap();
-    let ids = cloud.building.as_ref().unwrap();
-    let (mut xyz, mut bid, mut ground) = (Vec::new(), Vec::new(), Vec::new());
-    for k in 0..cloud.xyz.len() {
-        if labels[k] == class::BUILDING && ids[k] > 0 {
-            xyz.push(cloud.xyz[k]);
-            bid.push(ids[k]);
-        } else if labels[k] == class::GROUND {
-            ground.push(cloud.xyz[k]);
-        }
-    }
+    let planning_scene::Prior {
+        caster,
+        xyz: all,
+        labels,
+        buildings: xyz,
+        ids: bid,
+        ground,
+    } = planning_scene::prior(&scene);
     let terrain = GroundGrid::from_points(&ground, 2.0, 40).unwrap();
     // θ low enough that both strategies occur on this scene.
     let dp = DetectParams {
@@ -33,7 +29,7 @@ fn reference_targets_are_outside_obstacles_and_in_range() {
     };
     let det = detect_all_on(&xyz, &bid, None, Some(&terrain), &dp).unwrap();
     let tp = TargetParams::default();
-    let site = Site::from_cloud(&cloud.xyz, labels, tp.cell, tp.clearance).unwrap();
+    let site = Site::from_cloud(&all, &labels, tp.cell, tp.clearance).unwrap();
     let (set, dropped) = generate(&det, &site, &tp).unwrap();
     let point_buildings = det
         .buildings

@@ -87,3 +87,28 @@ def test_info_reports_unit_and_extent_in_both(name, unit):
     assert info["points"] == hdr.point_count
     assert sum(info["classes"].values()) == hdr.point_count
     assert sum(info["returns"].values()) == hdr.point_count
+
+
+def test_footprints_and_plan_in_feet(tmp_path):
+    """Footprints drawn in the survey's feet (here: detect's own outlines,
+    written in feet) load onto the same buildings; `plan` starts on the
+    largest piece of ground and writes its route in feet."""
+    src = real_file("autzen_trim.las")
+    first = json.loads(run("detect", "--in", src, "--out", tmp_path / "a", "--json").stdout)
+    given = json.loads(run("detect", "--in", src, "--out", tmp_path / "b", "--json",
+                           "--footprints", tmp_path / "a" / "completeness.geojson").stdout)
+    assert given["footprints"] == "given"
+    assert given["footprints_used"] == first["footprints_used"] > 0
+    # The outlines split the same points off (metres would miss them by 3.3×).
+    inside = [sum(b["points"] for b in d["per_building"]) for d in (first, given)]
+    assert inside[0] > 0 and abs(inside[1] - inside[0]) <= 0.05 * inside[0], inside
+    plan = json.loads(run("plan", "--in", tmp_path / "a", "--json").stdout)
+    assert plan["nodes"] > 1000 and plan["reachable_node_share"] > 0.5, plan["graph"]
+    assert plan["reachable_points"] + plan["reachable_regions"] > 0, plan
+    route = json.loads((tmp_path / "a" / "route.geojson").read_text())
+    assert route["units"]["horizontal"] == "foot"
+    hdr = __import__("laspy").read(str(src)).header
+    lines = [f for f in route["features"] if f["geometry"]["type"] == "LineString"]
+    assert lines, "no route line"
+    for x, y, *_ in lines[0]["geometry"]["coordinates"]:
+        assert hdr.mins[0] - 1 <= x <= hdr.maxs[0] + 1 and hdr.mins[1] - 1 <= y <= hdr.maxs[1] + 1, (x, y)

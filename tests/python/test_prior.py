@@ -30,6 +30,15 @@ def test_the_mission_on_ahn3_delft_2_finishes_and_gains(tmp_path, env):
     # The mission is about the area the prior covers, not the whole model.
     assert 0 < report["crop"]["buildings_kept"] < report["crop"]["buildings_total"] == 160
     assert "| prior | " + str(prior) in (out / "report.md").read_text()
+    # AHN3 names no CRS: taken to be the model's (EPSG:7415, RD New + NAP),
+    # and written so, in RD coordinates (Delft: x ≈ 85 km, y ≈ 447 km).
+    import laspy
+    for name in ["aerial.las", "resampled.las"]:
+        hdr = laspy.read(str(out / name)).header
+        crs = hdr.parse_crs()
+        assert crs is not None and "Amersfoort / RD New" in crs.name, (name, crs)
+        assert 80_000 < hdr.mins[0] < hdr.maxs[0] < 90_000, (name, hdr.mins, hdr.maxs)
+        assert 440_000 < hdr.mins[1] < hdr.maxs[1] < 450_000, (name, hdr.mins, hdr.maxs)
 
 
 def test_a_prior_in_another_crs_is_refused(tmp_path, env):

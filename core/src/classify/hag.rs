@@ -70,12 +70,7 @@ mod tests {
     #[test]
     fn sloped_ground_and_errors() {
         // Ground z = 0.1 x on a grid; a roof point 8 m above it.
-        let mut xyz = Vec::new();
-        for i in 0..20 {
-            for j in 0..20 {
-                xyz.push([i as f32, j as f32, 0.1 * i as f32]);
-            }
-        }
+        let mut xyz = crate::geom::fixtures::lattice(20, 20, 1.0, |x, _| 0.1 * x);
         let mut flags = vec![true; xyz.len()];
         xyz.push([10.5, 10.5, 1.05 + 8.0]);
         flags.push(false);

@@ -107,6 +107,16 @@ impl Crs {
         [h, h, self.vertical_unit.to_metre()]
     }
 
+    /// The horizontal EPSG code: the projected part of a compound CRS
+    /// (EPSG:7415 = RD New + NAP height → 28992), else the CRS's own code.
+    pub fn horizontal_epsg(&self) -> Option<u32> {
+        self.wkt
+            .as_deref()
+            .and_then(|w| wkt_facts(w).ok())
+            .and_then(|f| f.horizontal_epsg.or(f.epsg))
+            .or(self.epsg)
+    }
+
     /// True when every axis is in metres.
     pub fn is_metric(&self) -> bool {
         self.to_metre() == [1.0; 3]

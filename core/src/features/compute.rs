@@ -224,12 +224,7 @@ mod tests {
     #[test]
     fn roof_plane_versus_blob() {
         // A flat roof 10 m up and a noisy ball: the roof is planar, the ball is not.
-        let mut xyz = Vec::new();
-        for i in 0..40 {
-            for j in 0..40 {
-                xyz.push([i as f32 * 0.25, j as f32 * 0.25, 10.0]);
-            }
-        }
+        let mut xyz = crate::geom::fixtures::lattice(40, 40, 0.25, |_, _| 10.0);
         let mut s = 1u64;
         let mut rnd = || {
             s = s

@@ -1,6 +1,8 @@
 //! Shape of one neighbourhood from the eigenvalues of its covariance:
 //! how line-, plane- or volume-like it is and which way its normal points.
 
+use crate::geom::eigen::sym3_eigen;
+
 /// Running sums of a neighbourhood (coordinates relative to an anchor, so
 /// f64 sums stay accurate far from the origin).
 #[derive(Debug, Clone, Copy, Default)]
@@ -48,7 +50,7 @@ impl Moments {
                 c[j][i] = c[i][j];
             }
         }
-        let (l, normal) = eigen_sym3(c);
+        let (l, normal) = sym3_eigen(c);
         let sum = l[0] + l[1] + l[2];
         let mut out = Shape {
             mean: m,
@@ -89,48 +91,6 @@ pub struct Shape {
     pub z_min: f64,
     /// Highest z, relative to the anchor.
     pub z_max: f64,
-}
-
-/// Eigenvalues (descending, clamped ≥ 0) and the eigenvector of the smallest,
-/// by cyclic Jacobi rotations (robust for repeated eigenvalues).
-fn eigen_sym3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [f64; 3]) {
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..32 {
-        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
-        let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
-        if off <= 1e-15 * scale.max(1e-300) {
-            break;
-        }
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            if a[p][q].abs() < 1e-300 {
-                continue;
-            }
-            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-            let t = if theta == 0.0 { 1.0 } else { t };
-            let c = 1.0 / (t * t + 1.0).sqrt();
-            let s = t * c;
-            for row in &mut a {
-                let (akp, akq) = (row[p], row[q]);
-                row[p] = c * akp - s * akq;
-                row[q] = s * akp + c * akq;
-            }
-            let (rp, rq) = (a[p], a[q]);
-            a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
-            a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
-            for row in &mut v {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = c * vp - s * vq;
-                row[q] = s * vp + c * vq;
-            }
-        }
-    }
-    let mut idx = [0usize, 1, 2];
-    idx.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
-    let vals = idx.map(|i| a[i][i].max(0.0));
-    let small = idx[2];
-    let normal = [v[0][small], v[1][small], v[2][small]];
-    (vals, normal)
 }
 
 #[cfg(test)]

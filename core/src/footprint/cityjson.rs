@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, HashMap};
 use geo::Polygon;
 use serde_json::Value;
 
-use super::error::{ParseError, Skipped};
+use super::error::{ParseError, Skipped, shape};
 use super::polygon::{ring, union_valid};
 use super::types::{Footprint, Loaded};
 
@@ -67,22 +67,7 @@ pub fn parse_cityjson_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded
             }),
         }
     }
-    if footprints.is_empty() {
-        return Err(ParseError::NoFootprints {
-            skipped: skipped.len(),
-            first: skipped.first().map(ToString::to_string),
-        });
-    }
-    Ok(Loaded {
-        footprints,
-        skipped,
-    })
-}
-
-fn shape(what: &str) -> ParseError {
-    ParseError::Shape {
-        what: what.to_string(),
-    }
+    Loaded::new(footprints, skipped)
 }
 
 /// Decompressed vertices (source CRS).

@@ -38,10 +38,17 @@ pub fn derive(
             points[(*l - 1) as usize] += *c as usize;
         }
     }
-    let outlines = trace(&label, r.nx, r.ny, n, r.lo, r.cell);
+    let outlines = trace(
+        &label,
+        r.frame.nx,
+        r.frame.ny,
+        n,
+        r.frame.origin,
+        r.frame.cell,
+    );
     // Cell edges lie up to a cell outside the points; half a cell back in
     // is the unbiased outline for points spread evenly up to the wall.
-    let inset = r.cell / 2.0;
+    let inset = r.frame.cell / 2.0;
     let mut kept: Vec<(usize, geo::MultiPolygon<f64>)> = outlines
         .into_par_iter()
         .zip(points)

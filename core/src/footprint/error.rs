@@ -21,6 +21,18 @@ pub enum FootprintError {
         /// What is wrong.
         source: ParseError,
     },
+    /// The file names a horizontal CRS other than the cloud's.
+    #[error(
+        "{path}: the footprints are in {file} but the cloud in {cloud}: reproject the footprints to the cloud's CRS first (e.g. ogr2ogr -t_srs)"
+    )]
+    CrsMismatch {
+        /// The file.
+        path: PathBuf,
+        /// The CRS the file names.
+        file: String,
+        /// The cloud's CRS.
+        cloud: String,
+    },
     /// Neither the extension nor the content says GeoJSON, CityJSON or OBJ.
     #[error(
         "{path}: unknown footprint format (expected .geojson/.json GeoJSON, CityJSON .json, or .obj)"
@@ -61,6 +73,13 @@ pub enum ParseError {
         /// Why the first one was skipped.
         first: Option<String>,
     },
+}
+
+/// A [`ParseError::Shape`] saying `what`.
+pub(super) fn shape(what: &str) -> ParseError {
+    ParseError::Shape {
+        what: what.to_string(),
+    }
 }
 
 /// Why one polygon of a file was skipped (the file still loads).

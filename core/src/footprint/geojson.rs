@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use geo::{MultiPolygon, Polygon};
 use serde_json::Value;
 
-use super::error::{ParseError, RingProblem, Skipped};
+use super::error::{ParseError, RingProblem, Skipped, shape};
 use super::polygon::{ring, union_valid};
 use super::types::{Footprint, Loaded};
 
@@ -90,22 +90,7 @@ pub fn parse_geojson(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError
             })
         })
         .collect();
-    if footprints.is_empty() {
-        return Err(ParseError::NoFootprints {
-            skipped: skipped.len(),
-            first: skipped.first().map(ToString::to_string),
-        });
-    }
-    Ok(Loaded {
-        footprints,
-        skipped,
-    })
-}
-
-fn shape(what: &str) -> ParseError {
-    ParseError::Shape {
-        what: what.to_string(),
-    }
+    Loaded::new(footprints, skipped)
 }
 
 /// A positive id from the feature's `id` or its properties `id` / `building`.

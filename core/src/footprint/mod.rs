@@ -1,7 +1,7 @@
 //! Step 2 of the method: individualize buildings with 2D footprints.
 //!
 //! - [`Footprint`] (`types`): one building's outline in the local frame.
-//! - Readers: [`load_footprints`] picks [`parse_geojson`],
+//! - Readers: [`load_footprints`] (or [`load_footprints_in`] a cloud's CRS and unit) picks [`parse_geojson`],
 //!   [`parse_cityjson_footprints`] or [`parse_obj_footprints`]; bad polygons
 //!   are skipped and listed in [`Loaded::skipped`], `polygon` makes the rest valid.
 //! - [`footprints_of_scene`] (`scene`): the true footprints of a scene.
@@ -31,7 +31,7 @@ pub use compare::{FootprintMatch, iou, match_footprints};
 pub use derive::derive;
 pub use error::{FootprintError, ParamsError, ParseError, RingProblem, Skipped};
 pub use geojson::parse_geojson;
-pub use load::load_footprints;
+pub use load::{load_footprints, load_footprints_in};
 pub use obj::parse_obj_footprints;
 pub use params::{DeriveParams, SplitParams};
 pub use scene::footprints_of_scene;

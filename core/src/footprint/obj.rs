@@ -72,14 +72,5 @@ pub fn parse_obj_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded, Par
             _ => {}
         }
     }
-    if footprints.is_empty() {
-        return Err(ParseError::NoFootprints {
-            skipped: skipped.len(),
-            first: skipped.first().map(ToString::to_string),
-        });
-    }
-    Ok(Loaded {
-        footprints,
-        skipped,
-    })
+    Loaded::new(footprints, skipped)
 }

@@ -4,6 +4,8 @@
 
 use std::collections::HashMap;
 
+use crate::geom::grid::{self, GridFrame};
+
 /// The grid never exceeds this many cells (the cell grows instead).
 const MAX_CELLS: f64 = 2.0e7;
 /// Empty cells kept around the data, so every component has an outside.
@@ -11,14 +13,8 @@ const PAD: usize = 2;
 
 /// Occupancy of a regular xy grid.
 pub struct Raster {
-    /// World xy of cell (0, 0)'s lower-left corner.
-    pub lo: [f64; 2],
-    /// Cell size (m), possibly larger than asked for (see `MAX_CELLS`).
-    pub cell: f64,
-    /// Columns.
-    pub nx: usize,
-    /// Rows.
-    pub ny: usize,
+    /// The cells' frame; its cell may be larger than asked for (see `MAX_CELLS`).
+    pub frame: GridFrame,
     /// Points per cell.
     pub count: Vec<u32>,
     /// Highest z per cell (`NEG_INFINITY` when empty).
@@ -44,26 +40,19 @@ impl Raster {
         let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
         let cell = cell.max((w * h / MAX_CELLS).sqrt());
         let pad = PAD + closing;
-        let margin = pad as f64 * cell;
-        let lo = [lo[0] - margin, lo[1] - margin];
-        // Bounded by MAX_CELLS: the casts cannot overflow.
-        let nx = (w / cell) as usize + 1 + 2 * pad;
-        let ny = (h / cell) as usize + 1 + 2 * pad;
-        let mut count = vec![0u32; nx * ny];
-        let mut top = vec![f32::NEG_INFINITY; nx * ny];
+        // Bounded by MAX_CELLS: the sizes cannot overflow.
+        let frame = GridFrame::covering(lo, hi, cell, pad);
+        let mut count = vec![0u32; frame.len()];
+        let mut top = vec![f32::NEG_INFINITY; frame.len()];
         for p in points.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
-            let i = ((f64::from(p[0]) - lo[0]) / cell) as usize;
-            let j = ((f64::from(p[1]) - lo[1]) / cell) as usize;
-            let k = j.min(ny - 1) * nx + i.min(nx - 1);
+            let (i, j) = frame.clamped_cell(f64::from(p[0]), f64::from(p[1]));
+            let k = j * frame.nx + i;
             count[k] += 1;
             top[k] = top[k].max(p[2]);
         }
         let filled = count.iter().map(|&c| c > 0).collect();
         let mut r = Self {
-            lo,
-            cell,
-            nx,
-            ny,
+            frame,
             count,
             top,
             filled,
@@ -78,12 +67,11 @@ impl Raster {
         if r == 0 {
             return;
         }
-        let dilated = self.morph(&self.filled, r, true);
-        let closed = self.morph(&dilated, r, false);
+        let closed = grid::close(&self.filled, self.frame.nx, self.frame.ny, r);
         let ri = r as isize;
-        for j in 0..self.ny {
-            for i in 0..self.nx {
-                let k = j * self.nx + i;
+        for j in 0..self.frame.ny {
+            for i in 0..self.frame.nx {
+                let k = j * self.frame.nx + i;
                 if !closed[k] || self.filled[k] {
                     continue;
                 }
@@ -91,10 +79,14 @@ impl Raster {
                 for dj in -ri..=ri {
                     for di in -ri..=ri {
                         let (x, y) = (i as isize + di, j as isize + dj);
-                        if x < 0 || y < 0 || x as usize >= self.nx || y as usize >= self.ny {
+                        if x < 0
+                            || y < 0
+                            || x as usize >= self.frame.nx
+                            || y as usize >= self.frame.ny
+                        {
                             continue;
                         }
-                        let n = y as usize * self.nx + x as usize;
+                        let n = y as usize * self.frame.nx + x as usize;
                         let d = (di * di + dj * dj) as usize;
                         if self.count[n] > 0 && d < best.0 {
                             best = (d, self.top[n]);
@@ -107,58 +99,30 @@ impl Raster {
         self.filled = closed;
     }
 
-    /// Dilation (`grow`) or erosion by a (2r+1)² square, separably.
-    fn morph(&self, src: &[bool], r: usize, grow: bool) -> Vec<bool> {
-        let (nx, ny) = (self.nx, self.ny);
-        let pass = |src: &[bool], along_x: bool| -> Vec<bool> {
-            let mut out = vec![false; nx * ny];
-            for j in 0..ny {
-                for i in 0..nx {
-                    let (c, n) = if along_x { (i, nx) } else { (j, ny) };
-                    let (a, b) = (c.saturating_sub(r), (c + r).min(n - 1));
-                    let at = |t: usize| {
-                        if along_x {
-                            src[j * nx + t]
-                        } else {
-                            src[t * nx + i]
-                        }
-                    };
-                    // Erosion treats outside the grid as empty.
-                    let edge = a + r != c || b != c + r;
-                    out[j * nx + i] = if grow {
-                        (a..=b).any(at)
-                    } else {
-                        !edge && (a..=b).all(at)
-                    };
-                }
-            }
-            out
-        };
-        let h = pass(src, true);
-        pass(&h, false)
-    }
-
     /// Component label per cell (0 = empty), 4-connected; with `jump > 0`,
     /// neighbours whose tops differ by more are cut apart, then parts that
     /// touch open ground on less than `min_open` of their edges are merged
     /// into the neighbour they share most edges with.
     pub fn components(&self, jump: f64, min_open: f64) -> (Vec<u32>, u32) {
-        let n = self.nx * self.ny;
+        let n = self.frame.nx * self.frame.ny;
         let mut uf = UnionFind::new(n);
         let joins = |a: usize, b: usize| {
             jump <= 0.0 || f64::from((self.top[a] - self.top[b]).abs()) <= jump
         };
-        for j in 0..self.ny {
-            for i in 0..self.nx {
-                let k = j * self.nx + i;
+        for j in 0..self.frame.ny {
+            for i in 0..self.frame.nx {
+                let k = j * self.frame.nx + i;
                 if !self.filled[k] {
                     continue;
                 }
-                if i + 1 < self.nx && self.filled[k + 1] && joins(k, k + 1) {
+                if i + 1 < self.frame.nx && self.filled[k + 1] && joins(k, k + 1) {
                     uf.union(k, k + 1);
                 }
-                if j + 1 < self.ny && self.filled[k + self.nx] && joins(k, k + self.nx) {
-                    uf.union(k, k + self.nx);
+                if j + 1 < self.frame.ny
+                    && self.filled[k + self.frame.nx]
+                    && joins(k, k + self.frame.nx)
+                {
+                    uf.union(k, k + self.frame.nx);
                 }
             }
         }
@@ -183,18 +147,18 @@ impl Raster {
             let mut open: HashMap<usize, usize> = HashMap::new();
             let mut total: HashMap<usize, usize> = HashMap::new();
             let mut shared: HashMap<(usize, usize), usize> = HashMap::new();
-            for j in 0..self.ny {
-                for i in 0..self.nx {
-                    let k = j * self.nx + i;
+            for j in 0..self.frame.ny {
+                for i in 0..self.frame.nx {
+                    let k = j * self.frame.nx + i;
                     if !self.filled[k] {
                         continue;
                     }
                     let a = uf.find(k);
                     let nbrs = [
                         (i > 0).then(|| k - 1),
-                        (i + 1 < self.nx).then(|| k + 1),
-                        (j > 0).then(|| k - self.nx),
-                        (j + 1 < self.ny).then(|| k + self.nx),
+                        (i + 1 < self.frame.nx).then(|| k + 1),
+                        (j > 0).then(|| k - self.frame.nx),
+                        (j + 1 < self.frame.ny).then(|| k + self.frame.nx),
                     ];
                     for nb in nbrs {
                         match nb.filter(|&m| self.filled[m]) {

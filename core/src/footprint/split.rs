@@ -1,55 +1,37 @@
 //! Assigning points to footprints: point-in-polygon over a grid of
 //! footprint bounding boxes, in parallel.
 
+use geo::{Contains, Coord, MultiPolygon};
 use rayon::prelude::*;
 
 use super::error::ParamsError;
 use super::params::SplitParams;
 use super::types::Footprint;
+use crate::geom::segment;
 
 /// The index grid never exceeds this many cells (the cell grows instead).
 const MAX_CELLS: f64 = 4.0e6;
 
-/// One footprint as edges, for fast tests.
-struct Shape {
+/// One footprint: its polygon for the inside test, its edges for the depth.
+struct Shape<'a> {
     id: u32,
+    polygon: &'a MultiPolygon<f64>,
     edges: Vec<[[f64; 2]; 2]>,
 }
 
-impl Shape {
-    /// Even-odd crossing count over all rings (valid multipolygons: holes excluded).
+impl Shape<'_> {
+    /// Whether `p` lies inside (holes excluded).
     fn contains(&self, p: [f64; 2]) -> bool {
-        let mut inside = false;
-        for [a, b] in &self.edges {
-            if (a[1] > p[1]) != (b[1] > p[1]) {
-                let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-                if p[0] < x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
+        self.polygon.contains(&Coord { x: p[0], y: p[1] })
     }
 
-    /// Squared distance to the nearest edge.
-    fn edge_distance2(&self, p: [f64; 2]) -> f64 {
+    /// Distance to the nearest edge.
+    fn edge_distance(&self, p: [f64; 2]) -> f64 {
         self.edges
             .iter()
-            .map(|&[a, b]| segment_distance2(p, a, b))
+            .map(|&[a, b]| segment::distance(p, a, b))
             .fold(f64::INFINITY, f64::min)
     }
-}
-
-fn segment_distance2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let q = [a[0] + t * d[0] - p[0], a[1] + t * d[1] - p[1]];
-    q[0] * q[0] + q[1] * q[1]
 }
 
 /// The building id of each point (x, y used; 0 = outside every footprint).
@@ -77,7 +59,14 @@ pub fn split(
                 }
             }
             let b = [b[0] - tol, b[1] - tol, b[2] + tol, b[3] + tol];
-            Some((Shape { id: f.id, edges }, b))
+            Some((
+                Shape {
+                    id: f.id,
+                    polygon: &f.polygon,
+                    edges,
+                },
+                b,
+            ))
         })
         .collect();
     if shapes.is_empty() {
@@ -102,13 +91,13 @@ pub fn split(
                     if cands.len() == 1 {
                         return s.id;
                     }
-                    let depth = s.edge_distance2(q);
+                    let depth = s.edge_distance(q);
                     if best_inside.is_none_or(|(d, _)| depth > d) {
                         best_inside = Some((depth, s.id));
                     }
                 } else if best_inside.is_none() {
-                    let d = s.edge_distance2(q);
-                    if d <= tol * tol && best_near.is_none_or(|(e, _)| d < e) {
+                    let d = s.edge_distance(q);
+                    if d <= tol && best_near.is_none_or(|(e, _)| d < e) {
                         best_near = Some((d, s.id));
                     }
                 }

@@ -113,21 +113,10 @@ fn signed_area2(r: &[(i64, i64)]) -> i64 {
         .sum()
 }
 
-/// Even-odd test of a point against a vertex ring.
+/// Whether `p` lies inside the vertex ring `r`.
 fn inside(r: &[(i64, i64)], p: (f64, f64)) -> bool {
-    let n = r.len();
-    let mut c = false;
-    for k in 0..n {
-        let (a, b) = (r[k], r[(k + 1) % n]);
-        let (ay, by) = (a.1 as f64, b.1 as f64);
-        if (ay > p.1) != (by > p.1) {
-            let x = a.0 as f64 + (p.1 - ay) / (by - ay) * (b.0 - a.0) as f64;
-            if p.0 < x {
-                c = !c;
-            }
-        }
-    }
-    c
+    let points: Vec<[f64; 2]> = r.iter().map(|&(x, y)| [x as f64, y as f64]).collect();
+    crate::geom::ring::contains(&points, [p.0, p.1])
 }
 
 /// Exteriors (positive area) with the holes (negative) that lie inside them.

@@ -89,3 +89,23 @@ pub struct Loaded {
     /// Polygons or rings left out (the rest still loads).
     pub skipped: Vec<super::error::Skipped>,
 }
+
+impl Loaded {
+    /// What a reader found, or [`ParseError::NoFootprints`](super::error::ParseError::NoFootprints)
+    /// when nothing usable is left.
+    pub fn new(
+        footprints: Vec<Footprint>,
+        skipped: Vec<super::error::Skipped>,
+    ) -> Result<Self, super::error::ParseError> {
+        if footprints.is_empty() {
+            return Err(super::error::ParseError::NoFootprints {
+                skipped: skipped.len(),
+                first: skipped.first().map(ToString::to_string),
+            });
+        }
+        Ok(Self {
+            footprints,
+            skipped,
+        })
+    }
+}

@@ -2,10 +2,8 @@
 //! under a slab, trunks under a crown): the graph forgets the ground there so
 //! the next route goes around instead of into them again.
 
-use petgraph::graph::NodeIndex;
-
 use super::GroundGraph;
-use crate::scene::vec3::segment_dist2;
+use crate::geom::segment;
 
 impl GroundGraph {
     /// Takes out every node within `radius` (xy) of `at` and makes every edge
@@ -38,13 +36,6 @@ impl GroundGraph {
                 {
                     self.adj_w[back] = f32::INFINITY;
                 }
-                if let Some(w) = self
-                    .graph
-                    .find_edge(NodeIndex::new(u), NodeIndex::new(v))
-                    .and_then(|id| self.graph.edge_weight_mut(id))
-                {
-                    *w = f32::INFINITY;
-                }
                 cut += 1;
             }
             if remove {
@@ -75,8 +66,8 @@ impl GroundGraph {
 
 /// Distance (xy) from `p` to the segment `a → b`.
 fn segment_distance(p: [f32; 2], a: [f32; 2], b: [f32; 2]) -> f32 {
-    let lift = |q: [f32; 2]| [f64::from(q[0]), f64::from(q[1]), 0.0];
-    segment_dist2(lift(p), lift(a), lift(b)).sqrt() as f32
+    let wide = |q: [f32; 2]| q.map(f64::from);
+    segment::distance(wide(p), wide(a), wide(b)) as f32
 }
 
 #[cfg(test)]

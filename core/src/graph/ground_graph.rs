@@ -1,7 +1,6 @@
 //! The ground graph: nodes on open ground, edges the vehicle can drive,
 //! only the part reachable from the start.
 
-use petgraph::graph::UnGraph;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
@@ -10,8 +9,8 @@ use super::error::GraphError;
 use super::grid::GridFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
-use super::polygon::contains;
 use crate::density::Density;
+use crate::geom::ring::Ring;
 
 /// Ground cells this far from known ground still get a height, so walls at
 /// the edge of large roofs are measured against the street beside them.
@@ -46,8 +45,6 @@ pub struct GraphReport {
 /// connected component of the start.
 #[derive(Debug, Clone)]
 pub struct GroundGraph {
-    /// The graph (node weight: position; edge weight: length in metres).
-    pub(super) graph: UnGraph<[f32; 3], f32>,
     /// Node positions (the node's index is its position here).
     pub(super) positions: Vec<[f32; 3]>,
     /// Distance (xy) from each node to the nearest obstacle, metres (capped at 8).
@@ -76,6 +73,27 @@ impl GroundGraph {
         xyz: &[[f32; 3]],
         labels: &[u8],
         start: [f32; 3],
+        params: &GraphParams,
+    ) -> Result<Self, GraphError> {
+        Self::build_from(xyz, labels, Some(start), params)
+    }
+
+    /// Builds the graph and keeps its largest component, starting at that
+    /// component's node nearest its middle: where a robot set down on a
+    /// survey nobody has walked reaches most (a real tile's ground comes in
+    /// hundreds of pieces, and its middle may stand on one of a few nodes).
+    pub fn build_largest(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        params: &GraphParams,
+    ) -> Result<Self, GraphError> {
+        Self::build_from(xyz, labels, None, params)
+    }
+
+    fn build_from(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        start: Option<[f32; 3]>,
         params: &GraphParams,
     ) -> Result<Self, GraphError> {
         params.validate()?;
@@ -132,33 +150,42 @@ impl GroundGraph {
             &frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params,
         );
 
-        let start_node = nearest_in(
-            &frame,
-            &cell_cand,
-            &cand_pos,
-            [start[0], start[1]],
-            params.max_start_snap_m,
-        )
-        .ok_or(GraphError::StartOffGraph {
-            x: start[0],
-            y: start[1],
-            distance: nearest_in(
-                &frame,
-                &cell_cand,
-                &cand_pos,
-                [start[0], start[1]],
-                f32::INFINITY,
-            )
-            .map_or(f32::INFINITY, |(_, d)| d),
-            max: params.max_start_snap_m,
-        })?
-        .0;
+        let snapped = match start {
+            Some(start) => Some(
+                nearest_in(
+                    &frame,
+                    &cell_cand,
+                    &cand_pos,
+                    [start[0], start[1]],
+                    params.max_start_snap_m,
+                )
+                .ok_or(GraphError::StartOffGraph {
+                    x: start[0],
+                    y: start[1],
+                    distance: nearest_in(
+                        &frame,
+                        &cell_cand,
+                        &cand_pos,
+                        [start[0], start[1]],
+                        f32::INFINITY,
+                    )
+                    .map_or(f32::INFINITY, |(_, d)| d),
+                    max: params.max_start_snap_m,
+                })?
+                .0,
+            ),
+            None => None,
+        };
 
         let mut uf = UnionFind::<usize>::new(cand_pos.len());
         for &(a, b, _) in &edges {
             uf.union(a as usize, b as usize);
         }
         let labels_cc = uf.into_labeling();
+        let start_node = match snapped {
+            Some(n) => n,
+            None => middle_of_largest(&labels_cc, &cand_pos).ok_or(GraphError::NoGround)?,
+        };
         let keep_label = labels_cc[start_node];
         let mut other = std::collections::HashSet::new();
         let mut new_index = vec![u32::MAX; cand_pos.len()];
@@ -173,15 +200,10 @@ impl GroundGraph {
                 other.insert(l);
             }
         }
-        let mut graph = UnGraph::<[f32; 3], f32>::with_capacity(positions.len(), edges.len());
-        for p in &positions {
-            graph.add_node(*p);
-        }
         let mut kept_edges = Vec::new();
         for &(a, b, w) in &edges {
             let (a, b) = (new_index[a as usize], new_index[b as usize]);
             if a != u32::MAX && b != u32::MAX {
-                graph.add_edge(a.into(), b.into(), w);
                 kept_edges.push((a, b, w));
             }
         }
@@ -203,7 +225,6 @@ impl GroundGraph {
             node_grid_cells: frame.len(),
         };
         Ok(Self {
-            graph,
             start: new_index[start_node] as usize,
             positions,
             clearance,
@@ -218,11 +239,6 @@ impl GroundGraph {
             params: params.clone(),
             blocked_spots: Vec::new(),
         })
-    }
-
-    /// The petgraph graph (node weight: position; edge weight: metres).
-    pub fn graph(&self) -> &UnGraph<[f32; 3], f32> {
-        &self.graph
     }
 
     /// Node positions; node `i` is at `positions()[i]`.
@@ -240,12 +256,14 @@ impl GroundGraph {
         self.positions.is_empty()
     }
 
-    /// Edges as `(a, b, length_m)`, each once.
+    /// Edges as `(a, b, length_m)` with `a < b`, each once (cut ones at infinite length).
     pub fn edges(&self) -> Vec<(usize, usize, f32)> {
-        self.graph
-            .raw_edges()
-            .iter()
-            .map(|e| (e.source().index(), e.target().index(), e.weight))
+        (0..self.positions.len())
+            .flat_map(|u| {
+                (self.adj_start[u]..self.adj_start[u + 1])
+                    .map(move |e| (u, self.adj[e] as usize, self.adj_w[e]))
+                    .filter(|&(u, v, _)| u < v)
+            })
             .collect()
     }
 
@@ -307,10 +325,11 @@ impl GroundGraph {
 
     /// Nodes whose xy lies inside `polygon` (a ring, open or closed).
     pub fn nodes_in_polygon(&self, polygon: &[[f64; 2]]) -> Vec<usize> {
+        let ring = Ring::new(polygon);
         self.positions
             .iter()
             .enumerate()
-            .filter(|(_, p)| contains(polygon, [f64::from(p[0]), f64::from(p[1])]))
+            .filter(|(_, p)| ring.contains([f64::from(p[0]), f64::from(p[1])]))
             .map(|(i, _)| i)
             .filter(|&i| self.indexed(i))
             .collect()
@@ -478,4 +497,23 @@ fn csr(n: usize, edges: &[(u32, u32, f32)]) -> (Vec<usize>, Vec<u32>, Vec<f32>) 
         }
     }
     (deg, adj, w)
+}
+
+/// The node of the largest component (ties: the lowest label) nearest
+/// (xy) that component's mean position.
+fn middle_of_largest(labels: &[usize], pos: &[[f32; 3]]) -> Option<usize> {
+    let mut count = std::collections::HashMap::<usize, usize>::new();
+    for &l in labels {
+        *count.entry(l).or_default() += 1;
+    }
+    let (&largest, _) = count
+        .iter()
+        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0)))?;
+    let members = || (0..labels.len()).filter(move |&i| labels[i] == largest);
+    let n = members().count() as f32;
+    let mean = members().fold([0.0f32; 2], |m, i| {
+        [m[0] + pos[i][0] / n, m[1] + pos[i][1] / n]
+    });
+    let d = |i: &usize| (pos[*i][0] - mean[0]).powi(2) + (pos[*i][1] - mean[1]).powi(2);
+    members().min_by(|a, b| d(a).total_cmp(&d(b)))
 }

@@ -6,8 +6,11 @@
 //!
 //! - [`GraphParams`] (`params`), [`GraphError`] (`error`);
 //! - `cells`: ground binning; `obstacles`: the obstacle map; `grid`: the cell frame;
-//! - [`GroundGraph`] (`ground_graph`), its searches ([`ShortestPaths`], `search`),
-//!   point-in-polygon (`polygon`) and spots found blocked while driving (`blocked`).
+//! - [`GroundGraph`] (`ground_graph`, adjacency in compressed rows), its
+//!   searches ([`ShortestPaths`], `search`: multi-source Dijkstra with
+//!   predecessors and roots, which `petgraph::algo` does not offer; petgraph
+//!   stays for the union-find of the components) and spots found blocked
+//!   while driving (`blocked`).
 
 mod blocked;
 mod cells;
@@ -16,13 +19,13 @@ mod grid;
 mod ground_graph;
 mod obstacles;
 mod params;
-mod polygon;
 mod search;
 
+/// Point-in-polygon for region rings (the shared [`crate::geom::ring::contains`]).
+pub use crate::geom::ring::contains as polygon_contains;
 pub use error::GraphError;
 pub use ground_graph::{GraphReport, GroundGraph};
 pub use params::{GraphParams, MAX_OCCUPANCY_CELLS};
-pub use polygon::contains as polygon_contains;
 pub use search::{NONE, ShortestPaths};
 
 #[cfg(test)]

@@ -207,3 +207,27 @@ fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
     }
     assert!(checked > 20, "{checked}");
 }
+
+#[test]
+fn without_a_start_the_largest_component_is_kept() {
+    let (xyz, lab) = cloud();
+    let p = GraphParams::default();
+    // Started inside the pen, the graph is the pen.
+    let pen = GroundGraph::build(&xyz, &lab, [8.0, 10.0, 0.0], &p).unwrap();
+    let largest = GroundGraph::build_largest(&xyz, &lab, &p).unwrap();
+    let outside = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &p).unwrap();
+    assert!(pen.len() < 30, "pen: {} nodes", pen.len());
+    assert_eq!(largest.len(), outside.len());
+    assert_eq!(largest.report(), outside.report());
+    // Its start is a node of its own, near the open ground's middle.
+    let s = largest.positions()[largest.start_node()];
+    assert!(
+        (s[0] - 20.0).abs() < 8.0 && (s[1] - 10.0).abs() < 8.0,
+        "{s:?}"
+    );
+    // No ground, no graph.
+    assert!(matches!(
+        GroundGraph::build_largest(&xyz[..0], &lab[..0], &p),
+        Err(GraphError::NoGround)
+    ));
+}

@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 
 use super::bvh::Bvh;
+use super::parry_mesh::ParryMesh;
 use super::ray::{Hit, Ray, cross, normalize, sub};
 use super::triangle::PreparedRay;
 use crate::scene::{ObjectKind, Scene, SceneObject};
@@ -44,6 +45,36 @@ pub enum CasterError {
     TooManyTriangles(usize),
 }
 
+/// Which acceleration structure a [`Caster`] casts through.
+///
+/// Both give the same closest hits; the default is the faster on the
+/// reference scene (`cargo bench -p skyground-core --bench lidar -- backend`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CastBackend {
+    /// The hand-written 4-wide SAH BVH (`lidar::bvh`).
+    #[default]
+    Bvh,
+    /// parry3d's `TriMesh` and its BVH.
+    Parry,
+}
+
+/// The built index of one backend.
+#[derive(Debug, Clone)]
+enum Index {
+    Bvh(Bvh),
+    Parry(ParryMesh),
+}
+
+impl Index {
+    /// Triangle vertices and their scene ids, in the index's own order.
+    fn triangles(&self) -> (&[[[f32; 3]; 3]], &[u32]) {
+        match self {
+            Index::Bvh(b) => (&b.tris, &b.ids),
+            Index::Parry(p) => (&p.tris, &p.ids),
+        }
+    }
+}
+
 /// Casts rays against one scene.
 ///
 /// Built once per scene ([`Caster::new`]); every query is read-only, so one
@@ -51,7 +82,7 @@ pub enum CasterError {
 /// non-finite vertices are left out (no ray can hit them).
 #[derive(Debug, Clone)]
 pub struct Caster {
-    bvh: Bvh,
+    index: Index,
     /// Object index of every input triangle.
     triangle_object: Vec<u32>,
     /// The scene's objects.
@@ -65,8 +96,13 @@ pub struct Caster {
 }
 
 impl Caster {
-    /// Validates `scene` and builds the acceleration structure over it.
+    /// Validates `scene` and builds the default backend's acceleration structure over it.
     pub fn new(scene: &Scene) -> Result<Self, CasterError> {
+        Self::with_backend(scene, CastBackend::default())
+    }
+
+    /// [`Caster::new`] with the acceleration structure of `backend`.
+    pub fn with_backend(scene: &Scene, backend: CastBackend) -> Result<Self, CasterError> {
         let n = scene.triangles.len();
         if n >= u32::MAX as usize {
             return Err(CasterError::TooManyTriangles(n));
@@ -127,7 +163,10 @@ impl Caster {
         }
         let bounds = (!tris.is_empty()).then_some((lo, hi));
         Ok(Self {
-            bvh: Bvh::new(tris, ids),
+            index: match backend {
+                CastBackend::Bvh => Index::Bvh(Bvh::new(tris, ids)),
+                CastBackend::Parry => Index::Parry(ParryMesh::new(tris, ids)),
+            },
             triangle_object: scene.triangle_object.clone(),
             objects: scene.objects.clone(),
             bounds,
@@ -138,7 +177,15 @@ impl Caster {
 
     /// Number of triangles indexed (the scene's minus degenerate ones).
     pub fn triangle_count(&self) -> usize {
-        self.bvh.tris.len()
+        self.index.triangles().0.len()
+    }
+
+    /// The backend this caster was built with.
+    pub fn backend(&self) -> CastBackend {
+        match self.index {
+            Index::Bvh(_) => CastBackend::Bvh,
+            Index::Parry(_) => CastBackend::Parry,
+        }
     }
 
     /// Bounds `(min, max)` of the indexed triangles; `None` for an empty scene.
@@ -161,10 +208,14 @@ impl Caster {
         self.objects.get(object as usize)
     }
 
-    /// Number of BVH nodes, leaves and the deepest leaf's depth.
-    pub fn bvh_shape(&self) -> (usize, usize, usize) {
-        let s = self.bvh.stats();
-        (s.nodes, s.leaves, s.depth)
+    /// Number of BVH nodes, leaves and the deepest leaf's depth; `None`
+    /// for the parry backend (its tree is its own).
+    pub fn bvh_shape(&self) -> Option<(usize, usize, usize)> {
+        let Index::Bvh(b) = &self.index else {
+            return None;
+        };
+        let s = b.stats();
+        Some((s.nodes, s.leaves, s.depth))
     }
 
     /// The closest hit within `max_range` metres of `origin` along `dir`
@@ -175,8 +226,17 @@ impl Caster {
 
     /// [`Caster::cast`] for a [`Ray`].
     pub fn cast_ray(&self, ray: &Ray) -> Option<Hit> {
-        let r = prepare(ray)?;
-        let (t, i) = self.bvh.closest(&r, ray.max_t)?;
+        let (t, i) = match &self.index {
+            Index::Bvh(b) => b.closest(&prepare(ray)?, ray.max_t)?,
+            Index::Parry(p) => {
+                let dir = normalize(ray.dir)?;
+                let ok = ray.origin.iter().all(|x| x.is_finite()) && ray.max_t > 0.0;
+                if !ok {
+                    return None;
+                }
+                p.closest(ray.origin, dir, ray.max_t)?
+            }
+        };
         Some(self.hit(t, i))
     }
 
@@ -194,14 +254,15 @@ impl Caster {
     /// [`Caster::cast_ray`].
     pub fn cast_brute_force(&self, ray: &Ray) -> Option<Hit> {
         let r = prepare(ray)?;
-        let (t, i) = self.bvh.closest_brute_force(&r, ray.max_t)?;
+        let (tris, _) = self.index.triangles();
+        let (t, i) = Bvh::closest_among(tris, &r, ray.max_t)?;
         Some(self.hit(t, i))
     }
 
-    /// Builds the hit record for leaf-order triangle `i` at distance `t`.
+    /// Builds the hit record for index-order triangle `i` at distance `t`.
     fn hit(&self, t: f32, i: usize) -> Hit {
-        let v = self.bvh.tris[i];
-        let triangle = self.bvh.ids[i];
+        let (tris, ids) = self.index.triangles();
+        let (v, triangle) = (tris[i], ids[i]);
         let normal = normalize(cross(sub(v[1], v[0]), sub(v[2], v[0]))).unwrap_or([0.0, 0.0, 1.0]);
         Hit {
             t,

@@ -3,7 +3,8 @@
 //!
 //! - [`Caster`]: a BVH over a [`Scene`](crate::scene::Scene), built once;
 //!   closest-hit queries one at a time or in parallel batches (`caster`,
-//!   `bvh`, `triangle`).
+//!   `bvh`, `triangle`); [`CastBackend::Parry`] casts through parry3d's
+//!   `TriMesh` instead (`parry_mesh`).
 //! - [`spinning`]: a multi-beam spinning LiDAR on a ground vehicle
 //!   (VLP-16 defaults) → [`ScanPoints`].
 //! - [`airborne`]: an airborne laser scanner flying parallel strips →
@@ -20,6 +21,7 @@ mod caster;
 mod config_error;
 mod intensity;
 mod noise;
+mod parry_mesh;
 mod pose;
 mod ray;
 pub mod spinning;
@@ -28,7 +30,7 @@ mod triangle;
 
 pub use airborne::{AirborneConfig, FlightPattern, ReturnMode, airborne_scan};
 pub use bench::{BenchFigures, bench_rays};
-pub use caster::{Caster, CasterError};
+pub use caster::{CastBackend, Caster, CasterError};
 pub use config_error::ConfigError;
 pub use intensity::{INTENSITY_FULL_SCALE, reflectance, return_intensity};
 pub use pose::Pose;

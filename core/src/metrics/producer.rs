@@ -12,6 +12,11 @@ use crate::cloud::class;
 /// not beside a building, metres.
 pub const TARGET_REACH_M: f32 = 30.0;
 
+/// A missing point within this distance (xy) of a producer building point
+/// lies on that building's outline seen from above, metres: the slice
+/// raster's cell, the most an outline can stand off its wall.
+pub const OUTLINE_REACH_M: f32 = 0.5;
+
 /// Missing points and targets against the producer's building class.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ProducerCheck {
@@ -21,6 +26,13 @@ pub struct ProducerCheck {
     pub missing_on_building: usize,
     /// `missing_on_building / missing_points` (1 when there are none).
     pub missing_on_building_share: f64,
+    /// Missing points within [`OUTLINE_REACH_M`] (xy) of a producer building
+    /// point: on a building's outline from above. A wall the survey missed
+    /// has no points of its own, so its nearest point in 3D is often the
+    /// ground at its foot or a tree before it; in plan it is the roof edge.
+    pub missing_on_outline: usize,
+    /// `missing_on_outline / missing_points` (1 when there are none).
+    pub missing_on_outline_share: f64,
     /// Target positions checked (point targets and region outline vertices).
     pub targets: usize,
     /// Largest xy distance from a target to a producer building point, metres
@@ -67,27 +79,36 @@ pub fn producer_check(
         .map(|(p, _)| [p[0], p[1]])
         .collect();
     let targets: Vec<&[f32; 3]> = targets.iter().filter(finite).collect();
-    let distances: Vec<f32> = match ImmutableKdTree::<f32, 2>::new_from_slice(&roofs).ok() {
-        Some(tree) if !roofs.is_empty() => targets
-            .par_iter()
-            .map(|q| {
-                tree.query(&[q[0], q[1]])
-                    .nearest_one::<SquaredEuclidean<f32>>()
-                    .execute()
-                    .distance
-                    .sqrt()
-            })
-            .collect(),
-        _ => vec![f32::INFINITY; targets.len()],
+    let roof_tree = ImmutableKdTree::<f32, 2>::new_from_slice(&roofs)
+        .ok()
+        .filter(|_| !roofs.is_empty());
+    let to_roof = |q: &[f32; 3]| {
+        roof_tree.as_ref().map_or(f32::INFINITY, |tree| {
+            tree.query(&[q[0], q[1]])
+                .nearest_one::<SquaredEuclidean<f32>>()
+                .execute()
+                .distance
+                .sqrt()
+        })
+    };
+    let distances: Vec<f32> = targets.par_iter().map(|q| to_roof(q)).collect();
+    let on_outline = missing
+        .par_iter()
+        .filter(|q| to_roof(q) <= OUTLINE_REACH_M)
+        .count();
+    let share = |n: usize| {
+        if missing.is_empty() {
+            1.0
+        } else {
+            n as f64 / missing.len() as f64
+        }
     };
     ProducerCheck {
         missing_points: missing.len(),
         missing_on_building: on_building,
-        missing_on_building_share: if missing.is_empty() {
-            1.0
-        } else {
-            on_building as f64 / missing.len() as f64
-        },
+        missing_on_building_share: share(on_building),
+        missing_on_outline: on_outline,
+        missing_on_outline_share: share(on_outline),
         targets: targets.len(),
         target_building_max_m: distances.iter().copied().fold(0.0, f32::max),
         targets_beyond_reach: distances.iter().filter(|d| **d > TARGET_REACH_M).count(),
@@ -113,6 +134,8 @@ mod tests {
         let targets = [[6.0, 5.0, 0.0], [40.0, 5.0, 0.0], [f32::NAN, 0.0, 0.0]];
         let c = producer_check(&xyz, &labels, &missing, &targets);
         assert_eq!((c.missing_points, c.missing_on_building), (3, 2));
+        // In plan, 0.5 and 0.2 m from the wall; the third is 1 m from the tree.
+        assert_eq!(c.missing_on_outline, 2);
         assert!((c.missing_on_building_share - 2.0 / 3.0).abs() < 1e-9);
         assert_eq!(c.targets, 2);
         assert!((c.target_building_max_m - 40.0).abs() < 1e-4);
@@ -120,5 +143,22 @@ mod tests {
         let none = producer_check(&xyz, &[1; 40], &missing, &targets);
         assert_eq!(none.missing_on_building, 0);
         assert!(none.target_building_max_m.is_infinite());
+    }
+
+    #[test]
+    fn a_wall_unseen_from_the_air_is_on_the_outline_but_nearest_the_ground() {
+        // A roof edge 8 m up at x = 0, ground from x = 1 out; the missing
+        // point sits on the wall 1 m up, where the survey saw nothing.
+        let mut xyz = Vec::new();
+        let mut labels = Vec::new();
+        for k in 0..20 {
+            xyz.push([-(k as f32) * 0.5, 5.0, 8.0]);
+            labels.push(class::BUILDING);
+            xyz.push([1.0 + k as f32 * 0.5, 5.0, 0.0]);
+            labels.push(class::GROUND);
+        }
+        let c = producer_check(&xyz, &labels, &[[0.2, 5.0, 1.0]], &[]);
+        assert_eq!((c.missing_on_building, c.missing_on_outline), (0, 1));
+        assert_eq!(c.missing_on_outline_share, 1.0);
     }
 }

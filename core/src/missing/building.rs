@@ -24,6 +24,9 @@ const MIN_SEGMENT: f64 = 0.5;
 const MIN_WALL_Z: f32 = 0.1;
 /// Wall parts this close above the terrain are not tested (the ground hides them).
 const GROUND_CLEARANCE: f32 = 0.1;
+/// How far out from an outline the survey's edge is looked for, metres: a
+/// tile cut leaves the building's points within a point spacing or two of it.
+const EDGE_PROBE: f64 = 1.5;
 
 /// Finds the missing boundary points of building `id` from its `points`.
 /// `footprint` (local frame), when given, is C_building and replaces the
@@ -168,6 +171,16 @@ fn analyse(
             for (contour, sid) in &tested {
                 for sample in sample_contour(contour, params.boundary_spacing) {
                     let q = sample.xy;
+                    // An outline facing the survey's edge is where the tile
+                    // cut the building: there is no wall there to miss.
+                    if terrain.is_some_and(|t| {
+                        t.beyond_data(
+                            q[0] + EDGE_PROBE * sample.normal[0],
+                            q[1] + EDGE_PROBE * sample.normal[1],
+                        )
+                    }) {
+                        continue;
+                    }
                     let (s, dir) = segment(&skeletons[*sid], q, sample.normal);
                     let top = local_top(sliced, q, params.near);
                     // Terrain just outside the wall: the wall's foot.
@@ -398,5 +411,50 @@ mod tests {
                 .filter(|p| !(5.5..10.5).contains(&p.xyz[2]))
                 .all(|p| p.collected)
         );
+    }
+
+    /// A 12 × 10 m block cut by the survey's east edge at x = 12: roof and
+    /// the other three facades seen, the north one missing above 4 m.
+    #[test]
+    fn outline_at_the_survey_edge_is_not_a_missing_wall() {
+        let grid = |n: usize, m: usize| (0..n).flat_map(move |i| (0..m).map(move |j| (i, j)));
+        let mut pts: Vec<[f32; 3]> = grid(49, 41)
+            .map(|(i, j)| [i as f32 * 0.25, j as f32 * 0.25, 8.0])
+            .collect();
+        for (i, k) in grid(49, 33) {
+            let (s, z) = (i as f32 * 0.25, k as f32 * 0.25);
+            if s <= 10.0 {
+                pts.push([0.0, s, z]);
+            }
+            pts.push([s, 0.0, z]);
+            if z < 4.0 {
+                pts.push([s, 10.0, z]);
+            }
+        }
+        let ground: Vec<[f32; 3]> = grid(73, 89)
+            .map(|(i, j)| [-6.0 + i as f32 * 0.25, -6.0 + j as f32 * 0.25, 0.0])
+            .filter(|p| !((0.0..=12.0).contains(&p[0]) && (0.0..=10.0).contains(&p[1])))
+            .collect();
+        let terrain = GroundGrid::from_points(&ground, 2.0, 40).expect("ground points");
+        let det = detect_building_on(
+            1,
+            &pts,
+            None,
+            Some(0.0),
+            Some(&terrain),
+            &DetectParams::default(),
+        )
+        .expect("valid params");
+        let east = det
+            .boundary
+            .iter()
+            .filter(|p| p.xyz[0] > 11.0 && (1.0..9.0).contains(&p.xyz[1]));
+        assert_eq!(east.count(), 0, "the cut was tested as a wall");
+        let north_gap = det
+            .missing
+            .iter()
+            .filter(|m| m.xyz[1] > 9.0 && m.xyz[2] > 4.0 && m.xyz[0] < 11.0)
+            .count();
+        assert!(north_gap >= 10, "north gap: {north_gap} missing points");
     }
 }

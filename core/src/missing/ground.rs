@@ -13,6 +13,8 @@ pub const SEEN_CELL: f32 = 0.5;
 #[derive(Debug, Clone)]
 pub struct GroundGrid {
     origin: [f32; 2],
+    /// The far corner of the ground points' extent (`origin` is the near one).
+    far: [f32; 2],
     cell: f32,
     size: [usize; 2],
     z: Vec<f32>,
@@ -108,6 +110,7 @@ impl GroundGrid {
         }
         Some(GroundGrid {
             origin: lo,
+            far: hi,
             cell,
             size,
             z,
@@ -124,6 +127,13 @@ impl GroundGrid {
             return None;
         }
         Some(self.z[j as usize * self.size[0] + i as usize]).filter(|z| z.is_finite())
+    }
+
+    /// Whether (x, y) lies outside the ground points' extent: beyond the
+    /// survey's edge, where a tile cut a building rather than a wall ending it.
+    pub fn beyond_data(&self, x: f64, y: f64) -> bool {
+        let (x, y) = (x as f32, y as f32);
+        x < self.origin[0] || y < self.origin[1] || x > self.far[0] || y > self.far[1]
     }
 
     /// Whether a ground point was observed within the [`SEEN_CELL`] cell of (x, y).

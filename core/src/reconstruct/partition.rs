@@ -387,13 +387,7 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// Distance of `p` from segment a–b.
 pub(crate) fn line_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let l2 = d[0] * d[0] + d[1] * d[1];
-    if l2 == 0.0 {
-        return dist2(p, a).sqrt();
-    }
-    let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0);
-    dist2(p, [a[0] + t * d[0], a[1] + t * d[1]]).sqrt()
+    crate::geom::segment::distance(p, a, b)
 }
 
 impl Partition {

@@ -224,17 +224,11 @@ mod tests {
 
     #[test]
     fn gable_roof_gives_two_planes_and_walls_none() {
-        let mut pts = Vec::new();
-        for i in 0..40 {
-            for j in 0..30 {
-                let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
-                // Ridge along x at y = 3.75, slope 0.6.
-                pts.push([x, y, 8.0 - 0.6 * (y - 3.75).abs()]);
-            }
-            for z in 0..20 {
-                pts.push([i as f32 * 0.25, -0.05, z as f32 * 0.25]);
-            }
-        }
+        // Ridge along x at y = 3.75, slope 0.6; a wall at y = -0.05 below it.
+        let mut pts =
+            crate::geom::fixtures::lattice(40, 30, 0.25, |_, y| 8.0 - 0.6 * (y - 3.75).abs());
+        let wall = crate::geom::fixtures::lattice(40, 20, 0.25, |_, _| 0.0);
+        pts.extend(wall.iter().map(|p| [p[0], -0.05, p[1]]));
         let nb = neighbourhoods(&pts, 12);
         let (planes, label) = grow_planes(&pts, &nb, &ReconstructParams::default());
         assert_eq!(planes.len(), 2, "{planes:?}");

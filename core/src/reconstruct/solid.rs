@@ -329,20 +329,10 @@ fn group_rings(p: &Partition, rings: Vec<Vec<u32>>, outer_sign: f64) -> Vec<Vec<
     groups
 }
 
-/// Even-odd point-in-ring test.
+/// Whether `q` lies inside the partition ring `ring` (vertex indices).
 fn contains(p: &Partition, ring: &[u32], q: [f64; 2]) -> bool {
-    let mut inside = false;
-    for k in 0..ring.len() {
-        let a = p.verts[ring[k] as usize];
-        let b = p.verts[ring[(k + 1) % ring.len()] as usize];
-        if (a[1] > q[1]) != (b[1] > q[1]) {
-            let x = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if q[0] < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
+    let points: Vec<[f64; 2]> = ring.iter().map(|&v| p.verts[v as usize]).collect();
+    crate::geom::ring::contains(&points, q)
 }
 
 /// The partition's footprint: the outside's rings turned into polygons.

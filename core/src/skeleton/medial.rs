@@ -1,6 +1,8 @@
 //! The medial axis from a constrained Delaunay triangulation of the outline.
 
 use geo::{Contains, Coord, LineString, MultiPolygon, Point};
+
+use crate::geom::segment;
 use serde::{Deserialize, Serialize};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use thiserror::Error;
@@ -72,15 +74,7 @@ impl Skeleton {
             }
         };
         for &[a, b] in &self.edges {
-            let (pa, pb) = (self.nodes[a], self.nodes[b]);
-            let d = [pb[0] - pa[0], pb[1] - pa[1]];
-            let len2 = d[0] * d[0] + d[1] * d[1];
-            let t = if len2 > 0.0 {
-                (((q[0] - pa[0]) * d[0] + (q[1] - pa[1]) * d[1]) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            offer([pa[0] + t * d[0], pa[1] + t * d[1]]);
+            offer(segment::closest(q, self.nodes[a], self.nodes[b]).0);
         }
         if self.edges.is_empty() {
             self.nodes.iter().for_each(|&p| offer(p));
@@ -207,13 +201,6 @@ mod tests {
     use super::*;
     use geo::{Polygon, polygon};
 
-    fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]))
-            .clamp(0.0, 1.0);
-        ((p[0] - a[0] - t * d[0]).powi(2) + (p[1] - a[1] - t * d[1]).powi(2)).sqrt()
-    }
-
     #[test]
     fn rectangle_axis_runs_along_its_middle() {
         let rect: Polygon<f64> =
@@ -240,11 +227,11 @@ mod tests {
         let arm_x = sk.nearest([20.0, 5.0]).unwrap();
         let arm_y = sk.nearest([5.0, 20.0]).unwrap();
         assert!(
-            dist_to_segment(arm_x, [5.0, 5.0], [25.0, 5.0]) < 0.8,
+            crate::geom::segment::distance(arm_x, [5.0, 5.0], [25.0, 5.0]) < 0.8,
             "{arm_x:?}"
         );
         assert!(
-            dist_to_segment(arm_y, [5.0, 5.0], [5.0, 25.0]) < 0.8,
+            crate::geom::segment::distance(arm_y, [5.0, 5.0], [5.0, 25.0]) < 0.8,
             "{arm_y:?}"
         );
     }

@@ -19,12 +19,12 @@ pub fn occupancy_contour(
     min_area: f64,
 ) -> MultiPolygon<f64> {
     let occ = |i: isize, j: isize| -> bool {
-        raster.get(i, j) && keep.is_none_or(|k| k(j as usize * raster.nx + i as usize))
+        raster.get(i, j) && keep.is_none_or(|k| k(j as usize * raster.frame.nx + i as usize))
     };
-    let rings = trace_rings(raster.nx, raster.ny, &occ);
-    let to_world = |v: [i32; 2]| Coord {
-        x: raster.origin[0] + v[0] as f64 * raster.cell,
-        y: raster.origin[1] + v[1] as f64 * raster.cell,
+    let rings = trace_rings(raster.frame.nx, raster.frame.ny, &occ);
+    let to_world = |v: [i32; 2]| {
+        let [x, y] = raster.frame.corner(f64::from(v[0]), f64::from(v[1]));
+        Coord { x, y }
     };
     let mut outers: Vec<Polygon<f64>> = Vec::new();
     let mut holes: Vec<LineString<f64>> = Vec::new();
@@ -179,11 +179,10 @@ mod tests {
     use super::*;
 
     fn fill(r: &mut Raster, f: impl Fn(f64, f64) -> bool) {
-        for j in 0..r.ny {
-            for i in 0..r.nx {
-                let x = r.origin[0] + (i as f64 + 0.5) * r.cell;
-                let y = r.origin[1] + (j as f64 + 0.5) * r.cell;
-                r.occupied[j * r.nx + i] = f(x, y);
+        for j in 0..r.frame.ny {
+            for i in 0..r.frame.nx {
+                let [x, y] = r.frame.corner(i as f64 + 0.5, j as f64 + 0.5);
+                r.occupied[j * r.frame.nx + i] = f(x, y);
             }
         }
     }

@@ -203,10 +203,10 @@ pub fn slice_building(
     let (cell, closing, spacing) = (params.cell_m(), params.closing_m(), params.spacing_m());
     let pad = (closing / cell).ceil() as usize + 2;
     let mut grid = Raster::covering(lo, hi, cell, pad);
-    let mut top = vec![f32::NEG_INFINITY; grid.nx * grid.ny];
+    let mut top = vec![f32::NEG_INFINITY; grid.frame.len()];
     for p in finite() {
         if let Some((i, j)) = grid.cell_of(p[0] as f64, p[1] as f64) {
-            let t = &mut top[j * grid.nx + i];
+            let t = &mut top[j * grid.frame.nx + i];
             *t = t.max(p[2]);
         }
     }

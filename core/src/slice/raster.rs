@@ -2,61 +2,46 @@
 //! to uneven density by a morphological closing, and split into 4-connected
 //! components.
 
-/// Boolean grid of square cells; cell (i, j) spans
-/// `[origin + (i, j) * cell, origin + (i + 1, j + 1) * cell)`.
+use crate::geom::grid::{self, GridFrame};
+
+/// Boolean grid over a [`GridFrame`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Raster {
-    /// World xy of the grid's lower-left corner.
-    pub origin: [f64; 2],
-    /// Cell edge length, metres.
-    pub cell: f64,
-    /// Cells along x.
-    pub nx: usize,
-    /// Cells along y.
-    pub ny: usize,
+    /// The cells' frame.
+    pub frame: GridFrame,
     /// Row-major occupancy (`j * nx + i`).
     pub occupied: Vec<bool>,
+}
+
+/// The frame's fields read through the raster (`raster.nx`, `raster.cell`),
+/// as the detector's callers always have.
+impl std::ops::Deref for Raster {
+    type Target = GridFrame;
+
+    fn deref(&self) -> &GridFrame {
+        &self.frame
+    }
 }
 
 impl Raster {
     /// An empty grid covering `lo..hi` with `pad` free cells on every side
     /// (so boundaries never touch the grid edge).
     pub fn covering(lo: [f64; 2], hi: [f64; 2], cell: f64, pad: usize) -> Self {
-        let cell = if cell.is_finite() && cell > 0.0 {
-            cell
-        } else {
-            1.0
-        };
-        let span = |a: f64, b: f64| (((b - a) / cell).floor().max(0.0) as usize) + 1 + 2 * pad;
-        let nx = span(lo[0], hi[0]);
-        let ny = span(lo[1], hi[1]);
+        let frame = GridFrame::covering(lo, hi, cell, pad);
         Raster {
-            origin: [lo[0] - pad as f64 * cell, lo[1] - pad as f64 * cell],
-            cell,
-            nx,
-            ny,
-            occupied: vec![false; nx * ny],
+            frame,
+            occupied: vec![false; frame.len()],
         }
     }
 
     /// Cell indices of a world point, if it lies on the grid.
     pub fn cell_of(&self, x: f64, y: f64) -> Option<(usize, usize)> {
-        let i = ((x - self.origin[0]) / self.cell).floor();
-        let j = ((y - self.origin[1]) / self.cell).floor();
-        if i >= 0.0 && j >= 0.0 && (i as usize) < self.nx && (j as usize) < self.ny {
-            Some((i as usize, j as usize))
-        } else {
-            None
-        }
+        self.frame.cell_of(x, y)
     }
 
     /// Whether cell (i, j) is occupied (false off the grid).
     pub fn get(&self, i: isize, j: isize) -> bool {
-        i >= 0
-            && j >= 0
-            && (i as usize) < self.nx
-            && (j as usize) < self.ny
-            && self.occupied[j as usize * self.nx + i as usize]
+        self.frame.index(i, j).is_some_and(|k| self.occupied[k])
     }
 
     /// Number of occupied cells.
@@ -67,16 +52,13 @@ impl Raster {
     /// Dilation then erosion by a (2r+1)² square: bridges gaps of up to 2r
     /// cells left by sparse or uneven sampling without moving straight edges.
     pub fn close(&mut self, r: usize) {
-        if r == 0 {
-            return;
-        }
-        self.occupied = square_filter(&self.occupied, self.nx, self.ny, r, true);
-        self.occupied = square_filter(&self.occupied, self.nx, self.ny, r, false);
+        self.occupied = grid::close(&self.occupied, self.frame.nx, self.frame.ny, r);
     }
 
     /// 4-connected components: a label per cell (`u32::MAX` = free) and each
     /// component's cell count.
     pub fn components(&self) -> (Vec<u32>, Vec<usize>) {
+        let nx = self.frame.nx;
         let mut label = vec![u32::MAX; self.occupied.len()];
         let mut sizes = Vec::new();
         let mut stack = Vec::new();
@@ -90,7 +72,7 @@ impl Raster {
             stack.push(start);
             while let Some(k) = stack.pop() {
                 size += 1;
-                let (i, j) = (k % self.nx, k / self.nx);
+                let (i, j) = (k % nx, k / nx);
                 let mut visit = |n: usize| {
                     if self.occupied[n] && label[n] == u32::MAX {
                         label[n] = id;
@@ -100,51 +82,20 @@ impl Raster {
                 if i > 0 {
                     visit(k - 1);
                 }
-                if i + 1 < self.nx {
+                if i + 1 < nx {
                     visit(k + 1);
                 }
                 if j > 0 {
-                    visit(k - self.nx);
+                    visit(k - nx);
                 }
-                if j + 1 < self.ny {
-                    visit(k + self.nx);
+                if j + 1 < self.frame.ny {
+                    visit(k + nx);
                 }
             }
             sizes.push(size);
         }
         (label, sizes)
     }
-}
-
-/// Separable square max (dilate) or min (erode) filter; off-grid cells count
-/// as free, so erosion never grows a shape into the padding.
-fn square_filter(src: &[bool], nx: usize, ny: usize, r: usize, dilate: bool) -> Vec<bool> {
-    let pass = |src: &[bool], along_x: bool| -> Vec<bool> {
-        let mut out = vec![false; src.len()];
-        for j in 0..ny {
-            for i in 0..nx {
-                let (pos, len) = if along_x { (i, nx) } else { (j, ny) };
-                let lo = pos.saturating_sub(r);
-                let hi = (pos + r).min(len - 1);
-                let edge_cut = pos < r || pos + r >= len;
-                let at = |p: usize| {
-                    if along_x {
-                        src[j * nx + p]
-                    } else {
-                        src[p * nx + i]
-                    }
-                };
-                out[j * nx + i] = if dilate {
-                    (lo..=hi).any(at)
-                } else {
-                    !edge_cut && (lo..=hi).all(at)
-                };
-            }
-        }
-        out
-    };
-    let once = pass(src, true);
-    pass(&once, false)
 }
 
 #[cfg(test)]
@@ -158,7 +109,7 @@ mod tests {
             for i in 0..10 {
                 if (i + j) % 3 != 1 {
                     let (a, b) = r.cell_of(i as f64 + 0.5, j as f64 + 0.5).unwrap();
-                    r.occupied[b * r.nx + a] = true;
+                    r.occupied[b * r.frame.nx + a] = true;
                 }
             }
         }

@@ -81,25 +81,17 @@ mod tests {
 
     #[test]
     fn podium_with_two_towers_is_three_structures() {
-        let mut pts = Vec::new();
-        for i in 0..160 {
-            for j in 0..80 {
-                let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
-                let t1 = (4.0..12.0).contains(&x) && (6.0..14.0).contains(&y);
-                let t2 = (26.0..36.0).contains(&x) && (6.0..14.0).contains(&y);
-                pts.push([
-                    x,
-                    y,
-                    if t1 {
-                        25.0
-                    } else if t2 {
-                        15.0
-                    } else {
-                        6.0
-                    },
-                ]);
+        let mut pts = crate::geom::fixtures::lattice(160, 80, 0.25, |x, y| {
+            let t1 = (4.0..12.0).contains(&x) && (6.0..14.0).contains(&y);
+            let t2 = (26.0..36.0).contains(&x) && (6.0..14.0).contains(&y);
+            if t1 {
+                25.0
+            } else if t2 {
+                15.0
+            } else {
+                6.0
             }
-        }
+        });
         pts.push([0.0, 0.0, 0.0]);
         let s = slice_building(&pts, None, &SliceParams::default()).unwrap();
         let (structures, assign) = cluster_structures(&s.levels, 0.7);

@@ -6,6 +6,7 @@
 
 use std::sync::OnceLock;
 
+use skyground_core::cloud::class;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{GtSamples, SurfaceKind, sample_building_surfaces};
 use skyground_core::scene::{ObjectKind, REFERENCE_SEED, Scene, reference_scene};
@@ -37,6 +38,45 @@ pub fn world() -> &'static World {
             scene,
         }
     })
+}
+
+/// A scene's caster and simulated aerial prior split by its true labels.
+pub struct Prior {
+    /// The scene's caster (built with the default backend).
+    pub caster: Caster,
+    /// Every prior point and its LAS class.
+    pub xyz: Vec<[f32; 3]>,
+    pub labels: Vec<u8>,
+    /// Building points (class 6 with a building id) and their ids.
+    pub buildings: Vec<[f32; 3]>,
+    pub ids: Vec<u32>,
+    /// Ground points (class 2).
+    pub ground: Vec<[f32; 3]>,
+}
+
+/// The default airborne survey of `scene`, split into buildings and ground.
+pub fn prior(scene: &Scene) -> Prior {
+    let caster = Caster::new(scene).unwrap();
+    let cloud = airborne_scan(&caster, &AirborneConfig::default()).unwrap();
+    let labels = cloud.label.unwrap();
+    let all_ids = cloud.building.unwrap();
+    let (mut buildings, mut ids, mut ground) = (Vec::new(), Vec::new(), Vec::new());
+    for ((&p, &l), &id) in cloud.xyz.iter().zip(&labels).zip(&all_ids) {
+        if l == class::BUILDING && id > 0 {
+            buildings.push(p);
+            ids.push(id);
+        } else if l == class::GROUND {
+            ground.push(p);
+        }
+    }
+    Prior {
+        caster,
+        xyz: cloud.xyz,
+        labels,
+        buildings,
+        ids,
+        ground,
+    }
 }
 
 /// The object kind a ray from above hits first at `xy`.

@@ -20,8 +20,8 @@ pub struct PlanArgs {
     /// A `skyground detect` output directory (classified.las, targets.json).
     #[arg(long = "in")]
     pub input: PathBuf,
-    /// Start position x,y in the cloud's local frame (default: the ground
-    /// point nearest the middle of the cloud).
+    /// Start position x,y in the cloud's local frame (default: the middle of
+    /// the largest piece of drivable ground, where a robot reaches most).
     #[arg(long, value_delimiter = ',', num_args = 2)]
     pub start: Option<Vec<f32>>,
     /// A params file (section global_planner: graph, route).
@@ -68,26 +68,16 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let targets: TargetsFile =
         serde_json::from_str(&text).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
     let targets = targets.targets;
+    let t0 = Instant::now();
+    let graph = match &a.start {
+        Some(s) => GroundGraph::build(&cloud.xyz, &labels, [s[0], s[1], 0.0], &p.graph),
+        None => GroundGraph::build_largest(&cloud.xyz, &labels, &p.graph),
+    }
+    .map_err(err)?;
     let start = match &a.start {
         Some(s) => [s[0], s[1], 0.0],
-        None => {
-            let (lo, hi) = cloud.bounds().ok_or_else(|| err("empty cloud"))?;
-            let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-            cloud
-                .xyz
-                .iter()
-                .zip(&labels)
-                .filter(|(_, l)| **l == skyground_core::cloud::class::GROUND)
-                .map(|(q, _)| *q)
-                .min_by(|a, b| {
-                    let d = |q: &[f32; 3]| (q[0] - mid[0]).powi(2) + (q[1] - mid[1]).powi(2);
-                    d(a).total_cmp(&d(b))
-                })
-                .ok_or_else(|| err("no ground points"))?
-        }
+        None => graph.positions()[graph.start_node()],
     };
-    let t0 = Instant::now();
-    let graph = GroundGraph::build(&cloud.xyz, &labels, start, &p.graph).map_err(err)?;
     let graph_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let route = plan(&graph, &targets, start, &p.route).map_err(err)?;

@@ -58,7 +58,7 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         let c = read_cloud(f).map_err(|e| err(format!("prior: {e}")))?;
         tiles.push((f.display().to_string(), c));
     }
-    let cloud = join_tiles(&tiles).map_err(|e| err(format!("prior: {e}")))?;
+    let mut cloud = join_tiles(&tiles).map_err(|e| err(format!("prior: {e}")))?;
     let model_crs = a
         .scenes
         .first()
@@ -71,6 +71,11 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         cloud.len(),
         crs_line(&check)
     );
+    // A survey that names no CRS is taken to be in the model's, so what the
+    // mission writes from it (aerial.las, resampled.las) names that CRS.
+    if cloud.crs.is_none() {
+        cloud.crs = model_crs;
+    }
     let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (lo, hi) = full
         .bounds()

@@ -5,7 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud};
-use skyground_core::footprint::load_footprints;
+use skyground_core::crs::SourceFrame;
+use skyground_core::footprint::load_footprints_in;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
@@ -160,7 +161,10 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
     }
     let cloud = read_cloud(&a.input).map_err(err)?;
     let loaded = match &a.footprints {
-        Some(p) => Some(load_footprints(p, cloud.origin).map_err(err)?),
+        Some(p) => {
+            let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
+            Some(load_footprints_in(p, &frame).map_err(err)?)
+        }
         None => None,
     };
     let t0 = std::time::Instant::now();

@@ -142,11 +142,15 @@ impl Bvh {
         }
     }
 
-    /// The closest hit by testing every triangle (reference for tests).
-    pub fn closest_brute_force(&self, r: &PreparedRay, t_max: f32) -> Option<(f32, usize)> {
+    /// The closest hit by testing every one of `tris` (reference for tests).
+    pub fn closest_among(
+        tris: &[[[f32; 3]; 3]],
+        r: &PreparedRay,
+        t_max: f32,
+    ) -> Option<(f32, usize)> {
         let mut best_t = t_max;
         let mut best = None;
-        for (i, tri) in self.tris.iter().enumerate() {
+        for (i, tri) in tris.iter().enumerate() {
             if let Some(th) = intersect_any(r, tri, best_t) {
                 best_t = th;
                 best = Some(i);

@@ -119,15 +119,8 @@ impl Surface {
         }
         let mut best = (f64::INFINITY, 0.0);
         for (a, za, b, zb) in &self.hull {
-            let d = [b[0] - a[0], b[1] - a[1]];
-            let len2 = d[0] * d[0] + d[1] * d[1];
-            let t = if len2 > 0.0 {
-                (((x - a[0]) * d[0] + (y - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let (px, py) = (a[0] + t * d[0] - x, a[1] + t * d[1] - y);
-            let dist2 = px * px + py * py;
+            let (c, t) = crate::geom::segment::closest([x, y], *a, *b);
+            let dist2 = (c[0] - x).powi(2) + (c[1] - y).powi(2);
             if dist2 < best.0 {
                 best = (dist2, za + t * (zb - za));
             }

@@ -6,6 +6,11 @@
 //! `n - 2` triangles; self-intersecting or degenerate input still gives
 //! triangles covering roughly the polygon (a vertex with no valid ear is
 //! clipped anyway), and rings with no area give none.
+//!
+//! Not geo's `TriangulateEarcut`: its earcut drops collinear vertices
+//! (`filter_points`), which leaves T-junctions where a wall meets a roof
+//! edge, so the reconstructed solids (`reconstruct::solid`) would no longer
+//! be watertight. This clipper keeps every vertex (`collinear_vertices_are_kept`).
 
 mod earcut;
 mod plane;

@@ -4,6 +4,7 @@
 use super::buildings::{PARKS, Plan};
 use super::rng::Rng;
 use super::terrain::SIZE;
+use crate::geom::{ring, segment};
 
 /// One tree: trunk position, trunk height (to the crown's bottom), crown
 /// radius and vertical squash of the crown.
@@ -88,45 +89,10 @@ fn fits(tree: &TreeSpec, outlines: &[Vec<[f64; 2]>], trees: &[TreeSpec]) -> bool
     }
     let clear = outlines
         .iter()
-        .all(|o| !inside(tree.xy, o) && ring_distance(tree.xy, o) >= r + 0.3);
+        .all(|o| !ring::contains(o, tree.xy) && segment::ring_distance(tree.xy, o) >= r + 0.3);
     let apart = trees.iter().all(|t| {
         let (dx, dy) = (t.xy[0] - x, t.xy[1] - y);
         (dx * dx + dy * dy).sqrt() >= t.crown_r.max(r)
     });
     clear && apart
-}
-
-/// Distance from `p` to the boundary of `ring`.
-pub fn ring_distance(p: [f64; 2], ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|k| {
-            let (a, b) = (ring[k], ring[(k + 1) % n]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let len2 = dx * dx + dy * dy;
-            let t = if len2 > 0.0 {
-                (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let (ex, ey) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
-            (ex * ex + ey * ey).sqrt()
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Even-odd point-in-polygon.
-fn inside(p: [f64; 2], ring: &[[f64; 2]]) -> bool {
-    let n = ring.len();
-    let mut c = false;
-    for k in 0..n {
-        let (a, b) = (ring[k], ring[(k + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-            if p[0] < x {
-                c = !c;
-            }
-        }
-    }
-    c
 }
