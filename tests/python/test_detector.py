@@ -262,6 +262,13 @@ def test_detector_and_generator_agree_on_building_ids_and_find_the_missing_wall(
     near = dist_to_segment(mxy, LEFT_OUT_WALL) < 1.5
     assert near.mean() >= 0.85, f"{near.mean():.2f} of {len(mb)} missing points near the left-out wall"
     assert (miss["z"][mb == 2] > 0).all() and (miss["z"][mb == 2] < BOX2[5]).all()
+    # Each point's outward normal and skeleton point ride along as standard FLOAT32 fields:
+    # unit normals pointing from the skeleton point through the missing point.
+    assert set(miss) >= {"nx", "ny", "sx", "sy"}, sorted(miss)
+    n = np.stack([miss["nx"], miss["ny"]], axis=1).astype(np.float64)
+    assert np.allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-3)
+    ray = mxy - np.stack([miss["sx"], miss["sy"]], axis=1)
+    assert ((ray * n).sum(axis=1) > 0).all()
 
     # /detection_markers: contours for the outlined buildings only, missing/ID as big as /missing_points.
     from visualization_msgs.msg import Marker

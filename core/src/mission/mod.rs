@@ -14,6 +14,6 @@ pub mod planner;
 pub mod protocol;
 
 pub use protocol::{
-    BlockedSpot, ExplorerState, ExplorerStatus, Phase, PlannerStatus, ProtocolError, VehicleEvent,
-    VehicleStatus, Wire,
+    BlockedSpot, BuildingStatus, ExplorerState, ExplorerStatus, Phase, PlannerStatus,
+    ProtocolError, VehicleEvent, VehicleStatus, Wire,
 };

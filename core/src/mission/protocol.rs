@@ -6,6 +6,7 @@
 
 use std::str::FromStr;
 
+use crate::missing::Strategy;
 use crate::route::Visited;
 use crate::vehicle::{Step, VehicleState};
 
@@ -466,9 +467,121 @@ impl VehicleStatus {
     }
 }
 
+/// One building's detection on /completeness: skipped (and why) or its
+/// missing-wall figures and the strategy its targets follow.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildingStatus {
+    /// Building id.
+    pub building: u32,
+    /// Its points in the prior.
+    pub points: usize,
+    /// Detection round (0 on the aerial prior alone).
+    pub round: u32,
+    /// `None` when detected, else why it was skipped.
+    pub skipped: Option<String>,
+    /// Share of boundary points missing, 0–1 (completeness is 1 − this).
+    pub r_missing: f32,
+    /// Missing boundary points.
+    pub missing: usize,
+    /// Boundary points.
+    pub boundary: usize,
+    /// Slices.
+    pub slices: usize,
+    /// Structures (skeletons).
+    pub structures: usize,
+    /// Point- or region-based targets.
+    pub strategy: Strategy,
+    /// Ground height, m.
+    pub ground_z: f32,
+}
+
+fn strategy_word(s: Strategy) -> &'static str {
+    match s {
+        Strategy::PointBased => "point",
+        Strategy::RegionBased => "region",
+    }
+}
+
+impl BuildingStatus {
+    /// As it goes on the wire (name `building ID`).
+    pub fn to_wire(&self) -> Wire {
+        let name = format!("building {}", self.building);
+        let mut w = match &self.skipped {
+            Some(r) => Wire::new(WARN, &name, format!("skipped: {r}")),
+            None => Wire::new(
+                OK,
+                &name,
+                format!(
+                    "R_missing {:.3}, {}",
+                    self.r_missing,
+                    strategy_word(self.strategy)
+                ),
+            ),
+        };
+        w.put("building", self.building);
+        w.put("points", self.points);
+        w.put("round", self.round);
+        if self.skipped.is_none() {
+            w.put("completeness", 1.0 - self.r_missing);
+            w.put("r_missing", self.r_missing);
+            w.put("missing", self.missing);
+            w.put("boundary", self.boundary);
+            w.put("slices", self.slices);
+            w.put("structures", self.structures);
+            w.put("strategy", strategy_word(self.strategy));
+            w.put("ground_z", self.ground_z);
+        }
+        w
+    }
+
+    /// Read from the wire.
+    pub fn from_wire(w: &Wire) -> Result<Self, ProtocolError> {
+        let skipped = w
+            .message
+            .strip_prefix("skipped: ")
+            .map(str::to_string)
+            .filter(|_| w.level != OK);
+        let mut s = BuildingStatus {
+            building: w.get("building")?,
+            points: w.get("points")?,
+            round: w.get("round")?,
+            skipped,
+            r_missing: 0.0,
+            missing: 0,
+            boundary: 0,
+            slices: 0,
+            structures: 0,
+            strategy: Strategy::PointBased,
+            ground_z: 0.0,
+        };
+        if s.skipped.is_none() {
+            s.r_missing = w.get("r_missing")?;
+            s.missing = w.get("missing")?;
+            s.boundary = w.get("boundary")?;
+            s.slices = w.get("slices")?;
+            s.structures = w.get("structures")?;
+            s.ground_z = w.get("ground_z")?;
+            s.strategy = match w.get::<String>("strategy")?.as_str() {
+                "point" => Strategy::PointBased,
+                "region" => Strategy::RegionBased,
+                other => {
+                    return Err(ProtocolError::Bad {
+                        name: w.name.clone(),
+                        key: "strategy",
+                        value: other.into(),
+                        expected: "point or region",
+                    });
+                }
+            };
+        }
+        Ok(s)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;
+    use proptest::strategy::Strategy;
 
     use super::*;
 
@@ -526,7 +639,33 @@ mod tests {
         ]
     }
 
+    prop_compose! {
+        fn building()(
+            building in 1u32..1000, points in 0usize..100_000, round in 0u32..5,
+            skipped in prop::option::of("[a-z][a-z ]{0,20}[a-z]"),
+            r_missing in 0.0f32..1.0, counts in (0usize..1000, 0usize..1000, 0usize..50, 0usize..9),
+            region in any::<bool>(), ground_z in -100.0f32..100.0,
+        ) -> BuildingStatus {
+            let detected = skipped.is_none();
+            BuildingStatus {
+                building, points, round, skipped,
+                r_missing: if detected { r_missing } else { 0.0 },
+                missing: if detected { counts.0 } else { 0 },
+                boundary: if detected { counts.1 } else { 0 },
+                slices: if detected { counts.2 } else { 0 },
+                structures: if detected { counts.3 } else { 0 },
+                strategy: if detected && region { crate::missing::Strategy::RegionBased } else { crate::missing::Strategy::PointBased },
+                ground_z: if detected { ground_z } else { 0.0 },
+            }
+        }
+    }
+
     proptest! {
+        #[test]
+        fn building_status_round_trips(s in building()) {
+            prop_assert_eq!(BuildingStatus::from_wire(&s.to_wire()), Ok(s));
+        }
+
         #[test]
         fn planner_status_round_trips(s in planner()) {
             prop_assert_eq!(PlannerStatus::from_wire(&s.to_wire()), Ok(s));

@@ -6,14 +6,15 @@ use skyground_core::cloud::Cloud;
 use std::collections::BTreeMap;
 
 use skyground_core::missing::{BuildingDetection, Detection, MissingPoint, Strategy};
+use skyground_core::mission::BuildingStatus;
 use skyground_core::targets::BuildingPlan;
-use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus};
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::pointcloud2::{Decoded, EncodeOptions, encode_with};
 use skyground_msgs::sensor_msgs::PointCloud2;
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
-use super::diagnostics::{kv, status, value};
+use super::diagnostics::{from_status, to_status};
 use super::markers::{delete_all, line_list, line_strip, points, rgb};
 
 /// The missing points as a cloud with x, y, z and building.
@@ -78,21 +79,15 @@ pub fn missing_from_message(d: &Decoded) -> Result<Vec<MissingPoint>, String> {
 pub fn plans_from_completeness(arr: &DiagnosticArray) -> (BTreeMap<u32, BuildingPlan>, u32) {
     let mut plans = BTreeMap::new();
     let mut round = 0;
-    for s in &arr.status {
-        round = value(s, "round").unwrap_or(round);
-        let (Some(b), Some(k), Some(ground_z)) = (
-            value::<u32>(s, "building"),
-            value::<String>(s, "strategy"),
-            value::<f32>(s, "ground_z"),
-        ) else {
+    for s in arr.status.iter().map(from_status) {
+        let Ok(b) = BuildingStatus::from_wire(&s) else {
             continue;
         };
-        let strategy = if k == strategy_name(Strategy::RegionBased) {
-            Strategy::RegionBased
-        } else {
-            Strategy::PointBased
-        };
-        plans.insert(b, BuildingPlan { strategy, ground_z });
+        round = b.round;
+        if b.skipped.is_none() {
+            let (strategy, ground_z) = (b.strategy, b.ground_z);
+            plans.insert(b.building, BuildingPlan { strategy, ground_z });
+        }
     }
     (plans, round)
 }
@@ -113,42 +108,20 @@ pub fn completeness_array(header: &Header, d: &Detection, round: u32) -> Diagnos
         .buildings
         .iter()
         .map(|b| {
-            let name = format!("building {}", b.building);
-            let mut values = vec![
-                kv("building", b.building),
-                kv("points", b.points),
-                kv("round", round),
-            ];
-            match &b.skipped {
-                Some(reason) => status(
-                    name,
-                    DiagnosticStatus::WARN,
-                    format!("skipped: {reason}"),
-                    values,
-                ),
-                None => {
-                    values.extend([
-                        kv("completeness", 1.0 - b.r_missing),
-                        kv("r_missing", b.r_missing),
-                        kv("missing", b.missing.len()),
-                        kv("boundary", b.boundary.len()),
-                        kv("slices", b.slices.len()),
-                        kv("structures", b.structures.len()),
-                        kv("strategy", strategy_name(b.strategy)),
-                        kv("ground_z", b.ground_z),
-                    ]);
-                    status(
-                        name,
-                        DiagnosticStatus::OK,
-                        format!(
-                            "R_missing {:.3}, {}",
-                            b.r_missing,
-                            strategy_name(b.strategy)
-                        ),
-                        values,
-                    )
-                }
-            }
+            let s = BuildingStatus {
+                building: b.building,
+                points: b.points,
+                round,
+                skipped: b.skipped.as_ref().map(ToString::to_string),
+                r_missing: b.r_missing,
+                missing: b.missing.len(),
+                boundary: b.boundary.len(),
+                slices: b.slices.len(),
+                structures: b.structures.len(),
+                strategy: b.strategy,
+                ground_z: b.ground_z,
+            };
+            to_status(s.to_wire())
         })
         .collect();
     DiagnosticArray {

@@ -157,8 +157,14 @@ async fn perform(
 ) -> Result<(), RuntimeError> {
     let h = header(rt);
     let sent = match c {
-        ExplorerCommand::Info(s) => return Ok(rt.log.info(&s)),
-        ExplorerCommand::Error(s) => return Ok(rt.log.error(&s)),
+        ExplorerCommand::Info(s) => {
+            rt.log.info(&s);
+            true
+        }
+        ExplorerCommand::Error(s) => {
+            rt.log.error(&s);
+            true
+        }
         ExplorerCommand::Leg(w) => leg_pub.async_publish(path(&h, &w)).await.is_ok(),
         ExplorerCommand::Status(s) => status_pub
             .async_publish(array(h, s.to_wire()))

@@ -42,7 +42,7 @@ fn status(header: Header, event: VehicleEvent, goal: [f32; 3], f: &Follower) -> 
         event,
         goal: [goal[0], goal[1]],
         at: [at[0], at[1]],
-        odometer_m: f64::from(f.odometer),
+        odometer_m: f.odometer,
     };
     array(header, s.to_wire())
 }
