@@ -33,6 +33,23 @@ fn planner(block_retries: u32) -> Planner {
     })
 }
 
+/// Feeds `p` the strip, the position (1, 5), no points (stamp 1) and one
+/// region at (22, 5) (stamp `regions_stamp`), then ticks.
+fn region_only(p: &mut Planner, regions_stamp: u64) -> Vec<PlannerCommand> {
+    let (xyz, labels) = strip();
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+    p.handle(PlannerEvent::Points {
+        points: vec![],
+        stamp: 1,
+    });
+    p.handle(PlannerEvent::Regions {
+        regions: vec![region_at(22.0, 5.0)],
+        stamp: regions_stamp,
+    });
+    p.handle(PlannerEvent::Tick)
+}
+
 /// A planner fed with the strip, two points and one region, at (1, 5).
 fn ready(block_retries: u32, stamp: u64) -> (Planner, Vec<PlannerCommand>) {
     let mut p = planner(block_retries);
@@ -153,18 +170,7 @@ fn a_mission_runs_every_stop_once_and_ends_done() {
 #[test]
 fn halves_of_different_target_sets_are_not_planned() {
     let mut p = planner(2);
-    let (xyz, labels) = strip();
-    p.handle(PlannerEvent::Cloud { xyz, labels });
-    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
-    p.handle(PlannerEvent::Points {
-        points: vec![],
-        stamp: 1,
-    });
-    p.handle(PlannerEvent::Regions {
-        regions: vec![region_at(22.0, 5.0)],
-        stamp: 2,
-    });
-    let out = p.handle(PlannerEvent::Tick);
+    let out = region_only(&mut p, 2);
     assert!(legs(&out).is_empty());
     assert_eq!((p.round(), p.phase()), (0, Phase::Waiting));
 }
@@ -267,17 +273,6 @@ fn a_restarted_planner_goes_on_where_it_was() {
     let mut other = saved;
     other.target_points = 9;
     q.handle(PlannerEvent::Restore(other));
-    let (xyz, labels) = strip();
-    q.handle(PlannerEvent::Cloud { xyz, labels });
-    q.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
-    q.handle(PlannerEvent::Points {
-        points: vec![],
-        stamp: 1,
-    });
-    q.handle(PlannerEvent::Regions {
-        regions: vec![region_at(22.0, 5.0)],
-        stamp: 1,
-    });
-    q.handle(PlannerEvent::Tick);
+    region_only(&mut q, 1);
     assert_eq!((q.round(), q.status().visited.points.len()), (1, 0));
 }
