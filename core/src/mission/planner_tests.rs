@@ -50,22 +50,23 @@ fn region_only(p: &mut Planner, regions_stamp: u64) -> Vec<PlannerCommand> {
     p.handle(PlannerEvent::Tick)
 }
 
+/// Targets at (10, 5) on building 1 and (35, 5) on building 2.
+fn two_points() -> Vec<TargetPoint> {
+    [(10.0, 1), (35.0, 2)]
+        .map(|(x, building)| TargetPoint {
+            xyz: [x, 5.0, 0.0],
+            building,
+        })
+        .to_vec()
+}
+
 /// A planner fed with the strip, two points and one region, at (1, 5).
 fn ready(block_retries: u32, stamp: u64) -> (Planner, Vec<PlannerCommand>) {
     let mut p = planner(block_retries);
     let (xyz, labels) = strip();
     p.handle(PlannerEvent::Cloud { xyz, labels });
     p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
-    let points = vec![
-        TargetPoint {
-            xyz: [10.0, 5.0, 0.0],
-            building: 1,
-        },
-        TargetPoint {
-            xyz: [35.0, 5.0, 0.0],
-            building: 2,
-        },
-    ];
+    let points = two_points();
     p.handle(PlannerEvent::Points { points, stamp });
     p.handle(PlannerEvent::Regions {
         regions: vec![region_at(22.0, 5.0)],
@@ -247,16 +248,7 @@ fn a_restarted_planner_goes_on_where_it_was() {
     let (xyz, labels) = strip();
     p.handle(PlannerEvent::Cloud { xyz, labels });
     p.handle(PlannerEvent::Position(goal));
-    let points = vec![
-        TargetPoint {
-            xyz: [10.0, 5.0, 0.0],
-            building: 1,
-        },
-        TargetPoint {
-            xyz: [35.0, 5.0, 0.0],
-            building: 2,
-        },
-    ];
+    let points = two_points();
     p.handle(PlannerEvent::Points { points, stamp: 1 });
     p.handle(PlannerEvent::Regions {
         regions: vec![region_at(22.0, 5.0)],
