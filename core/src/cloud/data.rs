@@ -1,6 +1,6 @@
 //! The in-memory point cloud shared by every step of the pipeline.
 
-use crate::crs::{Crs, LinearUnit, UnitSource};
+use crate::crs::{Crs, LinearUnit, SourceFrame, UnitSource};
 
 /// Errors about the shape of a [`Cloud`] itself (not about any file format).
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
@@ -131,6 +131,11 @@ impl Cloud {
     /// Metres per source unit for x, y, z (1 without a CRS).
     pub fn to_metre(&self) -> [f64; 3] {
         self.crs.as_ref().map_or([1.0; 3], Crs::to_metre)
+    }
+
+    /// The local frame and source CRS (what footprints and GeoJSON are read and written in).
+    pub fn frame(&self) -> SourceFrame {
+        SourceFrame::new(self.origin, self.crs.clone())
     }
 
     /// A local point in the source CRS and unit (what writers put in files).

@@ -150,30 +150,21 @@ impl GroundGraph {
             &frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params,
         );
 
+        // The nearest node at any distance: it is the start when close enough
+        // and says how far off the start was when not.
         let snapped = match start {
-            Some(start) => Some(
-                nearest_in(
-                    &frame,
-                    &cell_cand,
-                    &cand_pos,
-                    [start[0], start[1]],
-                    params.max_start_snap_m,
-                )
-                .ok_or(GraphError::StartOffGraph {
-                    x: start[0],
-                    y: start[1],
-                    distance: nearest_in(
-                        &frame,
-                        &cell_cand,
-                        &cand_pos,
-                        [start[0], start[1]],
-                        f32::INFINITY,
-                    )
-                    .map_or(f32::INFINITY, |(_, d)| d),
-                    max: params.max_start_snap_m,
-                })?
-                .0,
-            ),
+            Some(s) => match nearest_in(&frame, &cell_cand, &cand_pos, [s[0], s[1]], f32::INFINITY)
+            {
+                Some((n, d)) if d <= params.max_start_snap_m => Some(n),
+                near => {
+                    return Err(GraphError::StartOffGraph {
+                        x: s[0],
+                        y: s[1],
+                        distance: near.map_or(f32::INFINITY, |(_, d)| d),
+                        max: params.max_start_snap_m,
+                    });
+                }
+            },
             None => None,
         };
 
@@ -502,15 +493,14 @@ fn csr(n: usize, edges: &[(u32, u32, f32)]) -> (Vec<usize>, Vec<u32>, Vec<f32>) 
 /// The node of the largest component (ties: the lowest label) nearest
 /// (xy) that component's mean position.
 fn middle_of_largest(labels: &[usize], pos: &[[f32; 3]]) -> Option<usize> {
-    let mut count = std::collections::HashMap::<usize, usize>::new();
+    // Union-find labels are node indices, so a count per index will do.
+    let mut count = vec![0usize; labels.len()];
     for &l in labels {
-        *count.entry(l).or_default() += 1;
+        count[l] += 1;
     }
-    let (&largest, _) = count
-        .iter()
-        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0)))?;
+    let largest = (0..count.len()).max_by(|a, b| count[*a].cmp(&count[*b]).then(b.cmp(a)))?;
     let members = || (0..labels.len()).filter(move |&i| labels[i] == largest);
-    let n = members().count() as f32;
+    let n = count[largest] as f32;
     let mean = members().fold([0.0f32; 2], |m, i| {
         [m[0] + pos[i][0] / n, m[1] + pos[i][1] / n]
     });

@@ -9,7 +9,6 @@ use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
 use skyground_core::cloud::{Cloud, class, read_cloud, write_cloud};
-use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints_in};
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
@@ -148,8 +147,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     }
     let footprints = match &a.footprints {
         Some(f) => {
-            let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
-            let l = load_footprints_in(f, &frame).map_err(err)?;
+            let l = load_footprints_in(f, &cloud.frame()).map_err(err)?;
             for s in &l.skipped {
                 eprintln!("footprints {}: {s}", f.display());
             }

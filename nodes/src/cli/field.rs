@@ -28,7 +28,7 @@ pub fn write_detection(
     detection: &Detection,
     targets: &TargetSet,
 ) -> Result<Vec<PathBuf>, RuntimeError> {
-    let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
+    let frame = cloud.frame();
     let rows = detection_figures(detection, targets);
     Ok(vec![
         write(
@@ -53,7 +53,7 @@ pub fn write_route(
     route: &Route,
     targets: &TargetSet,
 ) -> Result<PathBuf, RuntimeError> {
-    let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
+    let frame = cloud.frame();
     write(
         dir.join("route.geojson"),
         format!("{:#}\n", route_geojson(route, targets, &frame)),

@@ -69,15 +69,13 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         serde_json::from_str(&text).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
     let targets = targets.targets;
     let t0 = Instant::now();
-    let graph = match &a.start {
-        Some(s) => GroundGraph::build(&cloud.xyz, &labels, [s[0], s[1], 0.0], &p.graph),
+    let given = a.start.as_ref().map(|s| [s[0], s[1], 0.0]);
+    let graph = match given {
+        Some(s) => GroundGraph::build(&cloud.xyz, &labels, s, &p.graph),
         None => GroundGraph::build_largest(&cloud.xyz, &labels, &p.graph),
     }
     .map_err(err)?;
-    let start = match &a.start {
-        Some(s) => [s[0], s[1], 0.0],
-        None => graph.positions()[graph.start_node()],
-    };
+    let start = given.unwrap_or_else(|| graph.positions()[graph.start_node()]);
     let graph_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let route = plan(&graph, &targets, start, &p.route).map_err(err)?;

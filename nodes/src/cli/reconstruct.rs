@@ -5,7 +5,6 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud};
-use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::load_footprints_in;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
@@ -161,10 +160,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
     }
     let cloud = read_cloud(&a.input).map_err(err)?;
     let loaded = match &a.footprints {
-        Some(p) => {
-            let frame = SourceFrame::new(cloud.origin, cloud.crs.clone());
-            Some(load_footprints_in(p, &frame).map_err(err)?)
-        }
+        Some(p) => Some(load_footprints_in(p, &cloud.frame()).map_err(err)?),
         None => None,
     };
     let t0 = std::time::Instant::now();
