@@ -1,23 +1,36 @@
-//! The shipped classifier end to end (ground filter, features, forest) on
-//! real airborne surveys labelled by their producers, none of which it was
-//! trained on (the test checks the model's own list of training files).
-//! Scored on points whose producer class is 2–6.
+//! The classifier end to end (ground filter, features, forest, roof check)
+//! on real airborne surveys labelled by their producers, each scored by a
+//! model that never saw it. Scored on points whose producer class is 2–6.
+//!
+//! The shipped model (trained on both IGN tiles, the BC forest and the
+//! simulated surveys; the test checks its own list of training files) is
+//! scored on every other labelled file. Each IGN tile is scored by a model
+//! trained here, exactly as `skyground train` would, on the other tile, the
+//! BC forest and the simulated surveys (leave one tile out).
 //!
 //! The floors are the bars where the held-out figure meets them
-//! (AHN3 building F1 0.90, St Barth vegetation F1 0.85, a forest ≤ 1 %
-//! building) and today's figure less a small margin where it does not
-//! (St Barth building F1: 0.876 against 0.90); see the README's
-//! "Classification on real surveys" table.
+//! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
+//! total error ≤ 5 % on the IGN tiles) and the measured figure less a small
+//! margin where it does not (St Barth building F1 0.876, the Nebraska
+//! snippet 0.673); see the README's "Classification on real surveys".
 
 use std::path::PathBuf;
 
-use skyground_core::classify::{ClassReport, GroundReport, Model, SceneClassifier, is_scored};
+use skyground_core::classify::{
+    ClassReport, FileRole, GroundReport, Model, SceneClassifier, TrainParams, default_training_set,
+    file_training_clouds, is_scored, train,
+};
 use skyground_core::cloud::class::{BUILDING, VEGETATION};
 use skyground_core::cloud::read_cloud;
 use skyground_core::ground::CsfParams;
 
 mod common;
 use common::real_file;
+
+/// The thinned shares `skyground train` learns each file at by default.
+const DENSITIES: [f64; 3] = [1.0, 0.35, 0.12];
+/// The forest the shipped model learned as vegetation.
+const BC_FOREST: &str = "lasr_bcts_forest_1.laz";
 
 struct Scored {
     building_f1: f64,
@@ -26,14 +39,29 @@ struct Scored {
     ground_error: f64,
 }
 
-fn run(name: &str) -> Option<Scored> {
+fn shipped() -> Model {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A model trained as `skyground train --in OTHER --vegetation-in
+/// BC_FOREST` would train it; `None` when the real data is absent.
+fn trained_without(other: &str) -> Option<Model> {
+    let mut set = default_training_set().unwrap_or_else(|e| panic!("{e}"));
+    for (name, role) in [(other, FileRole::Labelled), (BC_FOREST, FileRole::Forest)] {
+        let cloud = read_cloud(&real_file(name)?).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let clouds = file_training_clouds(name, cloud, role, &DENSITIES, &CsfParams::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        set.extend(clouds);
+    }
+    Some(train(&set, &TrainParams::default()).unwrap_or_else(|e| panic!("{e}")))
+}
+
+fn score(name: &str, model: Model) -> Option<Scored> {
     let path = real_file(name)?;
-    let model_path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
-    let model = Model::load(&model_path).unwrap_or_else(|e| panic!("{e}"));
     assert!(
         !model.training_files.iter().any(|f| f.starts_with(name)),
-        "the shipped model was trained on {name}: no accuracy claim on it"
+        "the model was trained on {name}: no accuracy claim on it"
     );
     let cloud = read_cloud(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
     let truth = cloud.label.clone().unwrap_or_default();
@@ -58,25 +86,53 @@ fn run(name: &str) -> Option<Scored> {
     })
 }
 
+fn assert_ign(name: &str, s: &Scored, building_floor: f64) {
+    assert!(
+        s.building_f1 >= building_floor,
+        "{name}: building F1 {:.3}",
+        s.building_f1
+    );
+    let v = s.vegetation_f1.unwrap_or(0.0);
+    assert!(v >= 0.85, "{name}: vegetation F1 {v:.3}");
+    assert!(
+        s.ground_error <= 0.05,
+        "{name}: ground error {:.3}",
+        s.ground_error
+    );
+}
+
 #[test]
-fn ign_st_barth_held_out() {
-    let Some(s) = run("ign_stbarth_100x100m.laz") else {
+fn ign_st_barth_left_out() {
+    let name = "ign_stbarth_100x100m.laz";
+    let Some(model) = trained_without("ign_montpellier_150x100m.laz") else {
         return;
     };
-    assert!(s.building_f1 >= 0.86, "building F1 {:.3}", s.building_f1);
-    let v = s.vegetation_f1.unwrap_or(0.0);
-    assert!(v >= 0.85, "vegetation F1 {v:.3}");
-    assert!(s.ground_error <= 0.05, "ground error {:.3}", s.ground_error);
+    let Some(s) = score(name, model) else {
+        return;
+    };
+    assert_ign(name, &s, 0.86);
+}
+
+#[test]
+fn ign_montpellier_left_out() {
+    let name = "ign_montpellier_150x100m.laz";
+    let Some(model) = trained_without("ign_stbarth_100x100m.laz") else {
+        return;
+    };
+    let Some(s) = score(name, model) else {
+        return;
+    };
+    assert_ign(name, &s, 0.90);
 }
 
 #[test]
 fn ahn3_delft_held_out() {
-    for (name, floor) in [("ahn3_delft_1.laz", 0.90), ("ahn3_delft_2.laz", 0.90)] {
-        let Some(s) = run(name) else {
+    for name in ["ahn3_delft_1.laz", "ahn3_delft_2.laz"] {
+        let Some(s) = score(name, shipped()) else {
             return;
         };
         assert!(
-            s.building_f1 >= floor,
+            s.building_f1 >= 0.90,
             "{name}: building F1 {:.3}",
             s.building_f1
         );
@@ -85,15 +141,28 @@ fn ahn3_delft_held_out() {
 
 #[test]
 fn sample_c_held_out() {
-    let Some(s) = run("sample_c.las") else {
+    let Some(s) = score("sample_c.las", shipped()) else {
         return;
     };
     assert!(s.building_f1 >= 0.95, "building F1 {:.3}", s.building_f1);
 }
 
 #[test]
+fn nebraska_snippet_held_out() {
+    let Some(s) = score("laspy_nebraska_ftus.las", shipped()) else {
+        return;
+    };
+    // 1,119 of its 3,737 producer building points lie 2–9 m above the
+    // roof's highest point, inside a tree crown: a classifier that calls
+    // the crown vegetation loses them all.
+    assert!(s.building_f1 >= 0.65, "building F1 {:.3}", s.building_f1);
+    let v = s.vegetation_f1.unwrap_or(0.0);
+    assert!(v >= 0.85, "vegetation F1 {v:.3}");
+}
+
+#[test]
 fn a_forest_it_never_saw_is_almost_no_building() {
-    let Some(s) = run("lidr_mixedconifer.laz") else {
+    let Some(s) = score("lidr_mixedconifer.laz", shipped()) else {
         return;
     };
     assert!(

@@ -30,6 +30,6 @@ pub use report::{ClassMetrics, ClassReport, is_scored};
 pub use roofs::{RoofCheck, RoofCheckCounts, check_roofs};
 pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};
 pub use training::{
-    TrainParams, TrainingCloud, default_training_set, labelled_cloud, simulated_cloud, train,
-    training_surveys,
+    FileRole, TrainParams, TrainingCloud, default_training_set, file_training_clouds,
+    labelled_cloud, simulated_cloud, train, training_surveys,
 };

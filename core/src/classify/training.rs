@@ -282,6 +282,77 @@ pub fn labelled_cloud(
     })
 }
 
+/// How a labelled file is learned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileRole {
+    /// The producer's classes 2–6 are learned.
+    Labelled,
+    /// A survey without buildings (a forest) whose producer left the trees
+    /// unclassified: its class 1 is learned as vegetation.
+    Forest,
+}
+
+/// The training clouds of one labelled file: the file itself and a thinned
+/// copy at every share in `densities` (pulses kept at random, so the model
+/// sees sparser surveys of the same place), named after `name`.
+pub fn file_training_clouds(
+    name: &str,
+    mut cloud: Cloud,
+    role: FileRole,
+    densities: &[f64],
+    csf_params: &CsfParams,
+) -> Result<Vec<TrainingCloud>, ClassifyError> {
+    if role == FileRole::Forest {
+        if let Some(l) = cloud.label.as_mut() {
+            l.iter_mut()
+                .filter(|c| **c == 1)
+                .for_each(|c| *c = VEGETATION);
+        }
+    }
+    densities
+        .iter()
+        .enumerate()
+        .map(|(k, &keep)| {
+            if !(keep > 0.0 && keep <= 1.0) {
+                return Err(ClassifyError::File {
+                    path: name.to_owned(),
+                    message: format!("density share {keep} is not in (0, 1]"),
+                });
+            }
+            let rows = pulse_sample(&cloud, keep, k as u64);
+            let tag = if keep < 1.0 {
+                format!("{name} (thinned to {:.0} %)", keep * 100.0)
+            } else {
+                name.to_owned()
+            };
+            labelled_cloud(&tag, cloud.subset(&rows), csf_params)
+        })
+        .collect()
+}
+
+/// Rows of a random share `keep` of the cloud's pulses: a point goes with
+/// the others of its pulse (consecutive points whose return numbers count
+/// up), as a sparser survey would have recorded them.
+fn pulse_sample(cloud: &Cloud, keep: f64, seed: u64) -> Vec<usize> {
+    if keep >= 1.0 {
+        return (0..cloud.len()).collect();
+    }
+    let rn = cloud.return_number.as_deref().unwrap_or_default();
+    let mut state = (seed + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let mut take = false;
+    (0..cloud.len())
+        .filter(|&i| {
+            if rn.get(i).copied().unwrap_or(1) <= 1 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                take = (state >> 11) as f64 / (1u64 << 53) as f64 <= keep;
+            }
+            take
+        })
+        .collect()
+}
+
 /// The default training set: [`simulated_cloud`] of every [`training_surveys`] entry.
 pub fn default_training_set() -> Result<Vec<TrainingCloud>, ClassifyError> {
     training_surveys()

@@ -5,10 +5,10 @@ use std::time::Instant;
 
 use serde::Deserialize;
 use skyground_core::classify::{
-    ClassReport, GroundReport, SceneClassifier, TrainParams, default_training_set, is_scored,
-    labelled_cloud, train,
+    ClassReport, FileRole, GroundReport, SceneClassifier, TrainParams, default_training_set,
+    file_training_clouds, is_scored, train,
 };
-use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
+use skyground_core::cloud::{read_cloud, write_cloud};
 use skyground_core::ground::CsfParams;
 
 use crate::node::scene_classifier::load_model;
@@ -174,29 +174,6 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     Ok(out)
 }
 
-/// Rows of a random share `keep` of the cloud's pulses: a point goes with
-/// the others of its pulse (consecutive points whose return numbers count
-/// up), as a sparser survey would have recorded them.
-fn pulse_sample(cloud: &Cloud, keep: f64, seed: u64) -> Vec<usize> {
-    if keep >= 1.0 {
-        return (0..cloud.len()).collect();
-    }
-    let rn = cloud.return_number.as_deref().unwrap_or_default();
-    let mut state = (seed + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    let mut take = false;
-    (0..cloud.len())
-        .filter(|&i| {
-            if rn.get(i).copied().unwrap_or(1) <= 1 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                take = (state >> 11) as f64 / (1u64 << 53) as f64 <= keep;
-            }
-            take
-        })
-        .collect()
-}
-
 /// Trains a model on labelled files and/or simulated scenes and writes it.
 pub fn run_train(a: &TrainArgs) -> Result<serde_json::Value, RuntimeError> {
     let t0 = Instant::now();
@@ -207,32 +184,14 @@ pub fn run_train(a: &TrainArgs) -> Result<serde_json::Value, RuntimeError> {
     };
     let sim_s = t0.elapsed().as_secs_f64();
     let csf = csf_params(a.params_file.as_deref())?;
-    let inputs = a.inputs.iter().map(|p| (p, false));
-    for (path, forest) in inputs.chain(a.vegetation_inputs.iter().map(|p| (p, true))) {
-        let mut cloud = read_cloud(path).map_err(err)?;
-        if forest {
-            // A file its producer left unclassified above ground, and which
-            // holds no building: its unclassified points are trees.
-            if let Some(l) = cloud.label.as_mut() {
-                l.iter_mut().filter(|c| **c == 1).for_each(|c| *c = 5);
-            }
-        }
+    let inputs = a.inputs.iter().map(|p| (p, FileRole::Labelled));
+    for (path, role) in inputs.chain(a.vegetation_inputs.iter().map(|p| (p, FileRole::Forest))) {
+        let cloud = read_cloud(path).map_err(err)?;
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
-        for (k, &keep) in a.densities.iter().enumerate() {
-            if !(keep > 0.0 && keep <= 1.0) {
-                return Err(err(format!("--densities: {keep} is not in (0, 1]")));
-            }
-            let rows = pulse_sample(&cloud, keep, k as u64);
-            let tag = if keep < 1.0 {
-                format!("{name} (thinned to {:.0} %)", keep * 100.0)
-            } else {
-                name.clone()
-            };
-            set.push(labelled_cloud(&tag, cloud.subset(&rows), &csf).map_err(err)?);
-        }
+        set.extend(file_training_clouds(&name, cloud, role, &a.densities, &csf).map_err(err)?);
     }
     if set.is_empty() {
         return Err(err("nothing to train on: give --in FILE or drop --no-sim"));
