@@ -11,7 +11,7 @@
 //! The floors are the bars where the held-out figure meets them
 //! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
 //! total error ≤ 5 % on the IGN tiles) and the measured figure less a small
-//! margin where it does not (St Barth building F1 0.876, the Nebraska
+//! margin where it does not (St Barth building F1 0.875, the Nebraska
 //! snippet 0.673); see the README's "Classification on real surveys".
 
 use std::path::PathBuf;

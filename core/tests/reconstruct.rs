@@ -68,10 +68,9 @@ fn city3d_001_gives_a_valid_model_close_to_its_points() {
         n * 20 >= on_given * 19,
         "{n} points on the model's outline, {on_given} on the given footprint"
     );
-    // Issue 13 asks for ≤ 0.25 m; this model measures 0.253 m (a band of
-    // hip facets the plane growing leaves unlabelled), so the floor guards
-    // what holds while the issue stays open.
-    assert!(d <= 0.26, "mean points → model distance {d:.3} m");
+    // Issue 13's bar. 0.070 m measured; 0.253 m before long narrow roof
+    // slopes (linearity > 0.95) stopped being taken for rows of points.
+    assert!(d <= 0.25, "mean points → model distance {d:.3} m");
     let Some(cjval) = cjval() else {
         eprintln!(
             "SKIPPED (cjval part): cjval not installed (cargo install cjval --features build-binary)"

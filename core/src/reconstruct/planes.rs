@@ -30,8 +30,11 @@ impl RoofPlane {
 
     fn from_moments(m: &Moments, anchor: [f64; 3]) -> Option<Self> {
         let s = m.shape();
-        // A row of points (a ridge line, an edge) has no plane.
-        if s.linearity > 0.95 {
+        // A row of points (a ridge line, an edge) has no plane. Linearity
+        // alone would also reject a long narrow roof (a 27 m × 7 m slope
+        // reaches 0.93, a 40 m one 0.97): the row is told by its width.
+        let width = s.spread * (1.0 - s.linearity).max(0.0).sqrt();
+        if s.linearity > 0.95 && width < ROW_WIDTH_M {
             return None;
         }
         let mut n = s.normal;
@@ -49,6 +52,10 @@ impl RoofPlane {
         })
     }
 }
+
+/// Across-spread (m, one standard deviation) under which a long region is a
+/// row of points rather than a plane: a real roof 0.35 m wide has 0.1 m.
+const ROW_WIDTH_M: f64 = 0.1;
 
 /// Marks a point no plane took.
 pub(crate) const NO_PLANE: u32 = u32::MAX;
@@ -135,17 +142,19 @@ pub(crate) fn grow_planes_with(
                 }
             }
         }
-        if region.len() < params.min_plane_points {
-            // Small regions free their points for later, larger ones.
+        let plane = (region.len() >= params.min_plane_points)
+            .then(|| RoofPlane::from_moments(&m, anchor))
+            .flatten();
+        let Some(pl) = plane else {
+            // Small regions, and rows without a plane, free their points
+            // for later, larger ones.
             for &i in &region[1..] {
                 visited[i] = false;
             }
             continue;
-        }
-        if let Some(pl) = RoofPlane::from_moments(&m, anchor) {
-            planes.push(pl);
-            members.push(region);
-        }
+        };
+        planes.push(pl);
+        members.push(region);
     }
     if merge {
         merge_coplanar(xyz, &mut planes, &mut members, params);
@@ -243,5 +252,21 @@ mod tests {
             .filter(|(p, l)| p[1] < 0.0 && **l != NO_PLANE)
             .count();
         assert_eq!(wall_labelled, 0);
+    }
+
+    #[test]
+    fn a_long_narrow_gable_keeps_both_slopes() {
+        // 40 m along the ridge, 3 m of slope each side (linearity 0.99):
+        // both slopes are planes, not rows of points.
+        let pts = crate::geom::fixtures::lattice(160, 24, 0.25, |_, y| 8.0 - 0.9 * (y - 3.0).abs());
+        let nb = neighbourhoods(&pts, 12);
+        let (planes, label) = grow_planes(&pts, &nb, &ReconstructParams::default());
+        assert_eq!(planes.len(), 2, "{planes:?}");
+        let labelled = label.iter().filter(|&&l| l != NO_PLANE).count();
+        assert!(
+            labelled * 100 >= pts.len() * 85,
+            "{labelled} of {}",
+            pts.len()
+        );
     }
 }
