@@ -360,3 +360,57 @@ pub fn default_training_set() -> Result<Vec<TrainingCloud>, ClassifyError> {
         .map(|(seed, survey)| simulated_cloud(*seed, survey))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cloud::class::GROUND;
+
+    /// Flat ground with a 6 m tall column of unclassified points (a trunk
+    /// and crown as a forest's producer leaves them).
+    fn forest_file() -> Cloud {
+        let mut xyz = crate::geom::fixtures::lattice(40, 40, 0.5, |_, _| 0.0);
+        let ground = xyz.len();
+        xyz.extend((0..200).map(|i| [10.0 + (i % 5) as f32 * 0.3, 10.0, 2.0 + i as f32 * 0.03]));
+        let mut c = Cloud::from_xyz(xyz);
+        c.label = Some(
+            (0..c.xyz.len())
+                .map(|i| if i < ground { GROUND } else { 1 })
+                .collect(),
+        );
+        c
+    }
+
+    #[test]
+    fn a_forest_is_learned_as_vegetation_only_when_named_one() {
+        let csf = CsfParams::default();
+        let as_labelled =
+            file_training_clouds("f", forest_file(), FileRole::Labelled, &[1.0], &csf);
+        assert!(
+            matches!(as_labelled, Err(ClassifyError::File { .. })),
+            "class 1 alone is nothing to learn: {:?}",
+            as_labelled.map(|v| v.len())
+        );
+        let clouds = file_training_clouds("f", forest_file(), FileRole::Forest, &[1.0, 0.5], &csf)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let names: Vec<&str> = clouds.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["f", "f (thinned to 50 %)"]);
+        let veg = clouds[0].label.iter().filter(|&&l| l == VEGETATION).count();
+        assert_eq!(veg, 200);
+        assert!(clouds[1].xyz.len() < clouds[0].xyz.len());
+    }
+
+    #[test]
+    fn a_density_share_outside_0_1_is_refused() {
+        for bad in [0.0, 1.5, f64::NAN] {
+            let r = file_training_clouds(
+                "f",
+                forest_file(),
+                FileRole::Forest,
+                &[bad],
+                &CsfParams::default(),
+            );
+            assert!(matches!(r, Err(ClassifyError::File { .. })), "{bad}");
+        }
+    }
+}

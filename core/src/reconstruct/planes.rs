@@ -142,19 +142,19 @@ pub(crate) fn grow_planes_with(
                 }
             }
         }
-        let plane = (region.len() >= params.min_plane_points)
-            .then(|| RoofPlane::from_moments(&m, anchor))
-            .flatten();
-        let Some(pl) = plane else {
-            // Small regions, and rows without a plane, free their points
-            // for later, larger ones.
+        if region.len() < params.min_plane_points {
+            // Small regions free their points for later, larger ones. (A
+            // row keeps its points: freed, each of them would seed the
+            // same row again.)
             for &i in &region[1..] {
                 visited[i] = false;
             }
             continue;
-        };
-        planes.push(pl);
-        members.push(region);
+        }
+        if let Some(pl) = RoofPlane::from_moments(&m, anchor) {
+            planes.push(pl);
+            members.push(region);
+        }
     }
     if merge {
         merge_coplanar(xyz, &mut planes, &mut members, params);
