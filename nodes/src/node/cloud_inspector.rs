@@ -3,8 +3,10 @@
 
 use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
 use crate::transport::{CloudSubscription, Received};
+use crate::convert::diagnostics::to_status;
 use serde::Deserialize;
-use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
+use skyground_core::mission::{CloudStatus, CloudSummary};
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::std_msgs::Header;
 
 #[derive(Debug, Deserialize)]
@@ -25,13 +27,6 @@ pub const SPEC: NodeSpec = NodeSpec {
     live: &["max_clouds"],
 };
 
-fn kv(key: &str, value: impl ToString) -> KeyValue {
-    KeyValue {
-        key: key.into(),
-        value: value.to_string(),
-    }
-}
-
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
@@ -51,56 +46,38 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             _ = rt.shutdown.wait() => None,
         };
         let Some(got) = got else { break };
-        let status = match got {
+        let result = match got {
             Received::Bad(reason) => {
                 rt.log
                     .error(&format!("rejected cloud on {}: {reason}", p.topic));
-                DiagnosticStatus {
-                    level: DiagnosticStatus::ERROR,
-                    name: p.topic.clone(),
-                    message: reason,
-                    hardware_id: String::new(),
-                    values: vec![],
-                }
+                Err(reason)
             }
             Received::Cloud { msg, decoded } => {
                 good += 1;
-                let c = &decoded.cloud;
-                let labels = c
-                    .label_histogram()
-                    .map(|h| {
-                        h.iter()
-                            .enumerate()
-                            .filter(|(_, n)| **n > 0)
-                            .map(|(l, n)| format!("{l}:{n}"))
-                            .collect::<Vec<_>>()
-                            .join(",")
-                    })
-                    .unwrap_or_default();
-                let fields: Vec<_> = msg.fields.iter().map(|f| f.name.as_str()).collect();
+                let fields = msg.fields.iter().map(|f| f.name.clone()).collect();
+                let s = CloudSummary {
+                    stamp_sec: msg.header.stamp.sec,
+                    stamp_nanosec: msg.header.stamp.nanosec,
+                    ..CloudSummary::of(&decoded.cloud, decoded.dropped_non_finite, fields)
+                };
                 rt.log.info(&format!(
-                    "cloud on {}: {} points, fields [{}], dropped {} non-finite, labels [{labels}]",
+                    "cloud on {}: {} points, fields [{}], dropped {} non-finite, labels [{}]",
                     p.topic,
-                    c.len(),
-                    fields.join(","),
-                    decoded.dropped_non_finite
+                    s.points,
+                    s.fields.join(","),
+                    s.dropped_non_finite,
+                    s.labels.iter().map(ToString::to_string).collect::<Vec<_>>().join(",")
                 ));
-                DiagnosticStatus {
-                    level: DiagnosticStatus::OK,
-                    name: p.topic.clone(),
-                    message: "ok".into(),
-                    hardware_id: String::new(),
-                    values: vec![
-                        kv("points", c.len()),
-                        kv("dropped_non_finite", decoded.dropped_non_finite),
-                        kv("fields", fields.join(",")),
-                        kv("labels", labels),
-                        kv("stamp_sec", msg.header.stamp.sec),
-                        kv("stamp_nanosec", msg.header.stamp.nanosec),
-                    ],
-                }
+                Ok(s)
             }
         };
+        let status = to_status(
+            CloudStatus {
+                topic: p.topic.clone(),
+                result,
+            }
+            .to_wire(),
+        );
         let report = DiagnosticArray {
             header: Header {
                 stamp: rt.now(),
