@@ -1,7 +1,7 @@
 //! cloud_inspector: PointCloud2 topic → per-cloud report on /rosout and a
 //! DiagnosticArray; bad clouds are reported and the node keeps running.
 
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudSubscription, Received};
 use crate::convert::diagnostics::to_status;
 use serde::Deserialize;
@@ -20,12 +20,7 @@ struct Params {
     max_clouds: u64,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "cloud_inspector",
-    default_params: include_str!("../../../config/cloud_inspector.yaml"),
-    live: &["max_clouds"],
-};
+crate::node_spec!("cloud_inspector", live: ["max_clouds"]);
 
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

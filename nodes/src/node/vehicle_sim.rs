@@ -24,7 +24,7 @@ use tokio::sync::mpsc;
 use crate::convert::diagnostics::array;
 use crate::convert::path::{odometry, read_paths};
 use crate::convert::tf::{tf_message, transform};
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, forward, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, forward, qos};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -48,12 +48,7 @@ struct Params {
     lidar: LidarConfig,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "vehicle_sim",
-    default_params: include_str!("../../../config/vehicle_sim.yaml"),
-    live: &[],
-};
+crate::node_spec!("vehicle_sim");
 
 fn stamp(sim_s: f64) -> Time {
     Time {
