@@ -102,13 +102,21 @@ fn reference_prior_recall_and_precision() {
         score.walls.truly_missing > 100,
         "the prior should leave walls missing"
     );
-    assert!(score.walls.recall >= 0.90, "recall {:.3}", score.walls.recall);
+    assert!(
+        score.walls.recall >= 0.90,
+        "recall {:.3}",
+        score.walls.recall
+    );
     // Measured 0.832, recall 0.936 since the prior's crowns are porous
     // (multiple returns): pulses now reach some walls behind trees, so
     // fewer cells are truly missing (2229) and the same few false cells on
     // fully seen buildings weigh more. 0.857 / 0.940 with opaque crowns;
     // 0.790 / 0.939 before open ground floors were told from missing walls.
-    assert!(score.walls.precision >= 0.82, "precision {:.3}", score.walls.precision);
+    assert!(
+        score.walls.precision >= 0.82,
+        "precision {:.3}",
+        score.walls.precision
+    );
     // Every tested building gets a strategy consistent with θ.
     for b in det.buildings.iter().filter(|b| b.skipped.is_none()) {
         let want = if b.r_missing < params.theta {
@@ -138,14 +146,22 @@ fn zurich_cityjson_prior() {
     let score = evaluate(&gt, &all, &det.missing_points());
     println!(
         "ZURICH cells {} truly missing {} recall {:.3} precision {:.3} ({} missing points)",
-        score.walls.cells, score.walls.truly_missing, score.walls.recall, score.walls.precision, score.walls.missing_points
+        score.walls.cells,
+        score.walls.truly_missing,
+        score.walls.recall,
+        score.walls.precision,
+        score.walls.missing_points
     );
     assert!(det.buildings.iter().filter(|b| b.skipped.is_none()).count() > 10);
     // A real city block is harder than the reference; require the method to
     // still find most truly missing wall. Measured recall 0.605, precision
     // 0.526 (0.556 / 0.485 while a wall seen lower down could still be
     // taken for an open ground floor).
-    assert!(score.walls.recall >= 0.6, "recall {:.3}", score.walls.recall);
+    assert!(
+        score.walls.recall >= 0.6,
+        "recall {:.3}",
+        score.walls.recall
+    );
 }
 
 /// The footprint OBJ's `v` and `f` lines as one polygon (z dropped).

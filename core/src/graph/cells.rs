@@ -91,6 +91,12 @@ pub fn bin_ground(
 /// where still unknown.
 pub fn filled_heights(cells: &GroundCells, rings: usize) -> Vec<f32> {
     let mut z: Vec<f32> = cells.mean.iter().map(|p| p[2]).collect();
-    grid::fill_holes(&mut z, cells.frame.nx, cells.frame.ny, rings, Neighbours::Eight);
+    grid::fill_holes(
+        &mut z,
+        cells.frame.nx,
+        cells.frame.ny,
+        rings,
+        Neighbours::Eight,
+    );
     z
 }

@@ -4,8 +4,8 @@
 use rayon::prelude::*;
 
 use super::mesh_distance::{MeshBackend, MeshDistance, building_triangles};
-use crate::scene::vec3::wide;
 use crate::scene::Scene;
+use crate::scene::vec3::wide;
 
 /// Distance from each point to the nearest building triangle of `scene`
 /// (`f32::INFINITY` when the scene has no buildings or the point is not

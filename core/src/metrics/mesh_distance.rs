@@ -120,7 +120,8 @@ impl ParryIndex {
         } else {
             f32::MAX
         };
-        let (id, _) = CompositeShapeRef(mesh).project_local_point(local(p, self.centre), reach, false)?;
+        let (id, _) =
+            CompositeShapeRef(mesh).project_local_point(local(p, self.centre), reach, false)?;
         let t = self.tris.get(id as usize)?;
         let d2 = point_triangle_dist2(p, t[0], t[1], t[2]);
         (d2 <= max_dist * max_dist).then_some(d2)
@@ -163,7 +164,10 @@ mod tests {
             let c = t[k % 3];
             let off = [0.0, 1.0, 2.0].map(|s| ((k as f64 * 0.37 + s).sin()) * 3.0);
             let p = [c[0] + off[0], c[1] + off[1], c[2] + off[2]];
-            let (a, b) = (grid.distance(p, f64::INFINITY), parry.distance(p, f64::INFINITY));
+            let (a, b) = (
+                grid.distance(p, f64::INFINITY),
+                parry.distance(p, f64::INFINITY),
+            );
             let (a, b) = (a.expect("a grid answer"), b.expect("a parry answer"));
             worst = worst.max((a - b).abs());
             if a > 1e-3 {

@@ -26,7 +26,6 @@ pub(crate) mod triangle_grid;
 mod winding;
 
 pub use accuracy::{cloud_to_mesh_distances, cloud_to_mesh_distances_with, mean_cloud_to_mesh};
-pub use mesh_distance::{MeshBackend, MeshDistance};
 pub use completeness::{
     BuildingCompleteness, CompletenessReport, Coverage, DEFAULT_TAU, completeness,
     completeness_of_cloud, mean_gt_distance, report_from_distances,
@@ -37,6 +36,7 @@ pub use gt::{
     DEFAULT_SPACING, GtOptions, GtSamples, SurfaceKind, sample_building_surfaces,
     sample_building_surfaces_with,
 };
+pub use mesh_distance::{MeshBackend, MeshDistance};
 pub use nearest::nearest_distances;
 pub use producer::{ProducerCheck, TARGET_REACH_M, producer_check};
 pub use quality::{Mission, building_attributes};

@@ -57,9 +57,7 @@ impl GroundGrid {
 
     /// Whether a ground point was observed within the [`SEEN_CELL`] cell of (x, y).
     pub fn seen(&self, x: f64, y: f64) -> bool {
-        self.seen_frame
-            .index_of(x, y)
-            .is_some_and(|k| self.seen[k])
+        self.seen_frame.index_of(x, y).is_some_and(|k| self.seen[k])
     }
 }
 

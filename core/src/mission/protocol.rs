@@ -110,7 +110,11 @@ impl Wire {
         })
     }
 
-    pub(crate) fn list<T: FromStr>(&self, key: &'static str, sep: char) -> Result<Vec<T>, ProtocolError> {
+    pub(crate) fn list<T: FromStr>(
+        &self,
+        key: &'static str,
+        sep: char,
+    ) -> Result<Vec<T>, ProtocolError> {
         let Some(v) = self.text(key) else {
             return Ok(Vec::new());
         };

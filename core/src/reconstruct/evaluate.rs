@@ -11,10 +11,10 @@ use serde::Serialize;
 use super::Reconstruction;
 use super::solid::SurfaceType;
 use crate::footprint::{footprints_of_scene, iou};
-use crate::metrics::triangle_grid::TriangleGrid;
 use crate::metrics::mesh_distance::building_triangles;
-use crate::metrics::{MeshBackend, MeshDistance};
+use crate::metrics::triangle_grid::TriangleGrid;
 use crate::metrics::{GroundHeight, GtSamples, SurfaceKind};
+use crate::metrics::{MeshBackend, MeshDistance};
 use crate::scene::Scene;
 
 /// Distances farther than this (m) count as this far (a model far off).
@@ -218,9 +218,7 @@ pub fn evaluate_models(
             .collect();
         let to_gt: Vec<f64> = model_pts
             .par_iter()
-            .map(|p| {
-                gt_mesh.distance(*p, FAR).unwrap_or(FAR)
-            })
+            .map(|p| gt_mesh.distance(*p, FAR).unwrap_or(FAR))
             .collect();
         score.samples = model_pts
             .iter()

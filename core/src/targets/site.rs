@@ -83,7 +83,13 @@ impl Site {
         if heights.iter().all(|z| z.is_nan()) {
             return Err(SiteError::NoGround);
         }
-        grid::fill_holes(&mut heights, frame.nx, frame.ny, FILL_STEPS, Neighbours::Four);
+        grid::fill_holes(
+            &mut heights,
+            frame.nx,
+            frame.ny,
+            FILL_STEPS,
+            Neighbours::Four,
+        );
         let r = (clearance / cell).ceil() as isize;
         let size = [frame.nx, frame.ny];
         Ok(Site {

@@ -14,10 +14,10 @@ use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
+use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
 use skyground_core::mission::{
     BuildingStatus, Phase, PlannerStatus, ProtocolError, VehicleStatus, Wire,
 };
-use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::prior::unlabelled;
 use skyground_core::route::{BudgetParams, route_budget};
@@ -262,7 +262,10 @@ fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
 
 /// The array's first status read as a mission status; `None` when it is
 /// absent or unreadable (said on stderr).
-fn first_status<T>(arr: &DiagnosticArray, read: fn(&Wire) -> Result<T, ProtocolError>) -> Option<T> {
+fn first_status<T>(
+    arr: &DiagnosticArray,
+    read: fn(&Wire) -> Result<T, ProtocolError>,
+) -> Option<T> {
     readable(read(&from_status(arr.status.first()?)))
 }
 

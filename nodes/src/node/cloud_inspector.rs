@@ -1,9 +1,9 @@
 //! cloud_inspector: PointCloud2 topic → per-cloud report on /rosout and a
 //! DiagnosticArray; bad clouds are reported and the node keeps running.
 
+use crate::convert::diagnostics::to_status;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudSubscription, Received};
-use crate::convert::diagnostics::to_status;
 use serde::Deserialize;
 use skyground_core::mission::{CloudStatus, CloudSummary};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -61,7 +61,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                     s.points,
                     s.fields.join(","),
                     s.dropped_non_finite,
-                    s.labels.iter().map(ToString::to_string).collect::<Vec<_>>().join(",")
+                    s.labels
+                        .iter()
+                        .map(ToString::to_string)
+                        .collect::<Vec<_>>()
+                        .join(",")
                 ));
                 Ok(s)
             }

@@ -29,7 +29,9 @@ use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::markers_to_regions;
 use crate::convert::path::{odom_position, path};
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
-use crate::transport::{CloudPublisher, CloudSubscription, TransportConfig, labelled, with_buildings};
+use crate::transport::{
+    CloudPublisher, CloudSubscription, TransportConfig, labelled, with_buildings,
+};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]

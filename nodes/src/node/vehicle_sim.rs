@@ -107,9 +107,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let (tx, mut paths) = mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
     let (goal_tx, mut goals) = mpsc::channel::<[f32; 2]>(16);
-    forward(rt, "/way_point", qos::reliable(10), goal_tx, |m: &PointStamped| {
-        [m.point.x as f32, m.point.y as f32]
-    })?;
+    forward(
+        rt,
+        "/way_point",
+        qos::reliable(10),
+        goal_tx,
+        |m: &PointStamped| [m.point.x as f32, m.point.y as f32],
+    )?;
     let mut odom_due = Every::new(p.odom_rate_hz);
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);
