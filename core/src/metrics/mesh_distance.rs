@@ -28,7 +28,8 @@ pub struct MeshDistance {
 
 enum Index {
     Grid(TriangleGrid),
-    Parry(ParryIndex),
+    /// Boxed: parry's mesh is a large value beside the grid's vectors.
+    Parry(Box<ParryIndex>),
 }
 
 struct ParryIndex {
@@ -62,7 +63,7 @@ impl MeshDistance {
                 let n = tris.len();
                 Index::Grid(TriangleGrid::new(tris, vec![0; n]))
             }
-            MeshBackend::Parry => Index::Parry(ParryIndex::new(tris)),
+            MeshBackend::Parry => Index::Parry(Box::new(ParryIndex::new(tris))),
         };
         MeshDistance { index }
     }

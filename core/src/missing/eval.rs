@@ -209,7 +209,7 @@ pub fn evaluate(
         }
     }
     let all = per.values().fold(WallCounts::default(), WallCounts::plus);
-    let total = DetectionScore {
+    DetectionScore {
         walls: all.scored(),
         underside_cells: under[0],
         underside_truly_missing: under[1],
@@ -221,6 +221,5 @@ pub fn evaluate(
                 walls: c.scored(),
             })
             .collect(),
-    };
-    total
+    }
 }
