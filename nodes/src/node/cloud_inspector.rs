@@ -36,11 +36,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     rt.log.info(&format!("inspecting clouds on {}", p.topic));
     let mut good = 0u64;
     loop {
-        let got = tokio::select! {
-            r = sub.next() => r,
-            _ = rt.shutdown.wait() => None,
+        let Some(got) = rt.shutdown.or(sub.next()).await else {
+            break;
         };
-        let Some(got) = got else { break };
         let result = match got {
             Received::Bad(reason) => {
                 rt.log

@@ -56,11 +56,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     ));
     let mut done = 0u64;
     loop {
-        let got = tokio::select! {
-            r = sub.next() => r,
-            _ = rt.shutdown.wait() => None,
+        let Some(got) = rt.shutdown.or(sub.next()).await else {
+            break;
         };
-        let Some(got) = got else { break };
         let (msg, decoded) = match got {
             Received::Bad(reason) => {
                 rt.log
