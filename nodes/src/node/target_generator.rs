@@ -45,18 +45,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     p.targets
         .validate()
         .map_err(|e| RuntimeError::Node(format!("target params: {e}")))?;
-    let mut cloud_sub = CloudSubscription::new(
-        rt,
-        "/classified_cloud",
-        qos::latched(256),
-        p.transport.tile_points,
-    )?;
-    let mut missing_sub = CloudSubscription::new(
-        rt,
-        "/missing_points",
-        qos::latched(64),
-        p.transport.tile_points,
-    )?;
+    let tile = p.transport.tile_points;
+    let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
+    let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
     let status_sub = rt.subscription::<DiagnosticArray>("/completeness", qos::latched(1))?;
     let points_pub = CloudPublisher::new(rt, "/target_points", qos::latched(1), p.transport)?;
     let regions_pub = rt.publisher::<MarkerArray>("/target_regions", qos::latched(1))?;
