@@ -76,22 +76,22 @@ fn reference_prior_recall_and_precision() {
         println!(
             "{:>8} {:>5} {:>13} {:>5} {:>6.3} {:>11} {:>7} {:>9.3}",
             s.building,
-            s.cells,
-            s.truly_missing,
-            s.found,
-            s.recall,
-            s.missing_points,
-            s.correct_points,
-            s.precision
+            s.walls.cells,
+            s.walls.truly_missing,
+            s.walls.found,
+            s.walls.recall,
+            s.walls.missing_points,
+            s.walls.correct_points,
+            s.walls.precision
         );
     }
     println!(
         "TOTAL cells {} truly missing {} recall {:.3} precision {:.3} ({} missing points, R_missing {:.3})",
-        score.cells,
-        score.truly_missing,
-        score.recall,
-        score.precision,
-        score.missing_points,
+        score.walls.cells,
+        score.walls.truly_missing,
+        score.walls.recall,
+        score.walls.precision,
+        score.walls.missing_points,
         det.r_missing()
     );
     println!(
@@ -99,16 +99,24 @@ fn reference_prior_recall_and_precision() {
         score.underside_cells, score.underside_truly_missing, score.underside_found
     );
     assert!(
-        score.truly_missing > 100,
+        score.walls.truly_missing > 100,
         "the prior should leave walls missing"
     );
-    assert!(score.recall >= 0.90, "recall {:.3}", score.recall);
+    assert!(
+        score.walls.recall >= 0.90,
+        "recall {:.3}",
+        score.walls.recall
+    );
     // Measured 0.832, recall 0.936 since the prior's crowns are porous
     // (multiple returns): pulses now reach some walls behind trees, so
     // fewer cells are truly missing (2229) and the same few false cells on
     // fully seen buildings weigh more. 0.857 / 0.940 with opaque crowns;
     // 0.790 / 0.939 before open ground floors were told from missing walls.
-    assert!(score.precision >= 0.82, "precision {:.3}", score.precision);
+    assert!(
+        score.walls.precision >= 0.82,
+        "precision {:.3}",
+        score.walls.precision
+    );
     // Every tested building gets a strategy consistent with θ.
     for b in det.buildings.iter().filter(|b| b.skipped.is_none()) {
         let want = if b.r_missing < params.theta {
@@ -138,14 +146,22 @@ fn zurich_cityjson_prior() {
     let score = evaluate(&gt, &all, &det.missing_points());
     println!(
         "ZURICH cells {} truly missing {} recall {:.3} precision {:.3} ({} missing points)",
-        score.cells, score.truly_missing, score.recall, score.precision, score.missing_points
+        score.walls.cells,
+        score.walls.truly_missing,
+        score.walls.recall,
+        score.walls.precision,
+        score.walls.missing_points
     );
     assert!(det.buildings.iter().filter(|b| b.skipped.is_none()).count() > 10);
     // A real city block is harder than the reference; require the method to
     // still find most truly missing wall. Measured recall 0.605, precision
     // 0.526 (0.556 / 0.485 while a wall seen lower down could still be
     // taken for an open ground floor).
-    assert!(score.recall >= 0.6, "recall {:.3}", score.recall);
+    assert!(
+        score.walls.recall >= 0.6,
+        "recall {:.3}",
+        score.walls.recall
+    );
 }
 
 /// The footprint OBJ's `v` and `f` lines as one polygon (z dropped).

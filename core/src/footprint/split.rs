@@ -7,6 +7,7 @@ use rayon::prelude::*;
 use super::error::ParamsError;
 use super::params::SplitParams;
 use super::types::Footprint;
+use crate::geom::grid::GridFrame;
 use crate::geom::segment;
 
 /// The index grid never exceeds this many cells (the cell grows instead).
@@ -109,10 +110,7 @@ pub fn split(
 
 /// Footprint indices per cell of a regular grid over their (buffered) boxes.
 struct Grid {
-    lo: [f64; 2],
-    cell: f64,
-    nx: usize,
-    ny: usize,
+    frame: GridFrame,
     cells: Vec<Vec<u32>>,
 }
 
@@ -125,42 +123,23 @@ impl Grid {
             hi = [hi[0].max(b[2]), hi[1].max(b[3])];
         }
         let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
-        let cell = cell.max((w * h / MAX_CELLS).sqrt());
-        // Bounded by MAX_CELLS above; the float-to-int casts cannot overflow.
-        let nx = ((w / cell).floor() as usize + 1).max(1);
-        let ny = ((h / cell).floor() as usize + 1).max(1);
-        let mut cells = vec![Vec::new(); nx * ny];
+        // Bounded by MAX_CELLS: the frame's float-to-int casts cannot overflow.
+        let frame = GridFrame::covering(lo, hi, cell.max((w * h / MAX_CELLS).sqrt()), 0);
+        let mut cells = vec![Vec::new(); frame.len()];
         for (k, (_, b)) in shapes.iter().enumerate() {
-            let i0 = ((b[0] - lo[0]) / cell) as usize;
-            let i1 = (((b[2] - lo[0]) / cell) as usize).min(nx - 1);
-            let j0 = ((b[1] - lo[1]) / cell) as usize;
-            let j1 = (((b[3] - lo[1]) / cell) as usize).min(ny - 1);
+            let (i0, j0) = frame.clamped_cell(b[0], b[1]);
+            let (i1, j1) = frame.clamped_cell(b[2], b[3]);
             for j in j0..=j1 {
                 for i in i0..=i1 {
-                    cells[j * nx + i].push(u32::try_from(k).unwrap_or(u32::MAX));
+                    cells[j * frame.nx + i].push(u32::try_from(k).unwrap_or(u32::MAX));
                 }
             }
         }
-        Self {
-            lo,
-            cell,
-            nx,
-            ny,
-            cells,
-        }
+        Self { frame, cells }
     }
 
     fn candidates(&self, p: [f64; 2]) -> Option<&[u32]> {
-        let fx = (p[0] - self.lo[0]) / self.cell;
-        let fy = (p[1] - self.lo[1]) / self.cell;
-        if !(fx >= 0.0 && fy >= 0.0) {
-            return None;
-        }
-        let (i, j) = (fx as usize, fy as usize);
-        if i >= self.nx || j >= self.ny {
-            return None;
-        }
-        let c = &self.cells[j * self.nx + i];
+        let c = &self.cells[self.frame.index_of(p[0], p[1])?];
         (!c.is_empty()).then_some(c.as_slice())
     }
 }

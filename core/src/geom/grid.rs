@@ -75,6 +75,82 @@ impl GridFrame {
             self.origin[1] + j * self.cell,
         ]
     }
+
+    /// World xy of the centre of the cell with flat index `k`.
+    pub fn centre(&self, k: usize) -> [f64; 2] {
+        self.corner((k % self.nx) as f64 + 0.5, (k / self.nx) as f64 + 0.5)
+    }
+
+    /// Flat index of the cell holding `(x, y)`, `None` off the grid.
+    pub fn index_of(&self, x: f64, y: f64) -> Option<usize> {
+        self.cell_of(x, y).map(|(i, j)| j * self.nx + i)
+    }
+
+    /// Flat index of the cell holding `(x, y)`, clamped onto the grid (the
+    /// cell whose centre is nearest, for points off the grid too).
+    pub fn clamped_index(&self, x: f64, y: f64) -> usize {
+        let (i, j) = self.clamped_cell(x, y);
+        j * self.nx + i
+    }
+
+    /// The 4-neighbours of the cell with flat index `k`.
+    pub fn neighbours(&self, k: usize) -> impl Iterator<Item = usize> + use<> {
+        let (nx, ny) = (self.nx, self.ny);
+        let (i, j) = (k % nx, k / nx);
+        [
+            (i > 0).then(|| k - 1),
+            (i + 1 < nx).then(|| k + 1),
+            (j > 0).then(|| k - nx),
+            (j + 1 < ny).then(|| k + nx),
+        ]
+        .into_iter()
+        .flatten()
+    }
+
+    /// Bilinear interpolation at `(x, y)` of `values` (one per cell, taken
+    /// at the cell centres), clamped to the outermost centres; NaN for a
+    /// NaN coordinate or when `values` does not match the grid.
+    pub fn bilinear(&self, values: &[f32], x: f64, y: f64) -> f32 {
+        if self.is_empty() || values.len() != self.len() || x.is_nan() || y.is_nan() {
+            return f32::NAN;
+        }
+        let at = |v: f64, o: f64, n: usize| {
+            let t = ((v - o) / self.cell - 0.5).clamp(0.0, (n - 1) as f64);
+            let i = t.floor();
+            (i as usize, (t - i) as f32)
+        };
+        let (i0, fx) = at(x, self.origin[0], self.nx);
+        let (j0, fy) = at(y, self.origin[1], self.ny);
+        let i1 = (i0 + 1).min(self.nx - 1);
+        let j1 = (j0 + 1).min(self.ny - 1);
+        let v = |i: usize, j: usize| values[j * self.nx + i];
+        let bottom = v(i0, j0) + fx * (v(i1, j0) - v(i0, j0));
+        let top = v(i0, j1) + fx * (v(i1, j1) - v(i0, j1));
+        bottom + fy * (top - bottom)
+    }
+}
+
+/// Per-cell means of `value` over `points` (xy → cell; points off the
+/// grid are skipped); NaN where a cell has none.
+pub fn cell_means(frame: &GridFrame, points: impl Iterator<Item = ([f64; 2], f32)>) -> Vec<f32> {
+    let mut sum = vec![0.0f64; frame.len()];
+    let mut n = vec![0u32; frame.len()];
+    for (xy, v) in points {
+        if let Some(k) = frame.index_of(xy[0], xy[1]) {
+            sum[k] += f64::from(v);
+            n[k] += 1;
+        }
+    }
+    sum.iter()
+        .zip(&n)
+        .map(|(&s, &c)| {
+            if c > 0 {
+                (s / f64::from(c)) as f32
+            } else {
+                f32::NAN
+            }
+        })
+        .collect()
 }
 
 /// Separable square max (`dilate`) or min filter of radius `r` over a
@@ -119,9 +195,37 @@ pub fn close(src: &[bool], nx: usize, ny: usize, r: usize) -> Vec<bool> {
     square_filter(&grown, nx, ny, r, false)
 }
 
+/// Which neighbours a cell has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Neighbours {
+    /// Left, right, below, above.
+    Four,
+    /// The four, then the diagonals.
+    Eight,
+}
+
+impl Neighbours {
+    fn offsets(self) -> &'static [(isize, isize)] {
+        const EIGHT: [(isize, isize); 8] = [
+            (-1, 0),
+            (1, 0),
+            (0, -1),
+            (0, 1),
+            (-1, -1),
+            (1, 1),
+            (-1, 1),
+            (1, -1),
+        ];
+        match self {
+            Neighbours::Four => &EIGHT[..4],
+            Neighbours::Eight => &EIGHT,
+        }
+    }
+}
+
 /// Fills unknown (NaN) cells of a row-major `nx × ny` height grid from their
-/// known 4-neighbours' mean, `steps` rings deep (each ring from the last).
-pub fn fill_holes(z: &mut [f32], nx: usize, ny: usize, steps: usize) {
+/// known `neighbours`' mean, `steps` rings deep (each ring from the last).
+pub fn fill_holes(z: &mut [f32], nx: usize, ny: usize, steps: usize, neighbours: Neighbours) {
     for _ in 0..steps {
         let prev = z.to_vec();
         let mut changed = false;
@@ -130,14 +234,9 @@ pub fn fill_holes(z: &mut [f32], nx: usize, ny: usize, steps: usize) {
                 if prev[j * nx + i].is_finite() {
                     continue;
                 }
-                let near = [
-                    (i.wrapping_sub(1), j),
-                    (i + 1, j),
-                    (i, j.wrapping_sub(1)),
-                    (i, j + 1),
-                ];
                 let (mut s, mut c) = (0.0, 0);
-                for (a, b) in near {
+                for &(di, dj) in neighbours.offsets() {
+                    let (a, b) = (i.wrapping_add_signed(di), j.wrapping_add_signed(dj));
                     if a < nx && b < ny && prev[b * nx + a].is_finite() {
                         s += prev[b * nx + a];
                         c += 1;
@@ -189,11 +288,15 @@ mod tests {
     fn holes_fill_ring_by_ring() {
         let nan = f32::NAN;
         let mut z = vec![1.0, nan, nan, nan, 3.0, nan];
-        fill_holes(&mut z, 3, 2, 1);
+        fill_holes(&mut z, 3, 2, 1, Neighbours::Four);
         // Row 0: 1 ? ?, row 1: ? 3 ?: one ring reaches all but the far corner.
         assert_eq!((z[1], z[3], z[5]), (2.0, 2.0, 3.0));
         assert!(z[2].is_nan());
-        fill_holes(&mut z, 3, 2, 5);
+        fill_holes(&mut z, 3, 2, 5, Neighbours::Four);
         assert_eq!(z[2], 2.5);
+        // With diagonals one ring reaches the far corner, from the 3 beside it.
+        let mut z = vec![1.0, nan, nan, nan, 3.0, nan];
+        fill_holes(&mut z, 3, 2, 1, Neighbours::Eight);
+        assert_eq!((z[1], z[2], z[5]), (2.0, 3.0, 3.0));
     }
 }

@@ -3,6 +3,7 @@
 
 use super::grid::GridFrame;
 use crate::cloud::class;
+use crate::geom::grid::{self, Neighbours};
 
 /// ASPRS class 17: bridge deck.
 const BRIDGE_DECK: u8 = 17;
@@ -85,45 +86,17 @@ pub fn bin_ground(
     })
 }
 
-/// Cell heights with unknown cells filled from known neighbours, `rings`
-/// times (each pass reaches one cell farther); NaN where still unknown.
+/// Cell heights with unknown cells filled from known neighbours (the
+/// diagonals too), `rings` times (each pass reaches one cell farther); NaN
+/// where still unknown.
 pub fn filled_heights(cells: &GroundCells, rings: usize) -> Vec<f32> {
-    let f = &cells.frame;
     let mut z: Vec<f32> = cells.mean.iter().map(|p| p[2]).collect();
-    for _ in 0..rings {
-        let prev = z.clone();
-        let mut changed = false;
-        for k in 0..f.len() {
-            if prev[k].is_finite() {
-                continue;
-            }
-            let (i, j) = ((k % f.nx) as i64, (k / f.nx) as i64);
-            let (mut s, mut c) = (0.0f32, 0u32);
-            for (di, dj) in [
-                (-1, 0),
-                (1, 0),
-                (0, -1),
-                (0, 1),
-                (-1, -1),
-                (1, 1),
-                (-1, 1),
-                (1, -1),
-            ] {
-                if let Some(q) = f.index(i + di, j + dj)
-                    && prev[q].is_finite()
-                {
-                    s += prev[q];
-                    c += 1;
-                }
-            }
-            if c > 0 {
-                z[k] = s / c as f32;
-                changed = true;
-            }
-        }
-        if !changed {
-            break;
-        }
-    }
+    grid::fill_holes(
+        &mut z,
+        cells.frame.nx,
+        cells.frame.ny,
+        rings,
+        Neighbours::Eight,
+    );
     z
 }

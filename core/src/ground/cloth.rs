@@ -3,8 +3,8 @@
 
 use rayon::prelude::*;
 
-use super::grid::Lattice;
 use super::params::CsfParams;
+use crate::geom::grid::GridFrame;
 
 /// Downward acceleration per unit time², in the units of the paper's time step.
 const GRAVITY: f32 = 0.2;
@@ -33,7 +33,7 @@ fn spring_shares(rigidness: u8) -> (f32, f32) {
 }
 
 /// Drops the cloth onto `surface` (one inverted height per particle).
-pub(crate) fn simulate(lattice: &Lattice, surface: &[f32], params: &CsfParams) -> Cloth {
+pub(crate) fn simulate(lattice: &GridFrame, surface: &[f32], params: &CsfParams) -> Cloth {
     let top = surface.iter().copied().fold(f32::NEG_INFINITY, f32::max) + START_ABOVE;
     let n = lattice.len();
     let mut z = vec![top; n];
@@ -145,7 +145,7 @@ mod tests {
 
     #[test]
     fn cloth_settles_on_a_flat_surface() {
-        let l = Lattice::covering([0.0, 0.0], [20.0, 20.0], 1.0).unwrap();
+        let l = super::super::grid::covering([0.0, 0.0], [20.0, 20.0], 1.0).unwrap();
         let surface = vec![-3.0; l.len()];
         let c = simulate(&l, &surface, &CsfParams::default());
         assert!(c.fixed.iter().all(|&f| f));
@@ -155,18 +155,18 @@ mod tests {
 
     #[test]
     fn rigid_cloth_bridges_a_narrow_pit() {
-        let l = Lattice::covering([0.0, 0.0], [40.0, 40.0], 1.0).unwrap();
+        let l = super::super::grid::covering([0.0, 0.0], [40.0, 40.0], 1.0).unwrap();
         let mut surface = vec![0.0; l.len()];
         for j in 0..l.ny {
             for i in 0..l.nx {
-                let p = l.position(i, j);
+                let p = l.centre(j * l.nx + i);
                 if (18.0..22.0).contains(&p[0]) && (18.0..22.0).contains(&p[1]) {
                     surface[j * l.nx + i] = -20.0;
                 }
             }
         }
         let c = simulate(&l, &surface, &CsfParams::default());
-        let centre = l.nearest(20.0, 20.0);
+        let centre = l.clamped_index(20.0, 20.0);
         assert!(c.z[centre] > -1.0, "cloth fell to {}", c.z[centre]);
     }
 }

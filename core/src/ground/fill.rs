@@ -4,7 +4,7 @@
 //! particles that touched the ground (Laplace's equation, solved by
 //! successive over-relaxation).
 
-use super::grid::Lattice;
+use crate::geom::grid::GridFrame;
 
 /// Over-relaxation factor: converges in O(n) sweeps for n-cell gaps.
 const OMEGA: f32 = 1.9;
@@ -16,7 +16,7 @@ const MAX_SWEEPS: usize = 2_000;
 /// Replaces the heights of the particles that are not `fixed` by the
 /// harmonic interpolation of the fixed ones; without fixed particles the
 /// heights are left as they are.
-pub(crate) fn fill_bridged(lattice: &Lattice, z: &mut [f32], fixed: &[bool]) {
+pub(crate) fn fill_bridged(lattice: &GridFrame, z: &mut [f32], fixed: &[bool]) {
     if !fixed.iter().any(|&f| f) {
         return;
     }
@@ -44,10 +44,10 @@ mod tests {
 
     #[test]
     fn a_plane_is_restored_under_a_hole() {
-        let l = Lattice::covering([0.0, 0.0], [20.0, 20.0], 1.0).unwrap();
+        let l = super::super::grid::covering([0.0, 0.0], [20.0, 20.0], 1.0).unwrap();
         let plane = |k: usize| {
-            let p = l.position(k % l.nx, k / l.nx);
-            0.1 * p[0] - 0.05 * p[1]
+            let p = l.centre(k);
+            (0.1 * p[0] - 0.05 * p[1]) as f32
         };
         let mut z: Vec<f32> = (0..l.len()).map(plane).collect();
         let mut fixed = vec![true; l.len()];

@@ -21,12 +21,11 @@ mod surface;
 use rayon::prelude::*;
 
 pub use dtm::Dtm;
+pub(crate) use dtm::xy_extent;
 pub use error::CsfError;
 pub use params::CsfParams;
 
 use crate::density::Density;
-
-use grid::Lattice;
 
 /// What [`csf`] finds: ground or not, and height above the terrain, per point.
 #[derive(Debug, Clone, PartialEq)]
@@ -68,8 +67,8 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
     let density = Density::measure(&finite).ok_or(no_finite)?;
     let resolved = params.resolved(&density);
     let threshold = params.class_threshold_for(&density);
-    let lattice = Lattice::covering(lo, hi, params.cloth_resolution_for(&density))?;
-    let min_points = void_below(&density, lattice.cell);
+    let lattice = grid::covering(lo, hi, params.cloth_resolution_for(&density))?;
+    let min_points = void_below(&density, params.cloth_resolution_for(&density));
     let surface = surface::inverted_surface(&lattice, &finite, min_points);
     let mut cloth = cloth::simulate(&lattice, &surface, params);
     if params.slope_smoothing {
@@ -83,14 +82,17 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
     }
     fill::fill_bridged(&lattice, &mut cloth.z, &cloth.fixed);
     let heights: Vec<f32> = cloth.z.par_iter().map(|z| -z).collect();
-    let dtm = Dtm::from_lattice(&lattice, heights);
+    let dtm = Dtm {
+        frame: lattice,
+        heights,
+    };
     let (is_ground, hag): (Vec<bool>, Vec<f32>) = xyz
         .par_iter()
         .map(|p| {
             if !p.iter().all(|v| v.is_finite()) {
                 return (false, f32::NAN);
             }
-            let above = p[2] - lattice.bilinear(&dtm.heights, p[0], p[1]);
+            let above = p[2] - dtm.height_at(p[0], p[1]);
             (above.abs() < threshold, above)
         })
         .unzip();

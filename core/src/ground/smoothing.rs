@@ -3,13 +3,13 @@
 
 use std::collections::VecDeque;
 
-use super::grid::Lattice;
+use crate::geom::grid::GridFrame;
 
 /// Spreads outward from the fixed particles: a free particle next to a
 /// fixed one that hangs less than `threshold` above the surface moves onto
 /// it and becomes fixed, and its free neighbours are examined in turn.
 pub(crate) fn smooth_slopes(
-    lattice: &Lattice,
+    lattice: &GridFrame,
     surface: &[f32],
     z: &mut [f32],
     fixed: &mut [bool],
@@ -34,7 +34,7 @@ mod tests {
 
     #[test]
     fn pulls_near_particles_down_and_leaves_far_ones() {
-        let l = Lattice::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
+        let l = super::super::grid::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
         let n = l.len();
         let surface: Vec<f32> = (0..n)
             .map(|k| if k % l.nx < 5 { 0.0 } else { -5.0 })

@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 
 use rayon::prelude::*;
 
-use super::grid::Lattice;
+use crate::geom::grid::GridFrame;
 
 /// Inverted height of the surface below every particle (one per particle).
 ///
@@ -18,15 +18,15 @@ use super::grid::Lattice;
 /// a void holds the cloth at its surroundings' height and a few stray low
 /// returns in it do not pull the cloth down to them.
 pub(crate) fn inverted_surface(
-    lattice: &Lattice,
+    lattice: &GridFrame,
     points: &[[f32; 3]],
     min_points: u32,
 ) -> Vec<f32> {
     let keyed: Vec<(usize, f32, f32)> = points
         .par_iter()
         .map(|p| {
-            let k = lattice.nearest(p[0], p[1]);
-            let c = lattice.position(k % lattice.nx, k / lattice.nx);
+            let k = lattice.clamped_index(f64::from(p[0]), f64::from(p[1]));
+            let c = lattice.centre(k).map(|v| v as f32);
             let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2);
             (k, d2, -p[2])
         })
@@ -56,7 +56,7 @@ pub(crate) fn inverted_surface(
 
 /// Replaces NaN entries by the value of the nearest (grid steps) non-NaN
 /// entry; leaves all-NaN input unchanged.
-fn fill_from_neighbours(lattice: &Lattice, height: &mut [f32]) {
+fn fill_from_neighbours(lattice: &GridFrame, height: &mut [f32]) {
     let mut queue: VecDeque<usize> = (0..height.len()).filter(|&k| !height[k].is_nan()).collect();
     while let Some(k) = queue.pop_front() {
         let h = height[k];
@@ -75,21 +75,21 @@ mod tests {
 
     #[test]
     fn nearest_point_wins_and_gaps_take_neighbours() {
-        let l = Lattice::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
+        let l = super::super::grid::covering([0.0, 0.0], [4.0, 0.0], 1.0).unwrap();
         let pts = [[0.1, 0.0, 5.0], [0.4, 0.0, 9.0], [4.0, 0.0, 1.0]];
         let h = inverted_surface(&l, &pts, 1);
-        assert_eq!(h[l.nearest(0.0, 0.0)], -5.0);
-        assert_eq!(h[l.nearest(4.0, 0.0)], -1.0);
+        assert_eq!(h[l.clamped_index(0.0, 0.0)], -5.0);
+        assert_eq!(h[l.clamped_index(4.0, 0.0)], -1.0);
         // x = 1 is nearer to the particle at 0, x = 3 to the one at 4.
-        assert_eq!(h[l.nearest(1.0, 0.0)], -5.0);
-        assert_eq!(h[l.nearest(3.0, 0.0)], -1.0);
+        assert_eq!(h[l.clamped_index(1.0, 0.0)], -5.0);
+        assert_eq!(h[l.clamped_index(3.0, 0.0)], -1.0);
         assert!(h.iter().all(|v| v.is_finite()));
         // With two points needed, the lone low return at x = 4 is a void:
         // it takes the height of the particle at 0 (two points).
         let h = inverted_surface(&l, &pts, 2);
-        assert_eq!(h[l.nearest(4.0, 0.0)], -5.0);
+        assert_eq!(h[l.clamped_index(4.0, 0.0)], -5.0);
         // Nothing has enough: every point counts.
         let h = inverted_surface(&l, &pts, 10);
-        assert_eq!(h[l.nearest(4.0, 0.0)], -1.0);
+        assert_eq!(h[l.clamped_index(4.0, 0.0)], -1.0);
     }
 }

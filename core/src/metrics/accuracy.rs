@@ -3,31 +3,29 @@
 
 use rayon::prelude::*;
 
-use super::triangle_grid::TriangleGrid;
+use super::mesh_distance::{MeshBackend, MeshDistance, building_triangles};
+use crate::scene::Scene;
 use crate::scene::vec3::wide;
-use crate::scene::{ObjectKind, Scene};
 
 /// Distance from each point to the nearest building triangle of `scene`
-/// (`f32::INFINITY` when the scene has no buildings or the point is not finite).
-///
-/// Uses a uniform grid over the building triangles (exact nearest triangle),
-/// in parallel.
+/// (`f32::INFINITY` when the scene has no buildings or the point is not
+/// finite), in parallel, on the default [`MeshBackend`].
 pub fn cloud_to_mesh_distances(scene: &Scene, points: &[[f32; 3]]) -> Vec<f32> {
-    let tris: Vec<[[f64; 3]; 3]> = (0..scene.triangles.len())
-        .filter(|&t| {
-            scene
-                .triangle_kind(t)
-                .is_some_and(|o| o.kind == ObjectKind::Building)
-        })
-        .filter_map(|t| scene.triangle_corners(t).map(|c| c.map(wide)))
-        .collect();
-    let n = tris.len();
-    let grid = TriangleGrid::new(tris, vec![0; n]);
+    cloud_to_mesh_distances_with(scene, points, MeshBackend::default())
+}
+
+/// [`cloud_to_mesh_distances`] on a chosen index (for benches and checks).
+pub fn cloud_to_mesh_distances_with(
+    scene: &Scene,
+    points: &[[f32; 3]],
+    backend: MeshBackend,
+) -> Vec<f32> {
+    let mesh = MeshDistance::new(building_triangles(scene), backend);
     points
         .par_iter()
         .map(|p| {
-            grid.nearest(wide(*p), f64::INFINITY, |_| true)
-                .map_or(f32::INFINITY, |(d2, _)| d2.sqrt() as f32)
+            mesh.distance(wide(*p), f64::INFINITY)
+                .map_or(f32::INFINITY, |d| d as f32)
         })
         .collect()
 }

@@ -149,38 +149,42 @@ impl Evaluation {
             "| metric (τ = {} m, {} GT samples) | aerial prior | after ground scans |\n|---|---|---|\n",
             self.tau, self.gt_samples
         );
-        let mut row =
-            |name: &str, x: String, y: String| s.push_str(&format!("| {name} | {x} | {y} |\n"));
-        row(
-            "completeness, walls + roofs",
-            pct(b.overall.ratio),
-            pct(a.overall.ratio),
-        );
-        row(
-            "completeness, walls",
-            pct(b.walls.ratio),
-            pct(a.walls.ratio),
-        );
-        row(
-            "completeness, roofs",
-            pct(b.roofs.ratio),
-            pct(a.roofs.ratio),
-        );
-        row(
-            "mean GT → cloud distance (gap term)",
-            metres(b.mean_gt_distance),
-            metres(a.mean_gt_distance),
-        );
-        row(
-            "mean cloud → mesh distance (accuracy term)",
-            metres(self.before.mean_cloud_to_mesh),
-            metres(self.after.mean_cloud_to_mesh),
-        );
-        row(
-            "building points",
-            self.before.building_points.to_string(),
-            self.after.building_points.to_string(),
-        );
+        let (before, after) = (&self.before, &self.after);
+        let rows = [
+            (
+                "completeness, walls + roofs",
+                pct(b.overall.ratio),
+                pct(a.overall.ratio),
+            ),
+            (
+                "completeness, walls",
+                pct(b.walls.ratio),
+                pct(a.walls.ratio),
+            ),
+            (
+                "completeness, roofs",
+                pct(b.roofs.ratio),
+                pct(a.roofs.ratio),
+            ),
+            (
+                "mean GT → cloud distance (gap term)",
+                metres(b.mean_gt_distance),
+                metres(a.mean_gt_distance),
+            ),
+            (
+                "mean cloud → mesh distance (accuracy term)",
+                metres(before.mean_cloud_to_mesh),
+                metres(after.mean_cloud_to_mesh),
+            ),
+            (
+                "building points",
+                before.building_points.to_string(),
+                after.building_points.to_string(),
+            ),
+        ];
+        for (name, x, y) in rows {
+            s.push_str(&format!("| {name} | {x} | {y} |\n"));
+        }
         s
     }
 

@@ -7,6 +7,7 @@
 //!   overall / per building / walls vs roofs, and the gap term
 //!   [`mean_gt_distance`].
 //! - [`accuracy`]: the accuracy term [`mean_cloud_to_mesh`].
+//! - [`mesh_distance`]: point-to-mesh distance on a grid or parry3d's `TriMesh`.
 //! - [`evaluation`]: both terms and completeness before/after a mission.
 //! - [`producer`]: missing points and targets against a survey producer's
 //!   building class.
@@ -17,13 +18,14 @@ pub mod completeness;
 pub mod evaluation;
 mod ground_height;
 pub mod gt;
+pub mod mesh_distance;
 mod nearest;
 pub mod producer;
 pub mod quality;
 pub(crate) mod triangle_grid;
 mod winding;
 
-pub use accuracy::{cloud_to_mesh_distances, mean_cloud_to_mesh};
+pub use accuracy::{cloud_to_mesh_distances, cloud_to_mesh_distances_with, mean_cloud_to_mesh};
 pub use completeness::{
     BuildingCompleteness, CompletenessReport, Coverage, DEFAULT_TAU, completeness,
     completeness_of_cloud, mean_gt_distance, report_from_distances,
@@ -34,6 +36,7 @@ pub use gt::{
     DEFAULT_SPACING, GtOptions, GtSamples, SurfaceKind, sample_building_surfaces,
     sample_building_surfaces_with,
 };
+pub use mesh_distance::{MeshBackend, MeshDistance};
 pub use nearest::nearest_distances;
 pub use producer::{ProducerCheck, TARGET_REACH_M, producer_check};
 pub use quality::{Mission, building_attributes};

@@ -32,30 +32,9 @@ pub const MATCH_DIST: f32 = 1.0;
 pub const MIN_CELL_SAMPLES: usize = 4;
 const AZIMUTH_BINS: f32 = 72.0;
 
-/// Score of one building.
+/// Facade cells against the missing points reported on them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct BuildingScore {
-    /// Building id.
-    pub building: u32,
-    /// Wall cells evaluated.
-    pub cells: usize,
-    /// Of which truly missing.
-    pub truly_missing: usize,
-    /// Truly missing cells found.
-    pub found: usize,
-    /// Missing points reported for it.
-    pub missing_points: usize,
-    /// Of which near a truly missing cell.
-    pub correct_points: usize,
-    /// found / truly_missing (1 when none are missing).
-    pub recall: f64,
-    /// correct_points / missing_points (1 when none were reported).
-    pub precision: f64,
-}
-
-/// Score of a detection over a scene.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DetectionScore {
+pub struct WallCounts {
     /// Wall cells evaluated.
     pub cells: usize,
     /// Of which truly missing.
@@ -70,6 +49,57 @@ pub struct DetectionScore {
     pub recall: f64,
     /// correct_points / missing_points (1 when none were reported).
     pub precision: f64,
+}
+
+impl Default for WallCounts {
+    fn default() -> Self {
+        WallCounts {
+            cells: 0,
+            truly_missing: 0,
+            found: 0,
+            missing_points: 0,
+            correct_points: 0,
+            recall: 1.0,
+            precision: 1.0,
+        }
+    }
+}
+
+impl WallCounts {
+    /// Recall and precision from the counts.
+    fn scored(mut self) -> Self {
+        self.recall = share(self.found, self.truly_missing);
+        self.precision = share(self.correct_points, self.missing_points);
+        self
+    }
+
+    /// The counts of `self` and `other` together (scores not updated).
+    fn plus(mut self, other: &WallCounts) -> Self {
+        self.cells += other.cells;
+        self.truly_missing += other.truly_missing;
+        self.found += other.found;
+        self.missing_points += other.missing_points;
+        self.correct_points += other.correct_points;
+        self
+    }
+}
+
+/// Score of one building.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BuildingScore {
+    /// Building id.
+    pub building: u32,
+    /// Its facade cells and missing points.
+    #[serde(flatten)]
+    pub walls: WallCounts,
+}
+
+/// Score of a detection over a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DetectionScore {
+    /// Every building's facade cells and missing points.
+    #[serde(flatten)]
+    pub walls: WallCounts,
     /// Underside cells evaluated.
     pub underside_cells: usize,
     /// Of which truly missing.
@@ -150,25 +180,9 @@ pub fn evaluate(
         .collect();
     let to_truly = nearest_distances(&missing_xyz, &truly_xyz);
 
-    let mut per: BTreeMap<u32, BuildingScore> = BTreeMap::new();
-    let entry = |per: &mut BTreeMap<u32, BuildingScore>, b: u32| {
-        per.entry(b)
-            .or_insert_with(|| BuildingScore {
-                building: b,
-                cells: 0,
-                truly_missing: 0,
-                found: 0,
-                missing_points: 0,
-                correct_points: 0,
-                recall: 1.0,
-                precision: 1.0,
-            })
-            .building
-    };
+    let mut per: BTreeMap<u32, WallCounts> = BTreeMap::new();
     for &k in evaluated.iter().filter(|&&k| !underside[k]) {
-        let b = cell_building[k];
-        entry(&mut per, b);
-        let Some(s) = per.get_mut(&b) else { continue };
+        let s = per.entry(cell_building[k]).or_default();
         s.cells += 1;
         if truly[k] {
             s.truly_missing += 1;
@@ -178,10 +192,7 @@ pub fn evaluate(
         }
     }
     for (m, d) in missing.iter().zip(&to_truly) {
-        entry(&mut per, m.building);
-        let Some(s) = per.get_mut(&m.building) else {
-            continue;
-        };
+        let s = per.entry(m.building).or_default();
         s.missing_points += 1;
         if *d <= MATCH_DIST {
             s.correct_points += 1;
@@ -197,30 +208,18 @@ pub fn evaluate(
             }
         }
     }
-    let mut total = DetectionScore {
+    let all = per.values().fold(WallCounts::default(), WallCounts::plus);
+    DetectionScore {
+        walls: all.scored(),
         underside_cells: under[0],
         underside_truly_missing: under[1],
         underside_found: under[2],
-        cells: 0,
-        truly_missing: 0,
-        found: 0,
-        missing_points: 0,
-        correct_points: 0,
-        recall: 1.0,
-        precision: 1.0,
-        per_building: Vec::new(),
-    };
-    for (_, mut s) in per {
-        s.recall = share(s.found, s.truly_missing);
-        s.precision = share(s.correct_points, s.missing_points);
-        total.cells += s.cells;
-        total.truly_missing += s.truly_missing;
-        total.found += s.found;
-        total.missing_points += s.missing_points;
-        total.correct_points += s.correct_points;
-        total.per_building.push(s);
+        per_building: per
+            .into_iter()
+            .map(|(building, c)| BuildingScore {
+                building,
+                walls: c.scored(),
+            })
+            .collect(),
     }
-    total.recall = share(total.found, total.truly_missing);
-    total.precision = share(total.correct_points, total.missing_points);
-    total
 }

@@ -4,118 +4,60 @@
 //! actually observed: ground seen under a building's outline means the
 //! outline is not a wall down to the ground there (a slab on pillars).
 
+use crate::geom::grid::GridFrame;
+use crate::ground::Dtm;
+
 /// Cell of the observed-ground bitmap, metres (fine enough to tell the
 /// ground under a slab from the ground at its wall's foot).
 pub const SEEN_CELL: f32 = 0.5;
 
-/// Mean ground height per square cell, holes (under buildings) filled from
-/// their neighbours.
+/// The terrain model (mean ground height per cell, holes under buildings
+/// filled from their neighbours) and where ground was observed.
 #[derive(Debug, Clone)]
 pub struct GroundGrid {
-    origin: [f32; 2],
-    /// The far corner of the ground points' extent (`origin` is the near one).
-    far: [f32; 2],
-    cell: f32,
-    size: [usize; 2],
-    z: Vec<f32>,
-    seen_size: [usize; 2],
+    terrain: Dtm,
+    /// The far corner of the ground points' extent (the terrain's origin is the near one).
+    far: [f64; 2],
+    seen_frame: GridFrame,
     seen: Vec<bool>,
 }
 
 impl GroundGrid {
-    /// Grid of cell `cell` metres over `ground` points (finite ones); cells
+    /// Terrain of cell `cell` metres over `ground` points (finite ones); cells
     /// without points take the mean of filled neighbours, up to `fill`
     /// cells away. None without finite points or with a bad cell size.
     pub fn from_points(ground: &[[f32; 3]], cell: f32, fill: usize) -> Option<Self> {
-        if !(cell.is_finite() && cell > 0.0) {
-            return None;
+        let terrain = Dtm::from_ground_points(ground.iter(), cell, fill)?;
+        let finite = || ground.iter().filter(|p| p.iter().all(|v| v.is_finite()));
+        let (lo, far) = crate::ground::xy_extent(finite())?;
+        let seen_frame = GridFrame::covering(lo, far, f64::from(SEEN_CELL), 0);
+        let mut seen = vec![false; seen_frame.len()];
+        for p in finite() {
+            seen[seen_frame.clamped_index(f64::from(p[0]), f64::from(p[1]))] = true;
         }
-        let pts: Vec<&[f32; 3]> = ground
-            .iter()
-            .filter(|p| p.iter().all(|v| v.is_finite()))
-            .collect();
-        let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
-        for p in &pts {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        if pts.is_empty() {
-            return None;
-        }
-        let size = [
-            ((hi[0] - lo[0]) / cell) as usize + 1,
-            ((hi[1] - lo[1]) / cell) as usize + 1,
-        ];
-        let seen_size = [
-            ((hi[0] - lo[0]) / SEEN_CELL) as usize + 1,
-            ((hi[1] - lo[1]) / SEEN_CELL) as usize + 1,
-        ];
-        let mut seen = vec![false; seen_size[0] * seen_size[1]];
-        for p in &pts {
-            let i = (((p[0] - lo[0]) / SEEN_CELL) as usize).min(seen_size[0] - 1);
-            let j = (((p[1] - lo[1]) / SEEN_CELL) as usize).min(seen_size[1] - 1);
-            seen[j * seen_size[0] + i] = true;
-        }
-        let mut sum = vec![0.0f64; size[0] * size[1]];
-        let mut n = vec![0u32; size[0] * size[1]];
-        for p in &pts {
-            let i = (((p[0] - lo[0]) / cell) as usize).min(size[0] - 1);
-            let j = (((p[1] - lo[1]) / cell) as usize).min(size[1] - 1);
-            sum[j * size[0] + i] += p[2] as f64;
-            n[j * size[0] + i] += 1;
-        }
-        let mut z: Vec<f32> = sum
-            .iter()
-            .zip(&n)
-            .map(|(&s, &c)| {
-                if c > 0 {
-                    (s / c as f64) as f32
-                } else {
-                    f32::NAN
-                }
-            })
-            .collect();
-        crate::geom::grid::fill_holes(&mut z, size[0], size[1], fill);
         Some(GroundGrid {
-            origin: lo,
-            far: hi,
-            cell,
-            size,
-            z,
-            seen_size,
+            terrain,
+            far,
+            seen_frame,
             seen,
         })
     }
 
     /// Ground height at (x, y), None off the grid or where unknown.
     pub fn at(&self, x: f64, y: f64) -> Option<f32> {
-        let i = ((x as f32 - self.origin[0]) / self.cell).floor();
-        let j = ((y as f32 - self.origin[1]) / self.cell).floor();
-        if i < 0.0 || j < 0.0 || i as usize >= self.size[0] || j as usize >= self.size[1] {
-            return None;
-        }
-        Some(self.z[j as usize * self.size[0] + i as usize]).filter(|z| z.is_finite())
+        self.terrain.cell_height(x, y)
     }
 
     /// Whether (x, y) lies outside the ground points' extent: beyond the
     /// survey's edge, where a tile cut a building rather than a wall ending it.
     pub fn beyond_data(&self, x: f64, y: f64) -> bool {
-        let (x, y) = (x as f32, y as f32);
-        x < self.origin[0] || y < self.origin[1] || x > self.far[0] || y > self.far[1]
+        let lo = self.seen_frame.origin;
+        x < lo[0] || y < lo[1] || x > self.far[0] || y > self.far[1]
     }
 
     /// Whether a ground point was observed within the [`SEEN_CELL`] cell of (x, y).
     pub fn seen(&self, x: f64, y: f64) -> bool {
-        let i = ((x as f32 - self.origin[0]) / SEEN_CELL).floor();
-        let j = ((y as f32 - self.origin[1]) / SEEN_CELL).floor();
-        let [nx, ny] = self.seen_size;
-        i >= 0.0
-            && j >= 0.0
-            && (i as usize) < nx
-            && (j as usize) < ny
-            && self.seen[j as usize * nx + i as usize]
+        self.seen_frame.index_of(x, y).is_some_and(|k| self.seen[k])
     }
 }
 
@@ -139,6 +81,7 @@ mod tests {
         assert!((g.at(25.0, 25.0).unwrap() - 2.5).abs() < 0.5);
         assert!(g.at(-5.0, 5.0).is_none());
         assert!(g.seen(5.6, 5.6) && !g.seen(25.6, 25.6) && !g.seen(-5.0, 5.0));
+        assert!(g.beyond_data(0.4, 5.0) && !g.beyond_data(0.6, 5.0) && g.beyond_data(5.0, 49.6));
         assert!(GroundGrid::from_points(&[], 2.0, 10).is_none());
     }
 }

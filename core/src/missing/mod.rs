@@ -31,7 +31,7 @@ pub use detection::{
     BoundaryPoint, BuildingDetection, Detection, MissingPoint, SkipReason, SliceReport, Strategy,
     StructureReport,
 };
-pub use eval::{BuildingScore, DetectionScore, evaluate};
+pub use eval::{BuildingScore, DetectionScore, WallCounts, evaluate};
 pub use ground::GroundGrid;
 pub use params::{DetectParams, DetectParamsError};
 pub use scene::{SceneDetectError, detect_scene, shift_missing};

@@ -4,15 +4,18 @@
 //! the commands back to messages.
 //!
 //! - `protocol`: the status structs every node speaks, and their wire form;
+//! - `inspect`: cloud_inspector's /cloud_stats status;
 //! - `ground`: the one ground graph planner and explorer share, blocked spots included;
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
 //! - `explorer`: when a region starts and ends, when scans count.
 
 pub mod explorer;
 pub mod ground;
+pub mod inspect;
 pub mod planner;
 pub mod protocol;
 
+pub use inspect::{CloudStatus, CloudSummary, LabelCount};
 pub use protocol::{
     BlockedSpot, BuildingStatus, ExplorerState, ExplorerStatus, Phase, PlannerStatus,
     ProtocolError, VehicleEvent, VehicleStatus, Wire,

@@ -14,6 +14,8 @@ use crate::vehicle::{Step, VehicleState};
 pub const OK: u8 = 0;
 /// `DiagnosticStatus.level` WARN.
 pub const WARN: u8 = 1;
+/// `DiagnosticStatus.level` ERROR.
+pub const ERROR: u8 = 2;
 
 /// A status as it travels: level, name, message and key–value pairs.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -66,7 +68,7 @@ pub enum ProtocolError {
 }
 
 impl Wire {
-    fn new(level: u8, name: &str, message: impl Into<String>) -> Self {
+    pub(crate) fn new(level: u8, name: &str, message: impl Into<String>) -> Self {
         Wire {
             level,
             name: name.into(),
@@ -75,7 +77,7 @@ impl Wire {
         }
     }
 
-    fn put(&mut self, key: &str, value: impl ToString) {
+    pub(crate) fn put(&mut self, key: &str, value: impl ToString) {
         self.values.push((key.into(), value.to_string()));
     }
 
@@ -87,7 +89,7 @@ impl Wire {
     }
 
     /// The value of `key`, parsed; `None` when absent.
-    fn opt<T: FromStr>(&self, key: &'static str) -> Result<Option<T>, ProtocolError> {
+    pub(crate) fn opt<T: FromStr>(&self, key: &'static str) -> Result<Option<T>, ProtocolError> {
         self.text(key)
             .map(|v| {
                 v.trim().parse().map_err(|_| ProtocolError::Bad {
@@ -101,14 +103,18 @@ impl Wire {
     }
 
     /// The value of `key`, parsed; an error when absent.
-    fn get<T: FromStr>(&self, key: &'static str) -> Result<T, ProtocolError> {
+    pub(crate) fn get<T: FromStr>(&self, key: &'static str) -> Result<T, ProtocolError> {
         self.opt(key)?.ok_or_else(|| ProtocolError::Missing {
             name: self.name.clone(),
             key,
         })
     }
 
-    fn list<T: FromStr>(&self, key: &'static str, sep: char) -> Result<Vec<T>, ProtocolError> {
+    pub(crate) fn list<T: FromStr>(
+        &self,
+        key: &'static str,
+        sep: char,
+    ) -> Result<Vec<T>, ProtocolError> {
         let Some(v) = self.text(key) else {
             return Ok(Vec::new());
         };
@@ -126,7 +132,7 @@ impl Wire {
     }
 }
 
-fn join<T: ToString>(v: &[T], sep: &str) -> String {
+pub(crate) fn join<T: ToString>(v: &[T], sep: &str) -> String {
     v.iter()
         .map(ToString::to_string)
         .collect::<Vec<_>>()

@@ -11,9 +11,11 @@ use serde::Serialize;
 use super::Reconstruction;
 use super::solid::SurfaceType;
 use crate::footprint::{footprints_of_scene, iou};
+use crate::metrics::mesh_distance::building_triangles;
 use crate::metrics::triangle_grid::TriangleGrid;
 use crate::metrics::{GroundHeight, GtSamples, SurfaceKind};
-use crate::scene::{ObjectKind, Scene};
+use crate::metrics::{MeshBackend, MeshDistance};
+use crate::scene::Scene;
 
 /// Distances farther than this (m) count as this far (a model far off).
 const FAR: f64 = 50.0;
@@ -155,21 +157,7 @@ pub fn evaluate_models(
     let model_tris: Vec<([[f64; 3]; 3], u32)> =
         tris.iter().copied().zip(tags.iter().copied()).collect();
     let model_grid = TriangleGrid::new(tris, tags);
-    let mut gt_tris = Vec::new();
-    let mut gt_tags = Vec::new();
-    for t in 0..scene.triangles.len() {
-        let Some(o) = scene.triangle_kind(t) else {
-            continue;
-        };
-        if o.kind != ObjectKind::Building {
-            continue;
-        }
-        if let Some(c) = scene.triangle_corners(t) {
-            gt_tris.push(c.map(|p| p.map(f64::from)));
-            gt_tags.push(o.building);
-        }
-    }
-    let gt_grid = TriangleGrid::new(gt_tris, gt_tags);
+    let gt_mesh = MeshDistance::new(building_triangles(scene), MeshBackend::default());
     let terrain = GroundHeight::new(scene);
     let mut pooled: Vec<f64> = Vec::new();
     let mut pooled_roof: Vec<f64> = Vec::new();
@@ -230,11 +218,7 @@ pub fn evaluate_models(
             .collect();
         let to_gt: Vec<f64> = model_pts
             .par_iter()
-            .map(|p| {
-                gt_grid
-                    .nearest(*p, FAR, |_| true)
-                    .map_or(FAR, |(d2, _)| d2.sqrt())
-            })
+            .map(|p| gt_mesh.distance(*p, FAR).unwrap_or(FAR))
             .collect();
         score.samples = model_pts
             .iter()
@@ -304,14 +288,10 @@ pub fn points_to_models(rec: &Reconstruction, points: &[[f32; 3]]) -> Option<(f6
         .iter()
         .flat_map(|m| m.shell.triangles().into_iter().map(|(t, _)| t))
         .collect();
-    let n = tris.len();
-    let grid = TriangleGrid::new(tris, vec![0; n]);
+    let mesh = MeshDistance::new(tris, MeshBackend::default());
     let d: Vec<f64> = mine
         .par_iter()
-        .map(|p| {
-            grid.nearest(p.map(f64::from), FAR, |_| true)
-                .map_or(FAR, |(d2, _)| d2.sqrt())
-        })
+        .map(|p| mesh.distance(p.map(f64::from), FAR).unwrap_or(FAR))
         .collect();
     mean(&d).map(|m| (m, d.len()))
 }

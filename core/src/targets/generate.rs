@@ -117,7 +117,7 @@ fn standoff_candidates(
             dropped.inside_vegetation += 1;
             continue;
         }
-        let g = site.ground[k];
+        let g = site.ground.heights[k];
         if !g.is_finite() {
             dropped.off_ground += 1;
             continue;
@@ -140,7 +140,7 @@ fn standoff_candidates(
 
 /// How far a ray may run through its own building's grown cells.
 pub(super) fn own_wall(site: &Site, params: &TargetParams) -> f32 {
-    params.clearance + site.cell * std::f32::consts::SQRT_2 + OWN_WALL_MARGIN
+    params.clearance + site.cell() * std::f32::consts::SQRT_2 + OWN_WALL_MARGIN
 }
 
 /// Whether building cells lie on the ray once it has left the building it

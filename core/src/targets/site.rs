@@ -4,6 +4,8 @@
 use thiserror::Error;
 
 use crate::cloud::class;
+use crate::geom::grid::{self, GridFrame, Neighbours};
+use crate::ground::{Dtm, xy_extent};
 
 /// Why a site could not be built.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -27,14 +29,10 @@ pub enum SiteError {
 /// Grid of the site, local frame.
 #[derive(Debug, Clone)]
 pub struct Site {
-    /// World xy of the grid's lower-left corner.
-    pub origin: [f32; 2],
-    /// Cell edge, metres.
-    pub cell: f32,
-    /// Cells along x and y.
-    pub size: [usize; 2],
-    /// Ground height per cell (NaN: unknown, off the ground).
-    pub ground: Vec<f32>,
+    /// The cells.
+    pub frame: GridFrame,
+    /// The terrain model on `frame` (NaN: unknown, off the ground).
+    pub ground: Dtm,
     /// Cells holding building points, grown by the clearance.
     pub building: Vec<bool>,
     /// Cells holding vegetation points, grown by the clearance.
@@ -69,81 +67,52 @@ impl Site {
                 .zip(labels)
                 .filter(|(p, _)| p.iter().all(|v| v.is_finite()))
         };
-        let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
-        for (p, _) in finite() {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
+        let (lo, hi) = xy_extent(finite().map(|(p, _)| p)).ok_or(SiteError::NoGround)?;
+        let frame = GridFrame::covering(lo, hi, f64::from(cell), 0);
+        let of_class = |c: u8| {
+            let mut occupied = vec![false; frame.len()];
+            for (p, _) in finite().filter(|(_, l)| class::fold(**l) == c) {
+                occupied[frame.clamped_index(f64::from(p[0]), f64::from(p[1]))] = true;
             }
-        }
-        if lo[0] > hi[0] {
-            return Err(SiteError::NoGround);
-        }
-        let size = [
-            ((hi[0] - lo[0]) / cell) as usize + 1,
-            ((hi[1] - lo[1]) / cell) as usize + 1,
-        ];
-        let n = size[0] * size[1];
-        let mut sum = vec![0.0f64; n];
-        let mut count = vec![0u32; n];
-        let mut building = vec![false; n];
-        let mut vegetation = vec![false; n];
-        let at = |p: &[f32; 3]| {
-            let i = (((p[0] - lo[0]) / cell) as usize).min(size[0] - 1);
-            let j = (((p[1] - lo[1]) / cell) as usize).min(size[1] - 1);
-            j * size[0] + i
+            occupied
         };
-        for (p, &l) in finite() {
-            let k = at(p);
-            match class::fold(l) {
-                class::GROUND => {
-                    sum[k] += p[2] as f64;
-                    count[k] += 1;
-                }
-                class::VEGETATION => vegetation[k] = true,
-                class::BUILDING => building[k] = true,
-                _ => {}
-            }
-        }
-        if count.iter().all(|&c| c == 0) {
+        let ground = finite()
+            .filter(|(_, l)| class::fold(**l) == class::GROUND)
+            .map(|(p, _)| ([f64::from(p[0]), f64::from(p[1])], p[2]));
+        let mut heights = grid::cell_means(&frame, ground);
+        if heights.iter().all(|z| z.is_nan()) {
             return Err(SiteError::NoGround);
         }
-        let mut ground: Vec<f32> = sum
-            .iter()
-            .zip(&count)
-            .map(|(&s, &c)| {
-                if c > 0 {
-                    (s / c as f64) as f32
-                } else {
-                    f32::NAN
-                }
-            })
-            .collect();
-        crate::geom::grid::fill_holes(&mut ground, size[0], size[1], FILL_STEPS);
+        grid::fill_holes(
+            &mut heights,
+            frame.nx,
+            frame.ny,
+            FILL_STEPS,
+            Neighbours::Four,
+        );
         let r = (clearance / cell).ceil() as isize;
+        let size = [frame.nx, frame.ny];
         Ok(Site {
-            origin: lo,
-            cell,
-            size,
-            ground,
-            building: grow(&building, size, r),
-            vegetation: grow(&vegetation, size, r),
+            building: grow(&of_class(class::BUILDING), size, r),
+            vegetation: grow(&of_class(class::VEGETATION), size, r),
+            ground: Dtm { frame, heights },
+            frame,
         })
+    }
+
+    /// Cell edge, metres.
+    pub fn cell(&self) -> f32 {
+        self.frame.cell as f32
     }
 
     /// Cell index of a point, if on the grid.
     pub fn index(&self, x: f32, y: f32) -> Option<usize> {
-        let i = ((x - self.origin[0]) / self.cell).floor();
-        let j = ((y - self.origin[1]) / self.cell).floor();
-        (i >= 0.0 && j >= 0.0 && (i as usize) < self.size[0] && (j as usize) < self.size[1])
-            .then(|| j as usize * self.size[0] + i as usize)
+        self.frame.index_of(f64::from(x), f64::from(y))
     }
 
     /// Ground height at a point (None off the grid or off the ground).
     pub fn ground_at(&self, x: f32, y: f32) -> Option<f32> {
-        self.index(x, y)
-            .map(|k| self.ground[k])
-            .filter(|g| g.is_finite())
+        self.ground.cell_height(f64::from(x), f64::from(y))
     }
 }
 

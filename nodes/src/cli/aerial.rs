@@ -5,11 +5,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use serde::Deserialize;
-use serde_json::json;
-use skyground_core::cloud::write_cloud;
+use serde_json::{Value, json};
+use skyground_core::cloud::{Cloud, write_cloud};
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{
-    GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances, sample_building_surfaces,
+    CompletenessReport, GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances,
+    sample_building_surfaces,
 };
 use skyground_core::scene::{Scene, load_scene};
 
@@ -85,31 +86,22 @@ pub fn survey_of(
     let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
     let scan_s = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let gt = sample_building_surfaces(&scene, p.gt_spacing_m);
-    let report = completeness_of_cloud(&gt, &cloud, p.tau_m);
-    let gaps = gap_profile(&scene, &gt, &cloud.xyz, p.tau_m);
+    let (gt, report, mut summary) = measured(&scene, &cloud, &p);
     let metric_s = t2.elapsed().as_secs_f64();
     let area = upward_area(&scene);
-    let summary = json!({
+    let more = json!({
         "scene": scene_spec,
-        "origin": scene.origin,
         "triangles": scene.triangles.len(),
-        "buildings": scene.building_count(),
-        "points": cloud.len(),
         // Over the xy area of the surfaces an airborne scanner faces (ground,
         // roofs), not the bounding box: city models can be sparse patches.
         "density_pts_per_m2": if area > 0.0 { cloud.len() as f64 / area } else { 0.0 },
         "nominal_density_pts_per_m2": p.survey.nominal_density(),
-        "gt_samples": gt.xyz.len(),
-        "tau_m": p.tau_m,
-        "completeness": report.overall.ratio,
-        "completeness_walls": report.walls.ratio,
-        "completeness_roofs": report.roofs.ratio,
-        "mean_gt_distance_m": report.mean_gt_distance,
-        "where_the_gaps_are": gaps,
         "per_building": report.buildings,
         "seconds": {"survey": scan_s, "metrics": metric_s},
     });
+    if let (Some(s), serde_json::Value::Object(m)) = (summary.as_object_mut(), more) {
+        s.extend(m);
+    }
     Ok(Survey {
         scene,
         cloud,
@@ -117,6 +109,27 @@ pub fn survey_of(
         tau: p.tau_m,
         summary,
     })
+}
+
+/// Ground truth of `scene`, the completeness of `cloud` against it, and
+/// the summary's shared part (scene size, GT, completeness, where the gaps are).
+fn measured(scene: &Scene, cloud: &Cloud, p: &Params) -> (GtSamples, CompletenessReport, Value) {
+    let gt = sample_building_surfaces(scene, p.gt_spacing_m);
+    let report = completeness_of_cloud(&gt, cloud, p.tau_m);
+    let gaps = gap_profile(scene, &gt, &cloud.xyz, p.tau_m);
+    let summary = json!({
+        "origin": scene.origin,
+        "buildings": scene.building_count(),
+        "points": cloud.len(),
+        "gt_samples": gt.xyz.len(),
+        "tau_m": p.tau_m,
+        "completeness": report.overall.ratio,
+        "completeness_walls": report.walls.ratio,
+        "completeness_roofs": report.roofs.ratio,
+        "mean_gt_distance_m": report.mean_gt_distance,
+        "where_the_gaps_are": gaps,
+    });
+    (gt, report, summary)
 }
 
 /// config/aerial.yaml, then `params_file`.
@@ -138,22 +151,8 @@ pub fn survey_of_real(
     prior_name: &str,
 ) -> Result<Survey, RuntimeError> {
     let p = params(None)?;
-    let gt = sample_building_surfaces(&scene, p.gt_spacing_m);
-    let report = completeness_of_cloud(&gt, &cloud, p.tau_m);
-    let gaps = gap_profile(&scene, &gt, &cloud.xyz, p.tau_m);
-    let summary = json!({
-        "prior": prior_name,
-        "origin": scene.origin,
-        "buildings": scene.building_count(),
-        "points": cloud.len(),
-        "gt_samples": gt.xyz.len(),
-        "tau_m": p.tau_m,
-        "completeness": report.overall.ratio,
-        "completeness_walls": report.walls.ratio,
-        "completeness_roofs": report.roofs.ratio,
-        "mean_gt_distance_m": report.mean_gt_distance,
-        "where_the_gaps_are": gaps,
-    });
+    let (gt, _, mut summary) = measured(&scene, &cloud, &p);
+    summary["prior"] = json!(prior_name);
     Ok(Survey {
         scene,
         cloud,

@@ -15,6 +15,9 @@ use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
+use skyground_core::mission::{
+    BuildingStatus, Phase, PlannerStatus, ProtocolError, VehicleStatus, Wire,
+};
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::prior::unlabelled;
 use skyground_core::route::{BudgetParams, route_budget};
@@ -29,7 +32,7 @@ use tokio::process::{Child, Command};
 use super::aerial::survey_of;
 use super::city_model::write_completeness;
 use super::eval::{markdown, write_json};
-use crate::convert::diagnostics::value;
+use crate::convert::diagnostics::from_status;
 use crate::convert::markers::markers_to_regions;
 use crate::convert::path::odom_position;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
@@ -241,14 +244,33 @@ impl Watch {
     }
 }
 
+/// The detection round and its mean completeness over the buildings detected.
 fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
-    let vals: Vec<f64> = arr
+    let all: Vec<BuildingStatus> = arr
         .status
         .iter()
-        .filter_map(|s| value::<f64>(s, "completeness"))
+        .filter_map(|s| readable(BuildingStatus::from_wire(&from_status(s))))
         .collect();
-    let round = arr.status.iter().find_map(|s| value::<u32>(s, "round"))?;
+    let vals: Vec<f64> = all
+        .iter()
+        .filter(|b| b.skipped.is_none())
+        .map(|b| 1.0 - f64::from(b.r_missing))
+        .collect();
+    let round = all.first()?.round;
     (!vals.is_empty()).then(|| (round, vals.iter().sum::<f64>() / vals.len() as f64))
+}
+
+/// The array's first status read as a mission status; `None` when it is
+/// absent or unreadable (said on stderr).
+fn first_status<T>(
+    arr: &DiagnosticArray,
+    read: fn(&Wire) -> Result<T, ProtocolError>,
+) -> Option<T> {
+    readable(read(&from_status(arr.status.first()?)))
+}
+
+fn readable<T>(r: Result<T, ProtocolError>) -> Option<T> {
+    r.map_err(|e| eprintln!("  unreadable status: {e}")).ok()
 }
 
 /// Runs the demo mission.
@@ -383,24 +405,24 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
                 w.detected.push((round, mean));
             },
-            Some(Ok((arr, _))) = p_s.next() => if let Some(s) = arr.status.first() {
-                w.planner_round = value(s, "round").unwrap_or(0);
-                w.planner_phase = s.message.clone();
-                w.stops = value::<usize>(s, "target_points").unwrap_or(0) + value::<usize>(s, "target_regions").unwrap_or(0);
-                w.done = (value(s, "points_done").unwrap_or(0), value(s, "regions_done").unwrap_or(0));
-                w.unreachable = (value(s, "unreachable_points").unwrap_or(0), value(s, "unreachable_regions").unwrap_or(0));
-                w.greedy_m = value(s, "greedy_m").unwrap_or(w.greedy_m);
-                w.tsp_m = value(s, "tsp_m").unwrap_or(w.tsp_m);
-                limit.follow(&w, value(s, "target_points").unwrap_or(0), value(s, "target_regions").unwrap_or(0));
-                if s.message == "done" && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
+            Some(Ok((arr, _))) = p_s.next() => if let Some(s) = first_status(&arr, PlannerStatus::from_wire) {
+                w.planner_round = s.round;
+                w.planner_phase = s.phase.clone();
+                w.stops = s.target_points + s.target_regions;
+                w.done = (s.visited.points.len(), s.visited.regions.len());
+                w.unreachable = (s.unreachable_points, s.unreachable_regions);
+                w.greedy_m = f64::from(s.greedy_m);
+                w.tsp_m = f64::from(s.tsp_m);
+                limit.follow(&w, s.target_points, s.target_regions);
+                if s.phase == Phase::Done.word() && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
                     w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
                     w.reached_total += w.done.0 + w.done.1;
                     w.unreachable_total += w.unreachable.0 + w.unreachable.1;
                     eprintln!("  route of round {} done: {} points, {} regions; {} unreachable", w.planner_round, w.done.0, w.done.1, w.unreachable.0 + w.unreachable.1);
                 }
             },
-            Some(Ok((arr, _))) = v_s.next() => if let Some(s) = arr.status.first() {
-                w.odometer = value(s, "odometer_m").unwrap_or(w.odometer);
+            Some(Ok((arr, _))) = v_s.next() => if let Some(s) = first_status(&arr, VehicleStatus::from_wire) {
+                w.odometer = s.odometer_m;
             },
             Some(Ok((o, h))) = o_s.next() => {
                 let _ = h;

@@ -294,15 +294,15 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         if !a.json {
             eprintln!(
                 "detection vs ground truth ({scene_spec}): recall {:.3} ({} of {} truly missing 1 m wall cells), precision {:.3} ({} of {} missing points)",
-                score.recall,
-                score.found,
-                score.truly_missing,
-                score.precision,
-                score.correct_points,
-                score.missing_points
+                score.walls.recall,
+                score.walls.found,
+                score.walls.truly_missing,
+                score.walls.precision,
+                score.walls.correct_points,
+                score.walls.missing_points
             );
         }
-        out["gt"] = json!({"scene": scene_spec, "recall": score.recall, "precision": score.precision, "score": score});
+        out["gt"] = json!({"scene": scene_spec, "recall": score.walls.recall, "precision": score.walls.precision, "score": score});
     }
     Ok(out)
 }

@@ -46,11 +46,9 @@ pub async fn run(rt: &mut NodeRuntime, a: EchoArgs) -> Result<(), RuntimeError> 
     let mut sub = tap(rt, &topic, &type_name, qos, true)?;
     let mut seen = 0u64;
     loop {
-        let next = tokio::select! {
-            m = sub.next() => m,
-            _ = rt.shutdown.wait() => None,
+        let Some(m) = rt.shutdown.or(sub.next()).await else {
+            break;
         };
-        let Some(m) = next else { break };
         match m {
             Err(e) => rt.log.error(&format!("{topic}: {e}")),
             Ok(m) => {

@@ -37,10 +37,7 @@ pub async fn run(rt: &mut NodeRuntime, a: SinkArgs) -> Result<(), RuntimeError> 
     println!("{}", json!({"ready": true}));
     let mut seen = 0u64;
     while a.count == 0 || seen < a.count {
-        let got = tokio::select! {
-            r = sub.next() => r,
-            _ = rt.shutdown.wait() => None,
-        };
+        let got = rt.shutdown.or(sub.next()).await;
         let complete_ns = SystemTime::now()
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos());

@@ -15,7 +15,7 @@ use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use super::diagnostics::{from_status, to_status};
-use super::markers::{delete_all, line_list, line_strip, points, rgb};
+use super::markers::{Look, delete_all, line_list, line_strip, points, rgb};
 
 /// The missing points as a cloud with x, y, z and building.
 pub fn missing_cloud(d: &Detection, origin: [f64; 3]) -> Cloud {
@@ -138,21 +138,19 @@ fn rings(mp: &MultiPolygon<f64>) -> Vec<Vec<[f64; 2]>> {
 }
 
 fn building_markers(header: &Header, b: &BuildingDetection, out: &mut MarkerArray) {
-    let ns = |what: &str| format!("{what}/{}", b.building);
+    let look = |what: &str, id: usize, color| Look {
+        header,
+        ns: format!("{what}/{}", b.building),
+        id: id as i32,
+        color,
+    };
     for (k, ring) in rings(&b.global_contour).iter().enumerate() {
         let pts: Vec<[f64; 3]> = ring
             .iter()
             .map(|p| [p[0], p[1], f64::from(b.ground_z)])
             .collect();
-        out.markers.push(line_strip(
-            header,
-            &ns("contour"),
-            k as i32,
-            &pts,
-            false,
-            0.2,
-            rgb(0.1, 0.1, 0.1),
-        ));
+        let contour = look("contour", k, rgb(0.1, 0.1, 0.1));
+        out.markers.push(line_strip(contour, &pts, false, 0.2));
     }
     for (k, s) in b.structures.iter().enumerate() {
         let z = f64::from(s.heights[0]);
@@ -166,26 +164,14 @@ fn building_markers(header: &Header, b: &BuildingDetection, out: &mut MarkerArra
             })
             .collect();
         if !segs.is_empty() {
-            out.markers.push(line_list(
-                header,
-                &ns("skeleton"),
-                k as i32,
-                &segs,
-                0.15,
-                rgb(0.1, 0.3, 0.9),
-            ));
+            let skeleton = look("skeleton", k, rgb(0.1, 0.3, 0.9));
+            out.markers.push(line_list(skeleton, &segs, 0.15));
         }
     }
     let missing: Vec<[f64; 3]> = b.missing.iter().map(|m| m.xyz.map(f64::from)).collect();
     if !missing.is_empty() {
-        out.markers.push(points(
-            header,
-            &ns("missing"),
-            0,
-            &missing,
-            0.4,
-            rgb(0.9, 0.1, 0.1),
-        ));
+        let at = look("missing", 0, rgb(0.9, 0.1, 0.1));
+        out.markers.push(points(at, &missing, 0.4));
     }
 }
 

@@ -19,93 +19,62 @@ fn point(p: [f64; 3]) -> Point {
     }
 }
 
+/// Where a marker goes and how it looks: header, namespace, id, colour.
+#[derive(Debug, Clone)]
+pub struct Look<'a> {
+    /// Frame and stamp.
+    pub header: &'a Header,
+    /// Namespace.
+    pub ns: String,
+    /// Id within the namespace.
+    pub id: i32,
+    /// Colour.
+    pub color: ColorRGBA,
+}
+
+impl Look<'_> {
+    fn marker(&self, kind: i32, scale: [f64; 2], points: Vec<Point>) -> Marker {
+        Marker {
+            header: self.header.clone(),
+            ns: self.ns.clone(),
+            id: self.id,
+            r#type: kind,
+            action: Marker::ADD,
+            scale: Vector3 {
+                x: scale[0],
+                y: scale[1],
+                z: 0.0,
+            },
+            color: self.color,
+            points,
+            pose: identity_pose(),
+            ..Marker::default()
+        }
+    }
+}
+
 /// A LINE_STRIP through `pts` (closed: back to the first point), `width` m wide.
-pub fn line_strip(
-    header: &Header,
-    ns: &str,
-    id: i32,
-    pts: &[[f64; 3]],
-    closed: bool,
-    width: f64,
-    color: ColorRGBA,
-) -> Marker {
+pub fn line_strip(look: Look<'_>, pts: &[[f64; 3]], closed: bool, width: f64) -> Marker {
     let mut points: Vec<Point> = pts.iter().map(|&p| point(p)).collect();
     if closed && let Some(first) = points.first().cloned() {
         points.push(first);
     }
-    Marker {
-        header: header.clone(),
-        ns: ns.into(),
-        id,
-        r#type: Marker::LINE_STRIP,
-        action: Marker::ADD,
-        scale: Vector3 {
-            x: width,
-            y: 0.0,
-            z: 0.0,
-        },
-        color,
-        points,
-        pose: identity_pose(),
-        ..Marker::default()
-    }
+    look.marker(Marker::LINE_STRIP, [width, 0.0], points)
 }
 
 /// A LINE_LIST of segments.
-pub fn line_list(
-    header: &Header,
-    ns: &str,
-    id: i32,
-    segments: &[[[f64; 3]; 2]],
-    width: f64,
-    color: ColorRGBA,
-) -> Marker {
-    Marker {
-        header: header.clone(),
-        ns: ns.into(),
-        id,
-        r#type: Marker::LINE_LIST,
-        action: Marker::ADD,
-        scale: Vector3 {
-            x: width,
-            y: 0.0,
-            z: 0.0,
-        },
-        color,
-        points: segments
-            .iter()
-            .flat_map(|s| [point(s[0]), point(s[1])])
-            .collect(),
-        pose: identity_pose(),
-        ..Marker::default()
-    }
+pub fn line_list(look: Look<'_>, segments: &[[[f64; 3]; 2]], width: f64) -> Marker {
+    let points = segments
+        .iter()
+        .flat_map(|s| [point(s[0]), point(s[1])])
+        .collect();
+    look.marker(Marker::LINE_LIST, [width, 0.0], points)
 }
 
 /// A POINTS marker, `size` m squares.
-pub fn points(
-    header: &Header,
-    ns: &str,
-    id: i32,
-    pts: &[[f64; 3]],
-    size: f64,
-    color: ColorRGBA,
-) -> Marker {
-    Marker {
-        header: header.clone(),
-        ns: ns.into(),
-        id,
-        r#type: Marker::POINTS,
-        action: Marker::ADD,
-        scale: Vector3 {
-            x: size,
-            y: size,
-            z: 0.0,
-        },
-        color,
-        points: pts.iter().map(|&p| point(p)).collect(),
-        pose: identity_pose(),
-        ..Marker::default()
-    }
+pub fn points(look: Look<'_>, pts: &[[f64; 3]], size: f64) -> Marker {
+    let points = pts.iter().map(|&p| point(p)).collect();
+    look.marker(Marker::POINTS, [size, size], points)
 }
 
 /// A DELETEALL marker: put first so a new array replaces the old one in RViz.
@@ -136,15 +105,13 @@ pub fn regions_to_markers(header: &Header, regions: &[Region]) -> MarkerArray {
             .iter()
             .map(|p| [p[0], p[1], f64::from(r.z)])
             .collect();
-        markers.push(line_strip(
+        let look = Look {
             header,
-            &r.building.to_string(),
-            *id,
-            &pts,
-            true,
-            0.3,
-            rgb(1.0, 0.55, 0.0),
-        ));
+            ns: r.building.to_string(),
+            id: *id,
+            color: rgb(1.0, 0.55, 0.0),
+        };
+        markers.push(line_strip(look, &pts, true, 0.3));
         *id += 1;
     }
     MarkerArray { markers }
@@ -254,42 +221,36 @@ mod tests {
         assert_eq!(back, regions);
     }
 
+    fn look<'a>(header: &'a Header, ns: &str, id: i32) -> Look<'a> {
+        Look {
+            header,
+            ns: ns.into(),
+            id,
+            color: rgb(1.0, 0.0, 0.0),
+        }
+    }
+
     #[test]
     fn bad_region_markers_are_reported() {
         let h = Header::default();
         let mut arr = MarkerArray {
             markers: vec![
                 line_strip(
-                    &h,
-                    "roof",
-                    0,
+                    look(&h, "roof", 0),
                     &[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
                     true,
                     0.1,
-                    rgb(1.0, 0.0, 0.0),
                 ),
+                line_strip(look(&h, "2", 0), &[[0.0; 3], [1.0, 0.0, 0.0]], false, 0.1),
                 line_strip(
-                    &h,
-                    "2",
-                    0,
-                    &[[0.0; 3], [1.0, 0.0, 0.0]],
-                    false,
-                    0.1,
-                    rgb(1.0, 0.0, 0.0),
-                ),
-                line_strip(
-                    &h,
-                    "2",
-                    1,
+                    look(&h, "2", 1),
                     &[[0.0; 3], [f64::NAN, 0.0, 0.0], [1.0, 1.0, 0.0]],
                     false,
                     0.1,
-                    rgb(1.0, 0.0, 0.0),
                 ),
             ],
         };
-        arr.markers
-            .push(points(&h, "2", 5, &[[0.0; 3]], 0.1, rgb(0.0, 0.0, 1.0)));
+        arr.markers.push(points(look(&h, "2", 5), &[[0.0; 3]], 0.1));
         let (back, errors) = markers_to_regions(&arr);
         assert!(back.is_empty());
         assert_eq!(errors.len(), 3);

@@ -1,6 +1,5 @@
 //! nav_msgs/Path and odometry helpers.
 
-use futures::StreamExt;
 use skyground_core::vehicle::VehicleState;
 use skyground_msgs::geometry_msgs::PoseStamped;
 use skyground_msgs::nav_msgs::{Odometry, Path};
@@ -8,7 +7,7 @@ use skyground_msgs::std_msgs::Header;
 use tokio::sync::mpsc;
 
 use crate::convert::tf::yaw_quaternion;
-use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, forward, qos};
 
 /// A Path through `pts` (orientation identity), every pose with `header`.
 pub fn path(header: &Header, pts: &[[f32; 3]]) -> Path {
@@ -78,20 +77,7 @@ pub fn read_paths(
         } else {
             qos::reliable(10)
         };
-        let sub = rt.subscription::<Path>(topic, q)?;
-        let (tx, log, topic) = (tx.clone(), rt.log.clone(), topic.clone());
-        tokio::spawn(async move {
-            let s = sub.async_stream();
-            futures::pin_mut!(s);
-            while let Some(m) = s.next().await {
-                match m {
-                    Ok((m, _)) => {
-                        let _ = tx.send(path_points(&m)).await;
-                    }
-                    Err(e) => log.error(&format!("{topic}: unreadable message: {e}")),
-                }
-            }
-        });
+        forward(rt, topic, q, tx.clone(), path_points)?;
     }
     Ok(())
 }

@@ -1,10 +1,12 @@
 //! cloud_inspector: PointCloud2 topic → per-cloud report on /rosout and a
 //! DiagnosticArray; bad clouds are reported and the node keeps running.
 
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::convert::diagnostics::to_status;
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudSubscription, Received};
 use serde::Deserialize;
-use skyground_msgs::diagnostic_msgs::{DiagnosticArray, DiagnosticStatus, KeyValue};
+use skyground_core::mission::{CloudStatus, CloudSummary};
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::std_msgs::Header;
 
 #[derive(Debug, Deserialize)]
@@ -18,19 +20,7 @@ struct Params {
     max_clouds: u64,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "cloud_inspector",
-    default_params: include_str!("../../../config/cloud_inspector.yaml"),
-    live: &["max_clouds"],
-};
-
-fn kv(key: &str, value: impl ToString) -> KeyValue {
-    KeyValue {
-        key: key.into(),
-        value: value.to_string(),
-    }
-}
+crate::node_spec!("cloud_inspector", live: ["max_clouds"]);
 
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
@@ -46,61 +36,45 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     rt.log.info(&format!("inspecting clouds on {}", p.topic));
     let mut good = 0u64;
     loop {
-        let got = tokio::select! {
-            r = sub.next() => r,
-            _ = rt.shutdown.wait() => None,
+        let Some(got) = rt.shutdown.or(sub.next()).await else {
+            break;
         };
-        let Some(got) = got else { break };
-        let status = match got {
+        let result = match got {
             Received::Bad(reason) => {
                 rt.log
                     .error(&format!("rejected cloud on {}: {reason}", p.topic));
-                DiagnosticStatus {
-                    level: DiagnosticStatus::ERROR,
-                    name: p.topic.clone(),
-                    message: reason,
-                    hardware_id: String::new(),
-                    values: vec![],
-                }
+                Err(reason)
             }
             Received::Cloud { msg, decoded } => {
                 good += 1;
-                let c = &decoded.cloud;
-                let labels = c
-                    .label_histogram()
-                    .map(|h| {
-                        h.iter()
-                            .enumerate()
-                            .filter(|(_, n)| **n > 0)
-                            .map(|(l, n)| format!("{l}:{n}"))
-                            .collect::<Vec<_>>()
-                            .join(",")
-                    })
-                    .unwrap_or_default();
-                let fields: Vec<_> = msg.fields.iter().map(|f| f.name.as_str()).collect();
+                let fields = msg.fields.iter().map(|f| f.name.clone()).collect();
+                let s = CloudSummary {
+                    stamp_sec: msg.header.stamp.sec,
+                    stamp_nanosec: msg.header.stamp.nanosec,
+                    ..CloudSummary::of(&decoded.cloud, decoded.dropped_non_finite, fields)
+                };
                 rt.log.info(&format!(
-                    "cloud on {}: {} points, fields [{}], dropped {} non-finite, labels [{labels}]",
+                    "cloud on {}: {} points, fields [{}], dropped {} non-finite, labels [{}]",
                     p.topic,
-                    c.len(),
-                    fields.join(","),
-                    decoded.dropped_non_finite
+                    s.points,
+                    s.fields.join(","),
+                    s.dropped_non_finite,
+                    s.labels
+                        .iter()
+                        .map(ToString::to_string)
+                        .collect::<Vec<_>>()
+                        .join(",")
                 ));
-                DiagnosticStatus {
-                    level: DiagnosticStatus::OK,
-                    name: p.topic.clone(),
-                    message: "ok".into(),
-                    hardware_id: String::new(),
-                    values: vec![
-                        kv("points", c.len()),
-                        kv("dropped_non_finite", decoded.dropped_non_finite),
-                        kv("fields", fields.join(",")),
-                        kv("labels", labels),
-                        kv("stamp_sec", msg.header.stamp.sec),
-                        kv("stamp_nanosec", msg.header.stamp.nanosec),
-                    ],
-                }
+                Ok(s)
             }
         };
+        let status = to_status(
+            CloudStatus {
+                topic: p.topic.clone(),
+                result,
+            }
+            .to_wire(),
+        );
         let report = DiagnosticArray {
             header: Header {
                 stamp: rt.now(),

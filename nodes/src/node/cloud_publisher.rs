@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
 use serde::Deserialize;
 use skyground_core::cloud::{self, synthetic};
@@ -27,12 +27,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "cloud_publisher",
-    default_params: include_str!("../../../config/cloud_publisher.yaml"),
-    live: &[],
-};
+crate::node_spec!("cloud_publisher");
 
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

@@ -17,7 +17,7 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::detection::{completeness_array, detection_markers, missing_message};
 use crate::convert::diagnostics::statuses;
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
 
 #[derive(Debug, Deserialize)]
@@ -37,12 +37,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "completeness_detector",
-    default_params: include_str!("../../../config/completeness_detector.yaml"),
-    live: &[],
-};
+crate::node_spec!("completeness_detector");
 
 #[derive(Clone)]
 struct Setup {

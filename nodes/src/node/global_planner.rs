@@ -25,8 +25,8 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::{markers_to_regions, regions_to_markers};
 use crate::convert::path::{odom_position, path};
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
-use crate::transport::{CloudSubscription, Received, TransportConfig};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::transport::{CloudSubscription, TransportConfig, labelled, with_buildings};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -40,12 +40,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "global_planner",
-    default_params: include_str!("../../../config/global_planner.yaml"),
-    live: &[],
-};
+crate::node_spec!("global_planner");
 
 /// The target generator stamps both halves of a target set alike.
 fn stamp_key(t: Time) -> u64 {
@@ -107,22 +102,17 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     loop {
         let events: Vec<PlannerEvent> = tokio::select! {
             _ = rt.shutdown.wait() => break,
-            r = cloud_sub.next() => match r {
-                Some(Received::Cloud { decoded, .. }) => match decoded.cloud.label {
-                    Some(labels) => vec![PlannerEvent::Cloud { xyz: decoded.cloud.xyz, labels }],
-                    None => { rt.log.error("/classified_cloud has no `label` field"); vec![] }
-                },
-                Some(Received::Bad(reason)) => { rt.log.error(&format!("rejected /classified_cloud: {reason}")); vec![] }
+            r = cloud_sub.next_cloud(&rt.log) => match r {
+                Some(c) => c.and_then(|(_, d)| labelled(&rt.log, "/classified_cloud", d.cloud))
+                    .map(|(xyz, labels)| PlannerEvent::Cloud { xyz, labels }).into_iter().collect(),
                 None => break,
             },
-            r = target_sub.next() => match r {
-                Some(Received::Cloud { msg, decoded }) => {
-                    let c = decoded.cloud;
-                    let ids = c.building.unwrap_or_else(|| vec![0; c.xyz.len()]);
-                    let points = c.xyz.iter().zip(ids).map(|(p, b)| TargetPoint { xyz: *p, building: b }).collect();
-                    vec![PlannerEvent::Points { points, stamp: stamp_key(msg.header.stamp) }]
-                }
-                Some(Received::Bad(reason)) => { rt.log.error(&format!("rejected /target_points: {reason}")); vec![] }
+            r = target_sub.next_cloud(&rt.log) => match r {
+                Some(c) => c.map(|(msg, d)| {
+                    let (xyz, ids) = with_buildings(d.cloud);
+                    let points = xyz.into_iter().zip(ids).map(|(xyz, building)| TargetPoint { xyz, building }).collect();
+                    PlannerEvent::Points { points, stamp: stamp_key(msg.header.stamp) }
+                }).into_iter().collect(),
                 None => break,
             },
             Some(m) = regions_s.next() => match m {

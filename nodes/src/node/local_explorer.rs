@@ -28,8 +28,10 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::markers_to_regions;
 use crate::convert::path::{odom_position, path};
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
-use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::transport::{
+    CloudPublisher, CloudSubscription, TransportConfig, labelled, with_buildings,
+};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -50,12 +52,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "local_explorer",
-    default_params: include_str!("../../../config/local_explorer.yaml"),
-    live: &[],
-};
+crate::node_spec!("local_explorer");
 
 fn header(rt: &NodeRuntime) -> Header {
     Header {
@@ -101,21 +98,16 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     loop {
         let events: Vec<ExplorerEvent> = tokio::select! {
             _ = rt.shutdown.wait() => break,
-            r = cloud_sub.next() => match r {
-                Some(Received::Cloud { decoded, .. }) => match decoded.cloud.label {
-                    Some(labels) => vec![ExplorerEvent::Cloud { xyz: decoded.cloud.xyz, labels }],
-                    None => { rt.log.error("/classified_cloud has no `label` field"); vec![] }
-                },
-                Some(Received::Bad(reason)) => { rt.log.error(&format!("rejected /classified_cloud: {reason}")); vec![] }
+            r = cloud_sub.next_cloud(&rt.log) => match r {
+                Some(c) => c.and_then(|(_, d)| labelled(&rt.log, "/classified_cloud", d.cloud))
+                    .map(|(xyz, labels)| ExplorerEvent::Cloud { xyz, labels }).into_iter().collect(),
                 None => break,
             },
-            r = missing_sub.next() => match r {
-                Some(Received::Cloud { decoded, .. }) => {
-                    let c = decoded.cloud;
-                    let ids = c.building.unwrap_or_else(|| vec![0; c.xyz.len()]);
-                    vec![ExplorerEvent::Missing(c.xyz.into_iter().zip(ids).collect())]
-                }
-                Some(Received::Bad(reason)) => { rt.log.error(&format!("rejected /missing_points: {reason}")); vec![] }
+            r = missing_sub.next_cloud(&rt.log) => match r {
+                Some(c) => c.map(|(_, d)| {
+                    let (xyz, ids) = with_buildings(d.cloud);
+                    ExplorerEvent::Missing(xyz.into_iter().zip(ids).collect())
+                }).into_iter().collect(),
                 None => break,
             },
             Some(m) = region_s.next() => match m {

@@ -15,7 +15,7 @@ use skyground_msgs::std_msgs::Header;
 
 use crate::convert::diagnostics::array;
 use crate::convert::path::{odom_position, read_paths};
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -26,12 +26,7 @@ struct Params {
     resend_period_s: f64,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "robot_bridge",
-    default_params: include_str!("../../../config/robot_bridge.yaml"),
-    live: &["follow."],
-};
+crate::node_spec!("robot_bridge", live: ["follow."]);
 
 /// `/vehicle_status` as vehicle_sim words it, so the planners need not know
 /// which of the two drives.

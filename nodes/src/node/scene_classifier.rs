@@ -8,7 +8,7 @@ use skyground_core::classify::{Model, SceneClassifier};
 use skyground_core::ground::CsfParams;
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
 
 #[derive(Debug, Deserialize)]
@@ -22,12 +22,7 @@ struct Params {
     max_clouds: u64,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "scene_classifier",
-    default_params: include_str!("../../../config/scene_classifier.yaml"),
-    live: &[],
-};
+crate::node_spec!("scene_classifier");
 
 /// The model shipped with skyground (`skyground train` makes it).
 pub const DEFAULT_MODEL: &[u8] = include_bytes!("../../../config/classifier_model.json");
@@ -61,11 +56,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     ));
     let mut done = 0u64;
     loop {
-        let got = tokio::select! {
-            r = sub.next() => r,
-            _ = rt.shutdown.wait() => None,
+        let Some(got) = rt.shutdown.or(sub.next()).await else {
+            break;
         };
-        let Some(got) = got else { break };
         let (msg, decoded) = match got {
             Received::Bad(reason) => {
                 rt.log

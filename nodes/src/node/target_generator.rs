@@ -23,8 +23,8 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::detection::{missing_from_message, plans_from_completeness};
 use crate::convert::markers::regions_to_markers;
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
-use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::transport::{CloudPublisher, CloudSubscription, TransportConfig};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -37,12 +37,7 @@ struct Params {
 /// Per-building plans, detection round and the stamp they came with.
 type Strategies = (BTreeMap<u32, BuildingPlan>, u32, Header);
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "target_generator",
-    default_params: include_str!("../../../config/target_generator.yaml"),
-    live: &[],
-};
+crate::node_spec!("target_generator");
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
@@ -50,18 +45,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     p.targets
         .validate()
         .map_err(|e| RuntimeError::Node(format!("target params: {e}")))?;
-    let mut cloud_sub = CloudSubscription::new(
-        rt,
-        "/classified_cloud",
-        qos::latched(256),
-        p.transport.tile_points,
-    )?;
-    let mut missing_sub = CloudSubscription::new(
-        rt,
-        "/missing_points",
-        qos::latched(64),
-        p.transport.tile_points,
-    )?;
+    let tile = p.transport.tile_points;
+    let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
+    let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
     let status_sub = rt.subscription::<DiagnosticArray>("/completeness", qos::latched(1))?;
     let points_pub = CloudPublisher::new(rt, "/target_points", qos::latched(1), p.transport)?;
     let regions_pub = rt.publisher::<MarkerArray>("/target_regions", qos::latched(1))?;
@@ -76,20 +62,20 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     loop {
         tokio::select! {
             _ = rt.shutdown.wait() => break,
-            r = cloud_sub.next() => match r {
-                Some(Received::Cloud { decoded, .. }) => match Site::from_classified(&decoded.cloud, &p.targets) {
+            r = cloud_sub.next_cloud(&rt.log) => match r {
+                Some(Some((_, d))) => match Site::from_classified(&d.cloud, &p.targets) {
                     Ok(s) => site = Some(s),
                     Err(e) => rt.log.error(&format!("/classified_cloud: {e}")),
                 },
-                Some(Received::Bad(reason)) => rt.log.error(&format!("rejected /classified_cloud: {reason}")),
+                Some(None) => {}
                 None => break,
             },
-            r = missing_sub.next() => match r {
-                Some(Received::Cloud { msg, decoded }) => match missing_from_message(&decoded) {
-                    Ok(points) => missing = Some((points, decoded.cloud.origin, msg.header)),
+            r = missing_sub.next_cloud(&rt.log) => match r {
+                Some(Some((msg, d))) => match missing_from_message(&d) {
+                    Ok(points) => missing = Some((points, d.cloud.origin, msg.header)),
                     Err(e) => rt.log.error(&e),
                 },
-                Some(Received::Bad(reason)) => rt.log.error(&format!("rejected /missing_points: {reason}")),
+                Some(None) => {}
                 None => break,
             },
             Some(m) = status_s.next() => if let Ok((arr, _)) = m {

@@ -5,7 +5,6 @@
 
 use std::time::{Duration, Instant};
 
-use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
 use skyground_core::mission::VehicleStatus;
@@ -25,7 +24,7 @@ use tokio::sync::mpsc;
 use crate::convert::diagnostics::array;
 use crate::convert::path::{odometry, read_paths};
 use crate::convert::tf::{tf_message, transform};
-use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, forward, qos};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -49,12 +48,7 @@ struct Params {
     lidar: LidarConfig,
 }
 
-/// Name and default params.
-pub const SPEC: NodeSpec = NodeSpec {
-    name: "vehicle_sim",
-    default_params: include_str!("../../../config/vehicle_sim.yaml"),
-    live: &[],
-};
+crate::node_spec!("vehicle_sim");
 
 fn stamp(sim_s: f64) -> Time {
     Time {
@@ -113,20 +107,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let (tx, mut paths) = mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
     let (goal_tx, mut goals) = mpsc::channel::<[f32; 2]>(16);
-    let way = rt.subscription::<PointStamped>("/way_point", qos::reliable(10))?;
-    let log = rt.log.clone();
-    tokio::spawn(async move {
-        let s = way.async_stream();
-        futures::pin_mut!(s);
-        while let Some(m) = s.next().await {
-            match m {
-                Ok((m, _)) => {
-                    let _ = goal_tx.send([m.point.x as f32, m.point.y as f32]).await;
-                }
-                Err(e) => log.error(&format!("/way_point: unreadable message: {e}")),
-            }
-        }
-    });
+    forward(
+        rt,
+        "/way_point",
+        qos::reliable(10),
+        goal_tx,
+        |m: &PointStamped| [m.point.x as f32, m.point.y as f32],
+    )?;
     let mut odom_due = Every::new(p.odom_rate_hz);
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);

@@ -3,6 +3,7 @@
 
 pub mod args;
 pub mod domain;
+pub mod forward;
 pub mod log;
 pub mod node;
 pub mod param_services;
@@ -11,5 +12,6 @@ pub mod qos;
 pub mod shutdown;
 
 pub use args::RosArgs;
+pub use forward::forward;
 pub use log::Logger;
 pub use node::{NodeRuntime, NodeSpec, RuntimeError, run_node, run_with};

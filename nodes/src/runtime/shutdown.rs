@@ -32,6 +32,14 @@ impl Shutdown {
         *self.rx.borrow()
     }
 
+    /// What `next` gives, or `None` once a stop is requested first.
+    pub async fn or<T>(&self, next: impl Future<Output = Option<T>>) -> Option<T> {
+        tokio::select! {
+            r = next => r,
+            _ = self.wait() => None,
+        }
+    }
+
     /// Resolves when a stop is requested.
     pub async fn wait(&self) {
         let mut rx = self.rx.clone();

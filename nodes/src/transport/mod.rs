@@ -5,4 +5,4 @@ mod publisher;
 mod subscriber;
 
 pub use publisher::{CloudPublisher, PublishStats, TransportConfig};
-pub use subscriber::{CloudSubscription, Received};
+pub use subscriber::{CloudSubscription, Received, labelled, with_buildings};

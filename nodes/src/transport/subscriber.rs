@@ -3,10 +3,11 @@
 
 use futures::StreamExt;
 use ros2_client::{QosProfile, Subscription};
+use skyground_core::cloud::Cloud;
 use skyground_msgs::pointcloud2::{self, Decoded, tiles::Assembler};
 use skyground_msgs::sensor_msgs::PointCloud2;
 
-use crate::runtime::{NodeRuntime, RuntimeError};
+use crate::runtime::{Logger, NodeRuntime, RuntimeError};
 
 /// One whole cloud as it arrived, or why it could not be used.
 pub enum Received {
@@ -25,6 +26,7 @@ pub enum Received {
 pub struct CloudSubscription {
     sub: Subscription<PointCloud2>,
     assembler: Assembler,
+    topic: String,
 }
 
 impl CloudSubscription {
@@ -38,6 +40,7 @@ impl CloudSubscription {
         Ok(Self {
             sub: rt.subscription::<PointCloud2>(topic, qos)?,
             assembler: Assembler::new(tile_points),
+            topic: topic.to_owned(),
         })
     }
 
@@ -64,8 +67,40 @@ impl CloudSubscription {
         }
     }
 
+    /// [`Self::next`] with a bad cloud logged (`rejected TOPIC: why`) and
+    /// given as `Some(None)`; `None` when the subscription ended.
+    pub async fn next_cloud(&mut self, log: &Logger) -> Option<Option<(PointCloud2, Decoded)>> {
+        Some(match self.next().await? {
+            Received::Cloud { msg, decoded } => Some((msg, *decoded)),
+            Received::Bad(reason) => {
+                log.error(&format!("rejected {}: {reason}", self.topic));
+                None
+            }
+        })
+    }
+
     /// Partial clouds given up because a newer one started.
     pub fn abandoned(&self) -> usize {
         self.assembler.abandoned()
     }
+}
+
+/// A classified cloud's points and labels; a cloud without labels is logged
+/// (it came from before the classifier) and gives `None`.
+pub fn labelled(log: &Logger, topic: &str, cloud: Cloud) -> Option<(Vec<[f32; 3]>, Vec<u8>)> {
+    match cloud.label {
+        Some(labels) => Some((cloud.xyz, labels)),
+        None => {
+            log.error(&format!(
+                "{topic} has no `label` field: run scene_classifier first"
+            ));
+            None
+        }
+    }
+}
+
+/// A cloud's points and their building ids (0 where it has none).
+pub fn with_buildings(cloud: Cloud) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let ids = cloud.building.unwrap_or_else(|| vec![0; cloud.xyz.len()]);
+    (cloud.xyz, ids)
 }
