@@ -12,6 +12,10 @@ use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
 use crate::density::Density;
 use crate::geom::ring::Ring;
 
+/// A way-point counts as reached this close (vehicle_sim's `goal_tolerance`),
+/// so the vehicle's look-ahead reaches this far past an edge's end node.
+const ARRIVAL_OVERHANG_M: f32 = 0.5;
+
 /// Ground cells this far from known ground still get a height, so walls at
 /// the edge of large roofs are measured against the street beside them.
 const HEIGHT_FILL_RINGS: usize = 6;
@@ -420,7 +424,9 @@ fn nearest_in(
 }
 
 /// Edges between candidate nodes closer than `d_threshold` whose slope is
-/// drivable and whose segment keeps the vehicle's radius from obstacles.
+/// drivable, between the nodes and by the vehicle's own rule along the
+/// ground between them, and whose segment keeps the vehicle's radius from
+/// obstacles.
 fn candidate_edges(
     frame: &GridFrame,
     cell_cand: &[u32],
@@ -456,7 +462,15 @@ fn candidate_edges(
                     if len >= params.d_threshold() || (q[2] - p[2]).abs() > max_grade * dxy {
                         continue;
                     }
-                    if obstacles.segment_free([p[0], p[1]], [q[0], q[1]], params.vehicle_radius_m) {
+                    let (a2, b2) = ([p[0], p[1]], [q[0], q[1]]);
+                    if obstacles.segment_free(a2, b2, params.vehicle_radius_m)
+                        && obstacles.segment_climbable(
+                            a2,
+                            b2,
+                            params.max_slope_deg,
+                            ARRIVAL_OVERHANG_M,
+                        )
+                    {
                         out.push((a as u32, b, len));
                     }
                 }

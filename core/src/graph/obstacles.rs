@@ -1,10 +1,11 @@
 //! The obstacle map: where non-ground points stand between the ground and the
-//! vehicle's top, as a 2D grid with the distance to the nearest obstacle, built
-//! once and asked for every edge.
+//! vehicle's top, as a 2D grid with the distance to the nearest obstacle, and
+//! the ground's height per cell; built once and asked for every edge.
 
 use super::cells::drivable;
 use super::grid::GridFrame;
 use crate::cloud::class;
+use crate::vehicle::profile_climbable;
 
 /// Distances saturate here: nothing farther matters to a vehicle, metres.
 const FAR: f32 = 8.0;
@@ -29,6 +30,10 @@ pub struct ObstacleMap {
     distance: Vec<f32>,
     /// Number of obstacle cells.
     occupied: usize,
+    /// Mean height of the ground points of each stored cell, NaN where it
+    /// has none: the relief the edges' slopes are checked against, fine
+    /// enough to show a quay wall or a kerb that a node cell averages away.
+    ground_z: Vec<f32>,
 }
 
 /// Ground heights on the node grid, with gaps (under roofs, crowns) filled
@@ -72,13 +77,20 @@ impl ObstacleMap {
         let stored = slot.iter().filter(|&&s| s != u32::MAX).count();
         let mut occ = vec![false; stored * TILE * TILE];
         let mut occupied = 0;
+        let mut z_sum = vec![(0.0f64, 0u32); stored * TILE * TILE];
         for (p, &l) in xyz.iter().zip(labels) {
-            if drivable(l) || l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
+            if l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
             let Some(cell) = stored_index(&frame, tiles, &slot, p[0], p[1]) else {
                 continue;
             };
+            if drivable(l) {
+                let s = &mut z_sum[cell];
+                s.0 += f64::from(p[2]);
+                s.1 += 1;
+                continue;
+            }
             let canopy = class::fold(l) == class::VEGETATION && l != class::LOW_VEGETATION;
             let blocks = if band.canopy && canopy {
                 true
@@ -98,13 +110,52 @@ impl ObstacleMap {
             }
         }
         let distance = tiled_distance(&frame, tiles, &slot, &occ);
+        let ground_z = z_sum
+            .iter()
+            .map(|&(sum, n)| {
+                if n > 0 {
+                    (sum / f64::from(n)) as f32
+                } else {
+                    f32::NAN
+                }
+            })
+            .collect();
         Self {
             frame,
             tiles,
             slot,
             distance,
             occupied,
+            ground_z,
         }
+    }
+
+    /// Mean ground height of the cell holding `xy`; NaN where it has no ground point.
+    pub fn ground_z(&self, x: f32, y: f32) -> f32 {
+        stored_index(&self.frame, self.tiles, &self.slot, x, y)
+            .map_or(f32::NAN, |k| self.ground_z[k])
+    }
+
+    /// True when the vehicle's slope rule ([`profile_climbable`]) holds on
+    /// the ground along `a → b` (xy), the line continued `overhang` metres
+    /// past both ends (the vehicle looks ahead past a way-point it has not
+    /// yet reached), driven either way.
+    pub fn segment_climbable(&self, a: [f32; 2], b: [f32; 2], max_deg: f32, overhang: f32) -> bool {
+        let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+        if len <= 1e-6 {
+            return true;
+        }
+        let dir = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
+        let step = self.frame.cell;
+        let total = len + 2.0 * overhang;
+        let n = (total / step).ceil() as usize;
+        let z: Vec<f32> = (0..=n)
+            .map(|k| {
+                let t = (k as f32 * step).min(total) - overhang;
+                self.ground_z(a[0] + dir[0] * t, a[1] + dir[1] * t)
+            })
+            .collect();
+        profile_climbable(&z, step, max_deg)
     }
 
     /// Obstacle-map cells stored (the tiles near ground), and all cells of
