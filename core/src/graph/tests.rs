@@ -179,7 +179,7 @@ fn two_patches() -> (Vec<[f32; 3]>, Vec<u8>, Vec<[f32; 2]>) {
 }
 
 #[test]
-fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
+fn the_node_grid_and_obstacle_map_are_stored_near_ground_only_and_measure_as_dense_ones() {
     let (xyz, lab, wall) = two_patches();
     let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
     let r = g.report();
@@ -189,6 +189,9 @@ fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
         r.obstacle_cells_stored * 20 < r.obstacle_cells_bbox,
         "{r:?}"
     );
+    // So is the node grid: 512² cells over the box, two patches of 32² and their tile rings.
+    assert!(r.node_grid_cells_bbox > 250_000, "{r:?}");
+    assert!(r.node_grid_cells * 20 < r.node_grid_cells_bbox, "{r:?}");
     let mut checked = 0;
     for (i, p) in g.positions().iter().enumerate() {
         let d = wall
