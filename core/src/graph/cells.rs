@@ -16,10 +16,11 @@ pub fn drivable(label: u8) -> bool {
     matches!(label, class::GROUND | BRIDGE_DECK | AHN_STRUCTURE)
 }
 
-/// Node-grid cells per tile side: 16 × 1.25 m = 20 m, more than the
-/// height fill reaches (6 cells) plus the vehicle's pad, so one ring of
-/// tiles around the ground holds every cell that gets a height.
-const NODE_TILE: usize = 16;
+/// Node-grid cells per tile side: 8 × 1.25 m = 10 m, more than the height
+/// fill reaches (6 cells), so one ring of tiles around the ground holds
+/// every cell that gets a height; small, so tiles overhanging the box's
+/// edge waste little on a scene that is ground from edge to edge.
+const NODE_TILE: usize = 8;
 
 /// Ground points binned into the node grid, stored in tiles where there is
 /// ground (and one ring of tiles around it).
