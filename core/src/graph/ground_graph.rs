@@ -45,6 +45,8 @@ pub struct GraphReport {
     pub node_grid_cells: usize,
     /// Node-grid cells a dense grid over the bounding box would hold.
     pub node_grid_cells_bbox: usize,
+    /// Bytes the graph keeps (nodes, adjacency, node grid, obstacle map).
+    pub bytes: usize,
 }
 
 /// Nodes on open ground joined where the vehicle can drive, restricted to the
@@ -221,7 +223,10 @@ impl GroundGraph {
             obstacle_cells_bbox: obstacles.stored_cells().1,
             node_grid_cells: grid.len(),
             node_grid_cells_bbox: frame.len(),
+            bytes: 0,
         };
+        let mut report = report;
+        report.bytes = kept_bytes(&positions, &adj, &grid, &obstacles);
         Ok(Self {
             start: new_index[start_node] as usize,
             positions,
@@ -482,6 +487,18 @@ fn candidate_edges(
             out
         })
         .collect()
+}
+
+/// Bytes a graph keeps: per node its position, clearance and row start; per
+/// half-edge its neighbour and length; per stored node-grid cell its node
+/// and height; the obstacle map's stored cells.
+fn kept_bytes(
+    positions: &[[f32; 3]],
+    adj: &[u32],
+    grid: &TiledFrame,
+    obstacles: &ObstacleMap,
+) -> usize {
+    positions.len() * (12 + 4 + 8) + adj.len() * (4 + 4) + grid.len() * (4 + 4) + obstacles.bytes()
 }
 
 /// Compressed adjacency rows of an undirected edge list.

@@ -167,6 +167,11 @@ impl ObstacleMap {
         (self.distance.len(), self.grid.frame.len())
     }
 
+    /// Bytes kept: distance and ground height per stored cell.
+    pub fn bytes(&self) -> usize {
+        self.distance.len() * 4 + self.ground_z.len() * 4
+    }
+
     /// Number of obstacle cells.
     pub fn occupied_cells(&self) -> usize {
         self.occupied
