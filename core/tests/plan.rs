@@ -87,7 +87,11 @@ fn route_reaches_every_reachable_target_and_tsp_beats_greedy() {
         }
     }
     assert!(route.tsp_length_m <= 0.85 * route.greedy_length_m);
-    assert!((route.length_m - route.tsp_length_m.min(route.greedy_length_m)).abs() < 1e-2);
+    let shortest = route
+        .tsp_length_m
+        .min(route.greedy_length_m)
+        .min(route.streets_length_m);
+    assert!((route.length_m - shortest).abs() < 1e-2);
     let path_len: f32 = route
         .waypoints
         .windows(2)

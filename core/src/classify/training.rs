@@ -302,12 +302,12 @@ pub fn file_training_clouds(
     densities: &[f64],
     csf_params: &CsfParams,
 ) -> Result<Vec<TrainingCloud>, ClassifyError> {
-    if role == FileRole::Forest {
-        if let Some(l) = cloud.label.as_mut() {
-            l.iter_mut()
-                .filter(|c| **c == 1)
-                .for_each(|c| *c = VEGETATION);
-        }
+    if role == FileRole::Forest
+        && let Some(l) = cloud.label.as_mut()
+    {
+        l.iter_mut()
+            .filter(|c| **c == 1)
+            .for_each(|c| *c = VEGETATION);
     }
     densities
         .iter()

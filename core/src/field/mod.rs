@@ -133,6 +133,7 @@ mod tests {
             unreachable_regions: vec![0],
             greedy_length_m: 43.0,
             tsp_length_m: 43.0,
+            streets_length_m: 43.0,
         };
         let fc = route_geojson(&route, &targets(), &frame());
         let line = &fc["features"][0];

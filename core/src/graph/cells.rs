@@ -1,9 +1,8 @@
 //! Distance-based downsampling of the ground: ground points binned into
 //! square cells, one node per occupied cell at the cell's mean point.
 
-use super::grid::GridFrame;
+use super::grid::{GridFrame, TiledFrame};
 use crate::cloud::class;
-use crate::geom::grid::{self, Neighbours};
 
 /// ASPRS class 17: bridge deck.
 const BRIDGE_DECK: u8 = 17;
@@ -17,11 +16,18 @@ pub fn drivable(label: u8) -> bool {
     matches!(label, class::GROUND | BRIDGE_DECK | AHN_STRUCTURE)
 }
 
-/// Ground points binned into the node grid.
+/// Node-grid cells per tile side: 8 × 1.25 m = 10 m, more than the height
+/// fill reaches (6 cells), so one ring of tiles around the ground holds
+/// every cell that gets a height; small, so tiles overhanging the box's
+/// edge waste little on a scene that is ground from edge to edge.
+const NODE_TILE: usize = 8;
+
+/// Ground points binned into the node grid, stored in tiles where there is
+/// ground (and one ring of tiles around it).
 pub struct GroundCells {
     /// The node grid.
-    pub frame: GridFrame,
-    /// Mean ground point per cell; NaN z where the cell has no ground point.
+    pub grid: TiledFrame,
+    /// Mean ground point per stored cell; NaN z where the cell has no ground point.
     pub mean: Vec<[f32; 3]>,
     /// Ground points counted.
     pub ground_points: usize,
@@ -52,12 +58,18 @@ pub fn bin_ground(
         return None;
     }
     let frame = GridFrame::covering(lo, hi, spacing, pad);
-    let mut sum = vec![[0.0f64; 4]; frame.len()];
+    let ground_cells = xyz
+        .iter()
+        .zip(labels)
+        .filter(|(p, l)| is_ground(p, **l))
+        .map(|(p, _)| frame.key(p[0], p[1]));
+    let grid = TiledFrame::around(frame, NODE_TILE, ground_cells, 1);
+    let mut sum = vec![[0.0f64; 4]; grid.len()];
     for (p, &l) in xyz.iter().zip(labels) {
         if !is_ground(p, l) {
             continue;
         }
-        if let Some(k) = frame.index_of(p[0], p[1]) {
+        if let Some(k) = grid.index_of(p[0], p[1]) {
             let s = &mut sum[k];
             s[0] += f64::from(p[0]);
             s[1] += f64::from(p[1]);
@@ -80,7 +92,7 @@ pub fn bin_ground(
         })
         .collect();
     Some(GroundCells {
-        frame,
+        grid,
         mean,
         ground_points: n,
     })
@@ -90,13 +102,46 @@ pub fn bin_ground(
 /// diagonals too), `rings` times (each pass reaches one cell farther); NaN
 /// where still unknown.
 pub fn filled_heights(cells: &GroundCells, rings: usize) -> Vec<f32> {
+    let g = &cells.grid;
     let mut z: Vec<f32> = cells.mean.iter().map(|p| p[2]).collect();
-    grid::fill_holes(
-        &mut z,
-        cells.frame.nx,
-        cells.frame.ny,
-        rings,
-        Neighbours::Eight,
-    );
+    for _ in 0..rings {
+        let prev = z.clone();
+        let mut changed = false;
+        for k in 0..g.len() {
+            if prev[k].is_finite() {
+                continue;
+            }
+            let (i, j) = g.cell(k);
+            if g.index(i, j).is_none() {
+                // A tile's overhang beyond the frame.
+                continue;
+            }
+            let (mut s, mut c) = (0.0f32, 0u32);
+            for (di, dj) in [
+                (-1, 0),
+                (1, 0),
+                (0, -1),
+                (0, 1),
+                (-1, -1),
+                (1, 1),
+                (-1, 1),
+                (1, -1),
+            ] {
+                if let Some(q) = g.index(i + di, j + dj)
+                    && prev[q].is_finite()
+                {
+                    s += prev[q];
+                    c += 1;
+                }
+            }
+            if c > 0 {
+                z[k] = s / c as f32;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
     z
 }

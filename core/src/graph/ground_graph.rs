@@ -6,11 +6,15 @@ use rayon::prelude::*;
 
 use super::cells::{bin_ground, drivable, filled_heights};
 use super::error::GraphError;
-use super::grid::GridFrame;
+use super::grid::TiledFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
 use crate::density::Density;
 use crate::geom::ring::Ring;
+
+/// A way-point counts as reached this close (vehicle_sim's `goal_tolerance`),
+/// so the vehicle's look-ahead reaches this far past an edge's end node.
+const ARRIVAL_OVERHANG_M: f32 = 0.5;
 
 /// Ground cells this far from known ground still get a height, so walls at
 /// the edge of large roofs are measured against the street beside them.
@@ -37,8 +41,12 @@ pub struct GraphReport {
     pub obstacle_cells_stored: usize,
     /// Obstacle-grid cells a dense map over the bounding box would hold.
     pub obstacle_cells_bbox: usize,
-    /// Node-grid cells (dense over the ground's bounding box).
+    /// Node-grid cells stored (tiles near ground only).
     pub node_grid_cells: usize,
+    /// Node-grid cells a dense grid over the bounding box would hold.
+    pub node_grid_cells_bbox: usize,
+    /// Bytes the graph keeps (nodes, adjacency, node grid, obstacle map).
+    pub bytes: usize,
 }
 
 /// Nodes on open ground joined where the vehicle can drive, restricted to the
@@ -49,11 +57,11 @@ pub struct GroundGraph {
     pub(super) positions: Vec<[f32; 3]>,
     /// Distance (xy) from each node to the nearest obstacle, metres (capped at 8).
     clearance: Vec<f32>,
-    /// The node grid and which kept node (if any) sits in each cell.
-    frame: GridFrame,
+    /// The node grid and which kept node (if any) sits in each stored cell.
+    grid: TiledFrame,
     cell_node: Vec<u32>,
     obstacles: ObstacleMap,
-    /// Ground height per node-grid cell (gaps filled near known ground), NaN where unknown.
+    /// Ground height per stored node-grid cell (gaps filled near known ground), NaN where unknown.
     heights: Vec<f32>,
     /// Adjacency in compressed rows, for fast searches.
     pub(super) adj_start: Vec<usize>,
@@ -111,7 +119,8 @@ impl GroundGraph {
         let spacing = params.node_spacing();
         let pad = (params.vehicle_radius_m / spacing).ceil() as usize + 1;
         let cells = bin_ground(xyz, labels, spacing, pad).ok_or(GraphError::NoGround)?;
-        let frame = cells.frame;
+        let grid = cells.grid.clone();
+        let frame = grid.frame;
         let occ_cells =
             frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
         if occ_cells > MAX_OCCUPANCY_CELLS {
@@ -127,7 +136,7 @@ impl GroundGraph {
             canopy: params.canopy_is_obstacle,
         };
         let ground = GroundHeights {
-            frame: &frame,
+            grid: &grid,
             z: &heights,
         };
         let obstacles =
@@ -142,29 +151,28 @@ impl GroundGraph {
                 cand_pos.push(*p);
             }
         }
-        let mut cell_cand = vec![u32::MAX; frame.len()];
+        let mut cell_cand = vec![u32::MAX; grid.len()];
         for (i, &k) in cand_cell.iter().enumerate() {
             cell_cand[k] = i as u32;
         }
-        let edges = candidate_edges(
-            &frame, &cell_cand, &cand_cell, &cand_pos, &obstacles, params,
-        );
+        let edges = candidate_edges(&grid, &cell_cand, &cand_cell, &cand_pos, &obstacles, params);
 
         // The nearest node at any distance: it is the start when close enough
         // and says how far off the start was when not.
         let snapped = match start {
-            Some(s) => match nearest_in(&frame, &cell_cand, &cand_pos, [s[0], s[1]], f32::INFINITY)
-            {
-                Some((n, d)) if d <= params.max_start_snap_m => Some(n),
-                near => {
-                    return Err(GraphError::StartOffGraph {
-                        x: s[0],
-                        y: s[1],
-                        distance: near.map_or(f32::INFINITY, |(_, d)| d),
-                        max: params.max_start_snap_m,
-                    });
+            Some(s) => {
+                match nearest_in(&grid, &cell_cand, &cand_pos, [s[0], s[1]], f32::INFINITY) {
+                    Some((n, d)) if d <= params.max_start_snap_m => Some(n),
+                    near => {
+                        return Err(GraphError::StartOffGraph {
+                            x: s[0],
+                            y: s[1],
+                            distance: near.map_or(f32::INFINITY, |(_, d)| d),
+                            max: params.max_start_snap_m,
+                        });
+                    }
                 }
-            },
+            }
             None => None,
         };
 
@@ -181,7 +189,7 @@ impl GroundGraph {
         let mut other = std::collections::HashSet::new();
         let mut new_index = vec![u32::MAX; cand_pos.len()];
         let mut positions = Vec::new();
-        let mut cell_node = vec![u32::MAX; frame.len()];
+        let mut cell_node = vec![u32::MAX; grid.len()];
         for (i, &l) in labels_cc.iter().enumerate() {
             if l == keep_label {
                 new_index[i] = positions.len() as u32;
@@ -213,13 +221,17 @@ impl GroundGraph {
             obstacle_cells: obstacles.occupied_cells(),
             obstacle_cells_stored: obstacles.stored_cells().0,
             obstacle_cells_bbox: obstacles.stored_cells().1,
-            node_grid_cells: frame.len(),
+            node_grid_cells: grid.len(),
+            node_grid_cells_bbox: frame.len(),
+            bytes: 0,
         };
+        let mut report = report;
+        report.bytes = kept_bytes(&positions, &adj, &grid, &obstacles);
         Ok(Self {
             start: new_index[start_node] as usize,
             positions,
             clearance,
-            frame,
+            grid,
             cell_node,
             obstacles,
             heights,
@@ -281,7 +293,7 @@ impl GroundGraph {
     /// The nearest node to `xy` and its distance (xy), searching the node grid; `None` for an empty graph.
     pub fn nearest_node(&self, xy: [f32; 2]) -> Option<(usize, f32)> {
         nearest_in(
-            &self.frame,
+            &self.grid,
             &self.cell_node,
             &self.positions,
             xy,
@@ -291,13 +303,13 @@ impl GroundGraph {
 
     /// Up to `k` nearest nodes within `max_dist` (xy) of `xy`, nearest first.
     pub fn nodes_near(&self, xy: [f32; 2], max_dist: f32, k: usize) -> Vec<(usize, f32)> {
-        let f = &self.frame;
-        let r = (max_dist / f.cell).ceil().min(1.0e6) as i64 + 1;
-        let (ci, cj) = f.key(xy[0], xy[1]);
+        let g = &self.grid;
+        let r = (max_dist / g.frame.cell).ceil().min(1.0e6) as i64 + 1;
+        let (ci, cj) = g.frame.key(xy[0], xy[1]);
         let mut out = Vec::new();
         for j in cj - r..=cj + r {
             for i in ci - r..=ci + r {
-                if let Some(n) = f
+                if let Some(n) = g
                     .index(i, j)
                     .map(|c| self.cell_node[c])
                     .filter(|&n| n != u32::MAX)
@@ -329,7 +341,7 @@ impl GroundGraph {
     /// Ground height at `xy` from the ground points of its cell (or nearby
     /// ones where the cell has none); `None` off the known ground.
     pub fn ground_height(&self, xy: [f32; 2]) -> Option<f32> {
-        self.frame
+        self.grid
             .index_of(xy[0], xy[1])
             .map(|k| self.heights[k])
             .filter(|z| z.is_finite())
@@ -338,7 +350,7 @@ impl GroundGraph {
     /// The cell that indexes node `n`, while it does (`block_near` takes nodes out).
     fn cell_of(&self, n: usize) -> Option<usize> {
         let p = self.positions.get(n)?;
-        self.frame
+        self.grid
             .index_of(p[0], p[1])
             .filter(|&c| self.cell_node[c] as usize == n)
     }
@@ -369,7 +381,7 @@ fn dist2(p: [f32; 3], xy: [f32; 2]) -> f32 {
 
 /// Nearest node in `cell_node` to `xy` within `max`, by growing square rings of cells.
 fn nearest_in(
-    frame: &GridFrame,
+    grid: &TiledFrame,
     cell_node: &[u32],
     pos: &[[f32; 3]],
     xy: [f32; 2],
@@ -378,6 +390,7 @@ fn nearest_in(
     if pos.is_empty() || !xy.iter().all(|v| v.is_finite()) {
         return None;
     }
+    let frame = &grid.frame;
     let (ci, cj) = frame.key(xy[0], xy[1]);
     let (nx, ny) = (frame.nx as i64, frame.ny as i64);
     // Rings before the first one touching the grid are empty; the last one covers it all.
@@ -388,7 +401,7 @@ fn nearest_in(
     let last = first + nx.max(ny) + 1;
     let mut best: Option<(usize, f32)> = None;
     let visit = |i: i64, j: i64, best: &mut Option<(usize, f32)>| {
-        if let Some(n) = frame
+        if let Some(n) = grid
             .index(i, j)
             .map(|c| cell_node[c])
             .filter(|&n| n != u32::MAX)
@@ -420,22 +433,24 @@ fn nearest_in(
 }
 
 /// Edges between candidate nodes closer than `d_threshold` whose slope is
-/// drivable and whose segment keeps the vehicle's radius from obstacles.
+/// drivable, between the nodes and by the vehicle's own rule along the
+/// ground between them, and whose segment keeps the vehicle's radius from
+/// obstacles.
 fn candidate_edges(
-    frame: &GridFrame,
+    grid: &TiledFrame,
     cell_cand: &[u32],
     cand_cell: &[usize],
     pos: &[[f32; 3]],
     obstacles: &ObstacleMap,
     params: &GraphParams,
 ) -> Vec<(u32, u32, f32)> {
-    let r = (params.d_threshold() / frame.cell).ceil() as i64;
+    let r = (params.d_threshold() / grid.frame.cell).ceil() as i64;
     let max_grade = params.max_slope_deg.to_radians().tan();
     (0..pos.len())
         .into_par_iter()
         .flat_map_iter(|a| {
             let k = cand_cell[a];
-            let (ci, cj) = ((k % frame.nx) as i64, (k / frame.nx) as i64);
+            let (ci, cj) = grid.cell(k);
             let mut out = Vec::new();
             for dj in 0..=r {
                 for di in -r..=r {
@@ -443,7 +458,7 @@ fn candidate_edges(
                     if dj == 0 && di <= 0 {
                         continue;
                     }
-                    let Some(b) = frame
+                    let Some(b) = grid
                         .index(ci + di, cj + dj)
                         .map(|c| cell_cand[c])
                         .filter(|&b| b != u32::MAX)
@@ -456,7 +471,15 @@ fn candidate_edges(
                     if len >= params.d_threshold() || (q[2] - p[2]).abs() > max_grade * dxy {
                         continue;
                     }
-                    if obstacles.segment_free([p[0], p[1]], [q[0], q[1]], params.vehicle_radius_m) {
+                    let (a2, b2) = ([p[0], p[1]], [q[0], q[1]]);
+                    if obstacles.segment_free(a2, b2, params.vehicle_radius_m)
+                        && obstacles.segment_climbable(
+                            a2,
+                            b2,
+                            params.max_slope_deg,
+                            ARRIVAL_OVERHANG_M,
+                        )
+                    {
                         out.push((a as u32, b, len));
                     }
                 }
@@ -464,6 +487,18 @@ fn candidate_edges(
             out
         })
         .collect()
+}
+
+/// Bytes a graph keeps: per node its position, clearance and row start; per
+/// half-edge its neighbour and length; per stored node-grid cell its node
+/// and height; the obstacle map's stored cells.
+fn kept_bytes(
+    positions: &[[f32; 3]],
+    adj: &[u32],
+    grid: &TiledFrame,
+    obstacles: &ObstacleMap,
+) -> usize {
+    positions.len() * (12 + 4 + 8) + adj.len() * (4 + 4) + grid.len() * (4 + 4) + obstacles.bytes()
 }
 
 /// Compressed adjacency rows of an undirected edge list.

@@ -1,10 +1,11 @@
 //! The obstacle map: where non-ground points stand between the ground and the
-//! vehicle's top, as a 2D grid with the distance to the nearest obstacle, built
-//! once and asked for every edge.
+//! vehicle's top, as a 2D grid with the distance to the nearest obstacle, and
+//! the ground's height per cell; built once and asked for every edge.
 
 use super::cells::drivable;
-use super::grid::GridFrame;
+use super::grid::{GridFrame, TiledFrame};
 use crate::cloud::class;
+use crate::vehicle::profile_climbable;
 
 /// Distances saturate here: nothing farther matters to a vehicle, metres.
 const FAR: f32 = 8.0;
@@ -19,24 +20,25 @@ const TILE: usize = 64;
 /// memory grows with the drivable area, not with the bounding box.
 #[derive(Debug, Clone)]
 pub struct ObstacleMap {
-    frame: GridFrame,
-    /// Tiles along x and y.
-    tiles: [usize; 2],
-    /// For each tile, its slot in `distance` (u32::MAX: not stored, no ground near).
-    slot: Vec<u32>,
+    /// The grid, stored in tiles near ground.
+    grid: TiledFrame,
     /// Distance from each stored cell centre to the nearest obstacle cell,
-    /// metres (capped), TILE × TILE per stored tile.
+    /// metres (capped).
     distance: Vec<f32>,
     /// Number of obstacle cells.
     occupied: usize,
+    /// Mean height of the ground points of each stored cell, NaN where it
+    /// has none: the relief the edges' slopes are checked against, fine
+    /// enough to show a quay wall or a kerb that a node cell averages away.
+    ground_z: Vec<f32>,
 }
 
 /// Ground heights on the node grid, with gaps (under roofs, crowns) filled
 /// from their neighbours so obstacle points there have a ground to stand on.
 pub struct GroundHeights<'a> {
     /// The node grid.
-    pub frame: &'a GridFrame,
-    /// Height per cell, NaN where unknown.
+    pub grid: &'a TiledFrame,
+    /// Height per stored cell, NaN where unknown.
     pub z: &'a [f32],
 }
 
@@ -60,30 +62,43 @@ impl ObstacleMap {
         band: &Band,
         resolution: f32,
     ) -> Self {
-        let g = ground.frame;
+        let g = &ground.grid.frame;
         let frame = GridFrame::covering(
             [g.x0, g.y0],
             [g.x0 + g.nx as f32 * g.cell, g.y0 + g.ny as f32 * g.cell],
             resolution,
             0,
         );
-        let tiles = [frame.nx.div_ceil(TILE), frame.ny.div_ceil(TILE)];
-        let slot = stored_tiles(&frame, tiles, ground);
-        let stored = slot.iter().filter(|&&s| s != u32::MAX).count();
-        let mut occ = vec![false; stored * TILE * TILE];
+        // Every node-grid cell with a height, and one ring of tiles around it.
+        let with_height = (0..ground.z.len())
+            .filter(|&k| ground.z[k].is_finite())
+            .map(|k| {
+                let c = ground.grid.centre(k);
+                frame.key(c[0], c[1])
+            });
+        let grid = TiledFrame::around(frame, TILE, with_height, 1);
+        let stored = grid.len();
+        let mut occ = vec![false; stored];
         let mut occupied = 0;
+        let mut z_sum = vec![(0.0f64, 0u32); stored];
         for (p, &l) in xyz.iter().zip(labels) {
-            if drivable(l) || l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
+            if l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
-            let Some(cell) = stored_index(&frame, tiles, &slot, p[0], p[1]) else {
+            let Some(cell) = grid.index_of(p[0], p[1]) else {
                 continue;
             };
+            if drivable(l) {
+                let s = &mut z_sum[cell];
+                s.0 += f64::from(p[2]);
+                s.1 += 1;
+                continue;
+            }
             let canopy = class::fold(l) == class::VEGETATION && l != class::LOW_VEGETATION;
             let blocks = if band.canopy && canopy {
                 true
             } else {
-                match g.index_of(p[0], p[1]).map(|k| ground.z[k]) {
+                match ground.grid.index_of(p[0], p[1]).map(|k| ground.z[k]) {
                     Some(z0) if z0.is_finite() => {
                         let h = p[2] - z0;
                         h >= band.low && h <= band.high
@@ -97,20 +112,64 @@ impl ObstacleMap {
                 occupied += 1;
             }
         }
-        let distance = tiled_distance(&frame, tiles, &slot, &occ);
+        let distance = tiled_distance(&grid, &occ);
+        let ground_z = z_sum
+            .iter()
+            .map(|&(sum, n)| {
+                if n > 0 {
+                    (sum / f64::from(n)) as f32
+                } else {
+                    f32::NAN
+                }
+            })
+            .collect();
         Self {
-            frame,
-            tiles,
-            slot,
+            grid,
             distance,
             occupied,
+            ground_z,
         }
+    }
+
+    /// Mean ground height of the cell holding `xy`; NaN where it has no ground point.
+    pub fn ground_z(&self, x: f32, y: f32) -> f32 {
+        self.grid
+            .index_of(x, y)
+            .map_or(f32::NAN, |k| self.ground_z[k])
+    }
+
+    /// True when the vehicle's slope rule ([`profile_climbable`]) holds on
+    /// the ground along `a → b` (xy), the line continued `overhang` metres
+    /// past both ends (the vehicle looks ahead past a way-point it has not
+    /// yet reached), driven either way.
+    pub fn segment_climbable(&self, a: [f32; 2], b: [f32; 2], max_deg: f32, overhang: f32) -> bool {
+        let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+        if len <= 1e-6 {
+            return true;
+        }
+        let dir = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
+        // Half a cell: a diagonal line skips no cell it crosses.
+        let step = 0.5 * self.grid.frame.cell;
+        let total = len + 2.0 * overhang;
+        let n = (total / step).ceil() as usize;
+        let z: Vec<f32> = (0..=n)
+            .map(|k| {
+                let t = (k as f32 * step).min(total) - overhang;
+                self.ground_z(a[0] + dir[0] * t, a[1] + dir[1] * t)
+            })
+            .collect();
+        profile_climbable(&z, step, max_deg)
     }
 
     /// Obstacle-map cells stored (the tiles near ground), and all cells of
     /// the bounding box a dense map would hold.
     pub fn stored_cells(&self) -> (usize, usize) {
-        (self.distance.len(), self.frame.len())
+        (self.distance.len(), self.grid.frame.len())
+    }
+
+    /// Bytes kept: distance and ground height per stored cell.
+    pub fn bytes(&self) -> usize {
+        self.distance.len() * 4 + self.ground_z.len() * 4
     }
 
     /// Number of obstacle cells.
@@ -121,13 +180,13 @@ impl ObstacleMap {
     /// Distance (xy) from `p` to the nearest obstacle, metres, capped at 8 m;
     /// 0 outside the mapped area (unknown ground is not driven on).
     pub fn clearance(&self, x: f32, y: f32) -> f32 {
-        stored_index(&self.frame, self.tiles, &self.slot, x, y).map_or(0.0, |k| self.distance[k])
+        self.grid.index_of(x, y).map_or(0.0, |k| self.distance[k])
     }
 
     /// True when every point of the segment `a → b` (xy) is at least `radius` from obstacles.
     pub fn segment_free(&self, a: [f32; 2], b: [f32; 2], radius: f32) -> bool {
         let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-        let steps = ((len / (0.5 * self.frame.cell)).ceil() as usize).max(1);
+        let steps = ((len / (0.5 * self.grid.frame.cell)).ceil() as usize).max(1);
         (0..=steps).all(|s| {
             let t = s as f32 / steps as f32;
             self.clearance(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])) >= radius
@@ -135,89 +194,22 @@ impl ObstacleMap {
     }
 }
 
-/// Which tiles are stored: every tile holding a node-grid cell with a
-/// ground height, and the ring around it; their slots in storage order.
-fn stored_tiles(frame: &GridFrame, tiles: [usize; 2], ground: &GroundHeights<'_>) -> Vec<u32> {
-    let g = ground.frame;
-    let mut want = vec![false; tiles[0] * tiles[1]];
-    for (k, z) in ground.z.iter().enumerate() {
-        if !z.is_finite() {
-            continue;
-        }
-        let (i, j) = (k % g.nx, k / g.nx);
-        let x = g.x0 + (i as f32 + 0.5) * g.cell;
-        let y = g.y0 + (j as f32 + 0.5) * g.cell;
-        let (ci, cj) = frame.key(x, y);
-        let (ti, tj) = (ci.div_euclid(TILE as i64), cj.div_euclid(TILE as i64));
-        for a in ti - 1..=ti + 1 {
-            for b in tj - 1..=tj + 1 {
-                if a >= 0 && b >= 0 && (a as usize) < tiles[0] && (b as usize) < tiles[1] {
-                    want[b as usize * tiles[0] + a as usize] = true;
-                }
-            }
-        }
-    }
-    let mut next = 0u32;
-    want.iter()
-        .map(|&w| {
-            if w {
-                next += 1;
-                next - 1
-            } else {
-                u32::MAX
-            }
-        })
-        .collect()
-}
-
-/// Index into tile storage of the cell `(i, j)`, `None` outside the frame or
-/// in a tile not stored.
-fn stored_cell(
-    frame: &GridFrame,
-    tiles: [usize; 2],
-    slot: &[u32],
-    i: i64,
-    j: i64,
-) -> Option<usize> {
-    frame.index(i, j)?;
-    let (i, j) = (i as usize, j as usize);
-    let s = slot[(j / TILE) * tiles[0] + i / TILE];
-    (s != u32::MAX).then(|| s as usize * TILE * TILE + (j % TILE) * TILE + i % TILE)
-}
-
-/// [`stored_cell`] of the cell holding `xy`.
-fn stored_index(
-    frame: &GridFrame,
-    tiles: [usize; 2],
-    slot: &[u32],
-    x: f32,
-    y: f32,
-) -> Option<usize> {
-    let (i, j) = frame.key(x, y);
-    stored_cell(frame, tiles, slot, i, j)
-}
-
 /// The distance field tile by tile: each stored tile's chamfer distances
 /// are computed on the tile grown by the saturation distance (neighbours'
 /// cells read where stored, free where not), so every obstacle within
 /// reach is seen and the result equals a dense map's.
-fn tiled_distance(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], occ: &[bool]) -> Vec<f32> {
+fn tiled_distance(grid: &TiledFrame, occ: &[bool]) -> Vec<f32> {
+    let frame = &grid.frame;
     let halo = (FAR / frame.cell).ceil() as usize + 1;
     let side = TILE + 2 * halo;
     let mut out = vec![FAR; occ.len()];
-    for (t, &s) in slot.iter().enumerate() {
-        if s == u32::MAX {
-            continue;
-        }
-        let (ti, tj) = (t % tiles[0], t / tiles[0]);
-        let (i0, j0) = (
-            (ti * TILE) as i64 - halo as i64,
-            (tj * TILE) as i64 - halo as i64,
-        );
+    for base in (0..grid.len()).step_by(TILE * TILE) {
+        let (ti, tj) = grid.cell(base);
+        let (i0, j0) = (ti - halo as i64, tj - halo as i64);
         let mut window = vec![false; side * side];
         for b in 0..side {
             for a in 0..side {
-                if let Some(k) = stored_cell(frame, tiles, slot, i0 + a as i64, j0 + b as i64) {
+                if let Some(k) = grid.index(i0 + a as i64, j0 + b as i64) {
                     window[b * side + a] = occ[k];
                 }
             }
@@ -230,7 +222,6 @@ fn tiled_distance(frame: &GridFrame, tiles: [usize; 2], slot: &[u32], occ: &[boo
             ny: side,
         };
         let d = distance_field(&local, &window);
-        let base = s as usize * TILE * TILE;
         for b in 0..TILE {
             for a in 0..TILE {
                 out[base + b * TILE + a] = d[(b + halo) * side + a + halo];

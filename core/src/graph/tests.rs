@@ -179,7 +179,7 @@ fn two_patches() -> (Vec<[f32; 3]>, Vec<u8>, Vec<[f32; 2]>) {
 }
 
 #[test]
-fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
+fn the_node_grid_and_obstacle_map_are_stored_near_ground_only_and_measure_as_dense_ones() {
     let (xyz, lab, wall) = two_patches();
     let g = GroundGraph::build(&xyz, &lab, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
     let r = g.report();
@@ -189,6 +189,9 @@ fn the_obstacle_map_is_stored_near_ground_only_and_measures_as_a_dense_one() {
         r.obstacle_cells_stored * 20 < r.obstacle_cells_bbox,
         "{r:?}"
     );
+    // So is the node grid: 512² cells over the box, two patches of 32² and their tile rings.
+    assert!(r.node_grid_cells_bbox > 250_000, "{r:?}");
+    assert!(r.node_grid_cells * 20 < r.node_grid_cells_bbox, "{r:?}");
     let mut checked = 0;
     for (i, p) in g.positions().iter().enumerate() {
         let d = wall
@@ -230,4 +233,107 @@ fn without_a_start_the_largest_component_is_kept() {
         GroundGraph::build_largest(&xyz[..0], &lab[..0], &p),
         Err(GraphError::NoGround)
     ));
+}
+
+/// Ground of kind Ground: a 50 m × 30 m plain at z = 0, a 3 m high
+/// plateau over x 15..25, y −5..12 (a quay), and a ridge 0.3 m wide and
+/// 3 m high over x 30..30.3, y −5..15 (the spikes city-model ground
+/// carries); both are boxes whose sides are ground too, as a model's are.
+fn stepped_scene() -> crate::scene::Scene {
+    use crate::scene::{ObjectKind, Scene, SceneObject};
+    let mut s = Scene::default();
+    s.objects.push(SceneObject {
+        name: "ground".into(),
+        kind: ObjectKind::Ground,
+        building: 0,
+    });
+    s.vertices.extend([
+        [-5.0, -5.0, 0.0],
+        [45.0, -5.0, 0.0],
+        [45.0, 25.0, 0.0],
+        [-5.0, 25.0, 0.0],
+    ]);
+    s.triangles.extend([[0, 1, 2], [0, 2, 3]]);
+    s.triangle_object.extend([0, 0]);
+    for (lo, hi) in [([15.0, -5.0], [25.0, 12.0]), ([30.0, -5.0], [30.3, 15.0])] {
+        let b = s.vertices.len() as u32;
+        for k in 0..8u32 {
+            s.vertices.push([
+                if k & 1 == 0 { lo[0] } else { hi[0] },
+                if k & 2 == 0 { lo[1] } else { hi[1] },
+                if k & 4 == 0 { 0.0 } else { 3.0 },
+            ]);
+        }
+        for f in [
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ] {
+            s.triangles.push([b + f[0], b + f[1], b + f[2]]);
+            s.triangles.push([b + f[0], b + f[2], b + f[3]]);
+            s.triangle_object.extend([0, 0]);
+        }
+    }
+    s
+}
+
+/// The graph leaves out every edge the vehicle would refuse: a route
+/// planned over a 3 m quay and a 3 m ridge goes round both, and the
+/// simulated vehicle drives it to the end without a slope block.
+#[test]
+fn routes_go_round_drops_and_the_vehicle_drives_them_unblocked() {
+    use crate::lidar::Caster;
+    use crate::vehicle::{Step, Terrain, Vehicle, VehicleConfig};
+    let caster = Caster::new(&stepped_scene()).unwrap();
+    let terrain = Terrain::new(&caster);
+    // The prior: ground points every 0.25 m, as an aerial survey sees the ground.
+    let mut xyz = Vec::new();
+    for i in 0..200 {
+        for j in 0..120 {
+            let (x, y) = (-4.9 + i as f32 * 0.25, -4.9 + j as f32 * 0.25);
+            if let Some(z) = terrain.ground_height(x, y) {
+                xyz.push([x, y, z]);
+            }
+        }
+    }
+    let labels = vec![2u8; xyz.len()];
+    let g = GroundGraph::build(&xyz, &labels, [2.0, 0.0, 0.0], &GraphParams::default()).unwrap();
+    // No edge joins the plain to the quay's top or climbs onto the ridge.
+    for (a, b, _) in g.edges() {
+        let (p, q) = (g.positions()[a], g.positions()[b]);
+        assert!(
+            (p[2] - q[2]).abs() < 0.5,
+            "edge {p:?} → {q:?} crosses a 3 m step"
+        );
+        // Where the edge meets the ridge's midline, if it does.
+        let t = (30.15 - p[0]) / (q[0] - p[0]);
+        let crosses_ridge = (0.0..=1.0).contains(&t) && p[1] + t * (q[1] - p[1]) <= 15.0;
+        assert!(!crosses_ridge, "edge {p:?} → {q:?} crosses the ridge");
+    }
+    let a = g.nearest_node([2.0, 0.0]).unwrap().0;
+    let b = g.nearest_node([40.0, 0.0]).unwrap().0;
+    let (len, path) = g
+        .shortest_path(a, b)
+        .expect("the far side is reached round the ridge's end");
+    // Round the quay (y 12) and the ridge (y 15): about 52 m against 38 straight.
+    assert!(len > 48.0, "{len} m: the route does not go round");
+    let mut v = Vehicle::new(VehicleConfig::default(), &caster, 2.0, 0.0, 0.0).unwrap();
+    v.set_path(
+        path.iter()
+            .map(|&n| [g.positions()[n][0], g.positions()[n][1]]),
+    );
+    let mut arrived = 0;
+    for _ in 0..(400.0 / 0.05) as usize {
+        match v.step(&caster, 0.05) {
+            Step::Blocked { reason, goal } => panic!("blocked before {goal:?}: {reason}"),
+            Step::Arrived(_) => arrived += 1,
+            Step::Idle => break,
+            Step::Moving => {}
+        }
+    }
+    assert_eq!(arrived, path.len(), "the vehicle did not finish the route");
+    let end = v.state.position;
+    assert!((end[0] - 40.0).hypot(end[1]) < 1.5, "{end:?}");
 }

@@ -278,12 +278,13 @@ impl Planner {
         ) {
             Ok(route) => {
                 self.out.push(PlannerCommand::Info(format!(
-                    "round {}: route over {} stops, {:.0} m (greedy {:.0} m, TSP {:.0} m), {} points and {} regions unreachable",
+                    "round {}: route over {} stops, {:.0} m (greedy {:.0} m, TSP {:.0} m, streets {:.0} m), {} points and {} regions unreachable",
                     self.round,
                     route.order.len(),
                     route.length_m,
                     route.greedy_length_m,
                     route.tsp_length_m,
+                    route.streets_length_m,
                     route.unreachable_points.len(),
                     route.unreachable_regions.len(),
                 )));

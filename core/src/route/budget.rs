@@ -70,9 +70,102 @@ pub fn route_budget(
     }
 }
 
+/// The work a route leaves, as the planner states it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannedWork<'a> {
+    /// The mission round.
+    pub round: u32,
+    /// Length of the route still to drive, metres.
+    pub route_m: f64,
+    /// Point stops on it.
+    pub points: usize,
+    /// Outline lengths of the regions on it, metres.
+    pub region_perimeters_m: &'a [f64],
+}
+
+/// A time limit that follows the work: every time a route is planned (a
+/// new round, or a new route from where the vehicle stands after it was
+/// blocked), the work that route leaves gets its [`route_budget`] from
+/// that moment on; the limit never moves earlier. A route the planner
+/// keeps repeating does not extend it, so a mission that stops making
+/// routes still times out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkLimit {
+    deadline_s: f64,
+    /// The last route seen: round, length (mm), stops.
+    last: Option<(u32, u64, usize)>,
+}
+
+impl WorkLimit {
+    /// A limit `first_s` seconds after the start, until a route is known.
+    pub fn new(first_s: f64) -> Self {
+        Self {
+            deadline_s: first_s,
+            last: None,
+        }
+    }
+
+    /// Seconds after the start when the mission gives up.
+    pub fn deadline_s(&self) -> f64 {
+        self.deadline_s
+    }
+
+    /// Takes in the planner's route at `now_s`; returns the budget given
+    /// when it is a new route (the deadline then is at least `now_s` + its wall time).
+    pub fn follow(
+        &mut self,
+        now_s: f64,
+        work: &PlannedWork<'_>,
+        p: &BudgetParams,
+    ) -> Option<Budget> {
+        let stops = work.points + work.region_perimeters_m.len();
+        let key = (work.round, (work.route_m.max(0.0) * 1000.0) as u64, stops);
+        if stops == 0 || self.last == Some(key) {
+            return None;
+        }
+        self.last = Some(key);
+        let b = route_budget(work.route_m, work.points, work.region_perimeters_m, p);
+        self.deadline_s = self.deadline_s.max(now_s + b.wall_s);
+        Some(b)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_new_route_gets_its_budget_and_the_limit_never_moves_earlier() {
+        let p = BudgetParams::default();
+        let mut l = WorkLimit::new(600.0);
+        assert_eq!(l.deadline_s(), 600.0);
+        let work = |round, route_m, points| PlannedWork {
+            round,
+            route_m,
+            points,
+            region_perimeters_m: &[],
+        };
+        // Round 1's route, known at 100 s: 2000 m over 125 stops.
+        let b = l
+            .follow(100.0, &work(1, 2000.0, 125), &p)
+            .expect("a new route");
+        let first = l.deadline_s();
+        assert!((first - (100.0 + b.wall_s)).abs() < 1e-9, "{first}");
+        // The same route repeated (the status goes out every tick): no extension.
+        assert!(l.follow(300.0, &work(1, 2000.0, 125), &p).is_none());
+        assert_eq!(l.deadline_s(), first);
+        // Blocked at 500 s, a new route over what is left: its budget from now.
+        let b2 = l.follow(500.0, &work(1, 1500.0, 90), &p).expect("a replan");
+        assert!((l.deadline_s() - (500.0 + b2.wall_s)).abs() < 1e-9);
+        assert!(l.deadline_s() > first);
+        // A short route just after: the limit stays where it was.
+        let before = l.deadline_s();
+        l.follow(510.0, &work(1, 10.0, 1), &p).expect("a replan");
+        assert_eq!(l.deadline_s(), before);
+        // Nothing left to visit gives no budget.
+        assert!(l.follow(520.0, &work(2, 0.0, 0), &p).is_none());
+        assert_eq!(l.deadline_s(), before);
+    }
 
     #[test]
     fn the_reference_mission_fits_its_budget_and_the_budget_grows_with_the_work() {

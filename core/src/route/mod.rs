@@ -7,7 +7,8 @@
 //! - [`RouteParams`] (`params`), [`RouteError`] (`error`);
 //! - `stops`: snapping targets ([`Stop`]); `tour`: the two tour builders on a cost matrix;
 //! - `plan`: [`plan`], [`replan`] → [`Route`];
-//! - `budget`: how long a route takes ([`route_budget`]), the demo's time limit.
+//! - `budget`: how long a route takes ([`route_budget`]), the demo's time
+//!   limit that follows the work ([`WorkLimit`]).
 
 mod budget;
 mod error;
@@ -16,7 +17,7 @@ mod plan;
 mod stops;
 pub(crate) mod tour;
 
-pub use budget::{Budget, BudgetParams, route_budget};
+pub use budget::{Budget, BudgetParams, PlannedWork, WorkLimit, route_budget};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
 pub use plan::{Route, Visited, plan, replan};

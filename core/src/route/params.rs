@@ -8,12 +8,14 @@ use super::error::RouteError;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TourChoice {
-    /// The shorter of the two tours.
+    /// The shortest of the three tours.
     Shortest,
     /// The paper's alternation of point and region targets by shortest distance.
     Greedy,
     /// Nearest neighbour improved by 2-opt and Or-opt.
     Tsp,
+    /// Street by street: the TSP with a cost on every change of street.
+    Streets,
 }
 
 /// How targets are tied to the graph and toured (docs/design.md step 6).

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use super::error::RouteError;
 use super::params::{RouteParams, TourChoice};
 use super::stops::{Stop, snap};
-use super::tour::{Costs, greedy_alternating, tsp};
+use super::tour::{Costs, greedy_alternating, street_tour, tsp};
 use crate::graph::{GroundGraph, ShortestPaths};
 use crate::targets::TargetSet;
 
@@ -29,6 +29,8 @@ pub struct Route {
     pub greedy_length_m: f32,
     /// Driven length of the 2-opt/Or-opt tour, metres.
     pub tsp_length_m: f32,
+    /// Driven length of the street-by-street tour, metres.
+    pub streets_length_m: f32,
 }
 
 /// Plans a route from `start` over every reachable target of `targets`.
@@ -76,13 +78,34 @@ pub fn plan(
         .collect();
     let greedy = greedy_alternating(&costs, &is_region);
     let tsp_order = tsp(&costs, params.max_passes);
+    let xy: Vec<[f32; 2]> = stops
+        .iter()
+        .map(|(_, nodes)| {
+            let p = graph.positions()[nodes[0]];
+            [p[0], p[1]]
+        })
+        .collect();
+    let streets = street_tour(&costs, &xy, params.max_passes);
     let greedy_len = drive(&kept_trees, start_node, &greedy).0;
     let tsp_len = drive(&kept_trees, start_node, &tsp_order).0;
+    let streets_len = drive(&kept_trees, start_node, &streets).0;
     let chosen = match params.tour {
         TourChoice::Greedy => &greedy,
         TourChoice::Tsp => &tsp_order,
-        TourChoice::Shortest if greedy_len < tsp_len => &greedy,
-        TourChoice::Shortest => &tsp_order,
+        TourChoice::Streets => &streets,
+        // Ties go to the TSP, then to the streets (the order they were added in).
+        TourChoice::Shortest => {
+            [
+                (&tsp_order, tsp_len),
+                (&streets, streets_len),
+                (&greedy, greedy_len),
+            ]
+            .into_iter()
+            .fold((&tsp_order, f32::INFINITY), |best, c| {
+                if c.1 < best.1 { c } else { best }
+            })
+            .0
+        }
     };
     let (length_m, nodes, arrivals) = drive(&kept_trees, start_node, chosen);
     unreachable_points.sort_unstable();
@@ -96,6 +119,7 @@ pub fn plan(
         unreachable_regions,
         greedy_length_m: greedy_len,
         tsp_length_m: tsp_len,
+        streets_length_m: streets_len,
     })
 }
 

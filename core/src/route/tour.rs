@@ -90,6 +90,57 @@ pub fn tsp(costs: &Costs, max_passes: u32) -> Vec<usize> {
     order
 }
 
+/// Two stops lie on one street when the way between them is at most this
+/// much longer than the straight line (no turn round a block)...
+const STREET_DETOUR: f32 = 1.15;
+/// ...and at most this long, metres (a street's stops are a few buildings apart).
+const STREET_LINK_M: f32 = 30.0;
+/// What leaving a street with stops still on it costs the street tour, metres:
+/// each change is a turn and often a way back later.
+const STREET_CHANGE_M: f32 = 20.0;
+
+/// Streets: stops joined (transitively) where the way between them is
+/// short and nearly straight, i.e. runs along one corridor of the ground
+/// graph; `xy` are the stops' positions. Returns a street id per stop.
+pub fn street_ids(costs: &Costs, xy: &[[f32; 2]]) -> Vec<usize> {
+    let n = costs.len();
+    let mut uf = petgraph::unionfind::UnionFind::<usize>::new(n);
+    for a in 0..n {
+        for b in a + 1..n {
+            let way = costs.cost(Some(a), b);
+            let line = (xy[a][0] - xy[b][0]).hypot(xy[a][1] - xy[b][1]);
+            if way <= STREET_LINK_M && way <= STREET_DETOUR * line + 1.0 {
+                uf.union(a, b);
+            }
+        }
+    }
+    uf.into_labeling()
+}
+
+/// The street-by-street tour: the 2-opt/Or-opt tour on costs where every
+/// change of street ([`street_ids`]) costs [`STREET_CHANGE_M`] more, so a
+/// street is worked to its end before the next one instead of criss-crossing.
+pub fn street_tour(costs: &Costs, xy: &[[f32; 2]], max_passes: u32) -> Vec<usize> {
+    let ids = street_ids(costs, xy);
+    let n = costs.len();
+    let between = (0..n * n)
+        .map(|k| {
+            let (a, b) = (k / n, k % n);
+            let change = if ids[a] != ids[b] {
+                STREET_CHANGE_M
+            } else {
+                0.0
+            };
+            costs.between[k] + change
+        })
+        .collect();
+    let penalised = Costs {
+        start: costs.start.clone(),
+        between,
+    };
+    tsp(&penalised, max_passes)
+}
+
 /// Gains below this are rounding, not improvement.
 const EPS: f32 = 1.0e-4;
 
@@ -243,6 +294,48 @@ mod tests {
                 5
             )
             .is_empty()
+        );
+    }
+
+    /// Two parallel streets 20 m apart (y = 0 and y = 20), stops every
+    /// 10 m along x = 10..100, joined only at x = 0 and x = 110; start at
+    /// the origin. Ways are along the streets and round through a cross street.
+    fn ladder() -> (Costs, Vec<[f32; 2]>) {
+        let xy: Vec<[f32; 2]> = (0..2)
+            .flat_map(|s| (1..=10).map(move |i| [i as f32 * 10.0, s as f32 * 20.0]))
+            .collect();
+        let way = |a: [f32; 2], b: [f32; 2]| {
+            if a[1] == b[1] {
+                (a[0] - b[0]).abs()
+            } else {
+                (a[0] + b[0]).min(220.0 - a[0] - b[0]) + 20.0
+            }
+        };
+        let n = xy.len();
+        let between = (0..n * n).map(|k| way(xy[k / n], xy[k % n])).collect();
+        let start = xy.iter().map(|&p| way([0.0, 0.0], p)).collect();
+        (Costs { start, between }, xy)
+    }
+
+    #[test]
+    fn the_street_tour_works_one_street_then_the_next() {
+        let (c, xy) = ladder();
+        let ids = street_ids(&c, &xy);
+        assert!(ids[..10].iter().all(|&i| i == ids[0]));
+        assert!(ids[10..].iter().all(|&i| i == ids[10]));
+        assert_ne!(ids[0], ids[10]);
+        let t = street_tour(&c, &xy, 50);
+        let mut sorted = t.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..20).collect::<Vec<_>>());
+        let changes = t.windows(2).filter(|w| ids[w[0]] != ids[w[1]]).count();
+        assert_eq!(changes, 1, "{t:?}");
+        // To x = 10, along y = 0 to x = 100, across at x = 110 (10 + 20 + 10),
+        // back along y = 20: 10 + 90 + 40 + 90, the shortest open tour.
+        assert!(
+            (c.tour_cost(&t) - 230.0).abs() < 1e-3,
+            "{}",
+            c.tour_cost(&t)
         );
     }
 

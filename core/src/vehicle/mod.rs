@@ -2,11 +2,13 @@
 //! checks against the scene (docs/design.md step 8). ROS-free: `vehicle_sim` drives it.
 
 mod config;
+mod incline;
 mod probe;
 mod schedule;
 mod state;
 
 pub use config::VehicleConfig;
+pub use incline::{INCLINE_BASE_M, incline_deg, profile_climbable};
 pub use probe::{Terrain, free_spot, goal_inside_building};
 pub use schedule::{Every, ScanSchedule};
 pub use state::{Step, Vehicle, VehicleState};

@@ -4,13 +4,9 @@ use std::collections::VecDeque;
 use std::f32::consts::PI;
 
 use super::config::VehicleConfig;
+use super::incline::{INCLINE_BASE_M, incline_deg};
 use super::probe::{Terrain, goal_inside_building};
 use crate::lidar::Caster;
-
-/// The length over which the slope ahead is measured, metres (a small
-/// robot's wheelbase): with the 20° limit, steps up to 36 cm are climbed
-/// (lenient: a city model's surfaces meet with steps of 5–10 cm).
-const INCLINE_BASE_M: f32 = 1.0;
 
 /// Where the vehicle is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -165,10 +161,9 @@ impl Vehicle {
         let base = INCLINE_BASE_M.max(step);
         let incline = terrain
             .ground_height(p[0] + c * base, p[1] + s * base)
-            .map_or((nz - p[2]) / step, |az| (az - p[2]) / base)
-            .atan()
-            .abs()
-            .to_degrees();
+            .map_or(incline_deg(nz - p[2], step), |az| {
+                incline_deg(az - p[2], base)
+            });
         if incline > self.config.max_incline_deg {
             return block(self, format!("slope of {incline:.0}° ahead"));
         }

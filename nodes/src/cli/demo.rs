@@ -20,7 +20,7 @@ use skyground_core::mission::{
 };
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::prior::unlabelled;
-use skyground_core::route::{BudgetParams, route_budget};
+use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
 use skyground_core::scene::{Cropped, Scene, load_scene, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
@@ -378,7 +378,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut why = String::from("interrupted");
     loop {
         tokio::select! {
-            _ = tokio::time::sleep_until(limit.deadline) => { why = limit.why(t0); break }
+            _ = tokio::time::sleep_until(limit.deadline()) => { why = limit.why(t0); break }
             _ = tokio::time::sleep_until(robot_deadline), if a.field.field && w.first_stamp.is_none() => {
                 why = format!("no /state_estimation from a robot within {} s (is it on ROS_DOMAIN_ID {}, and publishing nav_msgs/Odometry there?)", a.field.robot_timeout, rt.domain.domain_id);
                 break
@@ -413,7 +413,9 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 w.unreachable = (s.unreachable_points, s.unreachable_regions);
                 w.greedy_m = f64::from(s.greedy_m);
                 w.tsp_m = f64::from(s.tsp_m);
-                limit.follow(&w, s.target_points, s.target_regions);
+                if matches!(s.phase.as_str(), "driving" | "exploring") {
+                    limit.follow(&w, f64::from(s.route_m), s.stops, s.target_regions);
+                }
                 if s.phase == Phase::Done.word() && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
                     w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
                     w.reached_total += w.done.0 + w.done.1;
@@ -494,14 +496,19 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     }
 }
 
-/// The demo's time limit: `--timeout`, or one that follows the work: a
-/// first allowance until a route is known, then each round's budget
-/// ([`route_budget`]) from the moment its route is.
+/// The demo's time limit: `--timeout`, or one that follows the work
+/// ([`WorkLimit`]): a first allowance until a route is known, then every
+/// route the planner makes (each round's, and each new one after the
+/// vehicle was blocked) gets the budget of the work it leaves from the
+/// moment it is known.
 struct TimeLimit {
-    deadline: tokio::time::Instant,
+    start: tokio::time::Instant,
     fixed: Option<f64>,
-    budgeted_round: u32,
+    limit: WorkLimit,
     params: BudgetParams,
+    /// The last round whose budget was printed; routes budgeted so far.
+    printed_round: u32,
+    routes: usize,
 }
 
 /// Wall seconds until the first route is known (prior, classification,
@@ -510,53 +517,70 @@ const FIRST_ROUTE_S: f64 = 600.0;
 
 impl TimeLimit {
     fn new(a: &DemoArgs) -> Self {
-        let s = a.timeout.unwrap_or(FIRST_ROUTE_S);
         Self {
-            deadline: tokio::time::Instant::now() + Duration::from_secs_f64(s),
+            start: tokio::time::Instant::now(),
             fixed: a.timeout,
-            budgeted_round: 0,
+            limit: WorkLimit::new(a.timeout.unwrap_or(FIRST_ROUTE_S)),
             params: BudgetParams {
                 time_factor: a.time_factor,
                 ..BudgetParams::default()
             },
+            printed_round: 0,
+            routes: 0,
         }
     }
 
-    /// Gives the planner's current round its budget once its route is known.
-    fn follow(&mut self, w: &Watch, points: usize, regions: usize) {
-        let route_m = [w.tsp_m, w.greedy_m]
-            .into_iter()
-            .filter(|m| *m > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        if self.fixed.is_some()
-            || w.planner_round <= self.budgeted_round
-            || !route_m.is_finite()
-            || points + regions == 0
-        {
+    fn deadline(&self) -> tokio::time::Instant {
+        self.start + Duration::from_secs_f64(self.limit.deadline_s())
+    }
+
+    /// Budgets the planner's route (`route_m` over `stops` stops) when it is a new one.
+    fn follow(&mut self, w: &Watch, route_m: f64, stops: usize, regions: usize) {
+        if self.fixed.is_some() || !route_m.is_finite() {
             return;
         }
-        self.budgeted_round = w.planner_round;
+        // The route's regions: the round's not yet explored nor unreachable.
+        let regions_left = regions
+            .saturating_sub(w.done.1 + w.unreachable.1)
+            .min(stops);
         let perimeters: Vec<f64> = w
             .targets
             .regions
             .iter()
             .map(|r| perimeter(&r.polygon))
             .collect();
-        let b = route_budget(route_m, points, &perimeters, &self.params);
-        self.deadline = tokio::time::Instant::now() + Duration::from_secs_f64(b.wall_s);
-        eprintln!(
-            "  round {}: {route_m:.0} m over {points} points and {regions} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now (--timeout fixes one)",
-            w.planner_round, b.sim_s, b.wall_s
-        );
+        let mean = perimeters.iter().sum::<f64>() / perimeters.len().max(1) as f64;
+        let work = PlannedWork {
+            round: w.planner_round,
+            route_m,
+            points: stops - regions_left,
+            region_perimeters_m: &vec![mean; regions_left],
+        };
+        let now = self.start.elapsed().as_secs_f64();
+        let Some(b) = self.limit.follow(now, &work, &self.params) else {
+            return;
+        };
+        self.routes += 1;
+        if w.planner_round > self.printed_round {
+            self.printed_round = w.planner_round;
+            eprintln!(
+                "  round {}: {route_m:.0} m over {} points and {regions_left} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now, extended by each new route (--timeout fixes one)",
+                w.planner_round,
+                work.points,
+                b.sim_s,
+                self.limit.deadline_s() - now
+            );
+        }
     }
 
     fn why(&self, t0: Instant) -> String {
         match self.fixed {
             Some(s) => format!("timed out after {s} s (--timeout)"),
             None => format!(
-                "timed out after {:.0} s: round {} took longer than its budget",
+                "timed out after {:.0} s: the work of round {} took longer than its budget ({} routes budgeted)",
                 t0.elapsed().as_secs_f64(),
-                self.budgeted_round
+                self.printed_round,
+                self.routes
             ),
         }
     }

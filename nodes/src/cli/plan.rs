@@ -97,6 +97,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         "greedy_length_m": route.greedy_length_m,
         "tsp_length_m": route.tsp_length_m,
         "tsp_over_greedy": route.tsp_length_m / route.greedy_length_m.max(1e-6),
+        "streets_length_m": route.streets_length_m,
         "route_length_m": route.length_m,
         "stops": route.order.len(),
         "seconds": {"graph": graph_s, "matrix_and_tours": route_s, "total": graph_s + route_s},
@@ -106,7 +107,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     super::field::write_route(&a.input, &cloud, &route, &targets)?;
     if !a.json {
         eprintln!(
-            "graph: {} nodes, {} edges ({:.2} s); targets reachable: {} of {} points, {} of {} regions; tours: greedy {:.0} m, TSP {:.0} m ({:.2}×) ({:.2} s)",
+            "graph: {} nodes, {} edges ({:.2} s); targets reachable: {} of {} points, {} of {} regions; tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), streets {:.0} m ({:.2} s)",
             graph.len(),
             graph.edges().len(),
             graph_s,
@@ -117,6 +118,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
             route.greedy_length_m,
             route.tsp_length_m,
             route.tsp_length_m / route.greedy_length_m.max(1e-6),
+            route.streets_length_m,
             route_s
         );
     }
