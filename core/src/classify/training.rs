@@ -309,16 +309,17 @@ pub fn file_training_clouds(
             .filter(|c| **c == 1)
             .for_each(|c| *c = VEGETATION);
     }
+    // Refused before any ground filtering is spent on the good ones.
+    if let Some(keep) = densities.iter().find(|k| !(**k > 0.0 && **k <= 1.0)) {
+        return Err(ClassifyError::File {
+            path: name.to_owned(),
+            message: format!("density share {keep} is not in (0, 1]"),
+        });
+    }
     densities
         .iter()
         .enumerate()
         .map(|(k, &keep)| {
-            if !(keep > 0.0 && keep <= 1.0) {
-                return Err(ClassifyError::File {
-                    path: name.to_owned(),
-                    message: format!("density share {keep} is not in (0, 1]"),
-                });
-            }
             let rows = pulse_sample(&cloud, keep, k as u64);
             let tag = if keep < 1.0 {
                 format!("{name} (thinned to {:.0} %)", keep * 100.0)

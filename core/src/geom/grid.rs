@@ -226,26 +226,47 @@ impl Neighbours {
 /// Fills unknown (NaN) cells of a row-major `nx × ny` height grid from their
 /// known `neighbours`' mean, `steps` rings deep (each ring from the last).
 pub fn fill_holes(z: &mut [f32], nx: usize, ny: usize, steps: usize, neighbours: Neighbours) {
+    let (w, h) = (nx as i64, ny as i64);
+    fill_holes_with(
+        z,
+        steps,
+        neighbours,
+        |k| Some(((k % nx) as i64, (k / nx) as i64)),
+        |i, j| (i >= 0 && j >= 0 && i < w && j < h).then(|| (j * w + i) as usize),
+    );
+}
+
+/// [`fill_holes`] on any grid storage: `cell_of(k)` is slot `k`'s cell (or
+/// `None` for a slot that is no cell), `index(i, j)` a cell's slot.
+pub fn fill_holes_with(
+    z: &mut [f32],
+    steps: usize,
+    neighbours: Neighbours,
+    cell_of: impl Fn(usize) -> Option<(i64, i64)>,
+    index: impl Fn(i64, i64) -> Option<usize>,
+) {
     for _ in 0..steps {
         let prev = z.to_vec();
         let mut changed = false;
-        for j in 0..ny {
-            for i in 0..nx {
-                if prev[j * nx + i].is_finite() {
-                    continue;
+        for k in 0..prev.len() {
+            if prev[k].is_finite() {
+                continue;
+            }
+            let Some((i, j)) = cell_of(k) else {
+                continue;
+            };
+            let (mut s, mut c) = (0.0f32, 0u32);
+            for &(di, dj) in neighbours.offsets() {
+                if let Some(q) = index(i + di as i64, j + dj as i64)
+                    && prev[q].is_finite()
+                {
+                    s += prev[q];
+                    c += 1;
                 }
-                let (mut s, mut c) = (0.0, 0);
-                for &(di, dj) in neighbours.offsets() {
-                    let (a, b) = (i.wrapping_add_signed(di), j.wrapping_add_signed(dj));
-                    if a < nx && b < ny && prev[b * nx + a].is_finite() {
-                        s += prev[b * nx + a];
-                        c += 1;
-                    }
-                }
-                if c > 0 {
-                    z[j * nx + i] = s / c as f32;
-                    changed = true;
-                }
+            }
+            if c > 0 {
+                z[k] = s / c as f32;
+                changed = true;
             }
         }
         if !changed {

@@ -3,6 +3,7 @@
 
 use super::grid::{GridFrame, TiledFrame};
 use crate::cloud::class;
+use crate::geom::grid::{self, Neighbours};
 
 /// ASPRS class 17: bridge deck.
 const BRIDGE_DECK: u8 = 17;
@@ -104,44 +105,16 @@ pub fn bin_ground(
 pub fn filled_heights(cells: &GroundCells, rings: usize) -> Vec<f32> {
     let g = &cells.grid;
     let mut z: Vec<f32> = cells.mean.iter().map(|p| p[2]).collect();
-    for _ in 0..rings {
-        let prev = z.clone();
-        let mut changed = false;
-        for k in 0..g.len() {
-            if prev[k].is_finite() {
-                continue;
-            }
+    grid::fill_holes_with(
+        &mut z,
+        rings,
+        Neighbours::Eight,
+        // A tile's overhang beyond the frame is no cell.
+        |k| {
             let (i, j) = g.cell(k);
-            if g.index(i, j).is_none() {
-                // A tile's overhang beyond the frame.
-                continue;
-            }
-            let (mut s, mut c) = (0.0f32, 0u32);
-            for (di, dj) in [
-                (-1, 0),
-                (1, 0),
-                (0, -1),
-                (0, 1),
-                (-1, -1),
-                (1, 1),
-                (-1, 1),
-                (1, -1),
-            ] {
-                if let Some(q) = g.index(i + di, j + dj)
-                    && prev[q].is_finite()
-                {
-                    s += prev[q];
-                    c += 1;
-                }
-            }
-            if c > 0 {
-                z[k] = s / c as f32;
-                changed = true;
-            }
-        }
-        if !changed {
-            break;
-        }
-    }
+            g.index(i, j).map(|_| (i, j))
+        },
+        |i, j| g.index(i, j),
+    );
     z
 }
