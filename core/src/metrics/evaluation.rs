@@ -4,8 +4,9 @@
 
 use serde::Serialize;
 
-use super::accuracy::mean_cloud_to_mesh;
-use super::completeness::{CompletenessReport, completeness};
+use super::accuracy::{cloud_to_mesh_distances, mean_cloud_to_mesh};
+use super::completeness::{CompletenessReport, completeness, report_from_distances};
+use super::nearest::nearest_distances;
 use super::gt::GtSamples;
 use crate::cloud::{Cloud, class};
 use crate::scene::Scene;
@@ -90,6 +91,71 @@ fn measure(scene: &Scene, gt: &GtSamples, cloud: &Cloud, tau: f32) -> Measured {
     }
 }
 
+/// A cloud measured as its points arrive (the mission's merged cloud: the
+/// prior, then each round's scans), so that the last measurement costs only
+/// the last points: per GT sample the nearest distance so far, and the sum
+/// of the points' distances to the mesh. Equal to [`Measured`] of the whole.
+#[derive(Debug, Clone)]
+pub struct MeasureSoFar {
+    tau: f32,
+    dist: Vec<f32>,
+    points: usize,
+    building_points: usize,
+    finite_points: usize,
+    mesh_sum: f64,
+    mesh_n: usize,
+}
+
+impl MeasureSoFar {
+    /// Nothing measured yet against `gt` with coverage radius `tau`.
+    pub fn new(gt: &GtSamples, tau: f32) -> Self {
+        Self {
+            tau,
+            dist: vec![f32::INFINITY; gt.len()],
+            points: 0,
+            building_points: 0,
+            finite_points: 0,
+            mesh_sum: 0.0,
+            mesh_n: 0,
+        }
+    }
+
+    /// Adds a cloud's points (its building points count, as in [`evaluate`]).
+    pub fn add(&mut self, scene: &Scene, gt: &GtSamples, cloud: &Cloud) {
+        let pts = building_points(cloud, gt.origin);
+        self.points += cloud.len();
+        self.building_points += pts.len();
+        self.finite_points += pts.iter().filter(|p| p.iter().all(|v| v.is_finite())).count();
+        if pts.is_empty() {
+            return;
+        }
+        for (d, n) in self.dist.iter_mut().zip(nearest_distances(&gt.xyz, &pts)) {
+            *d = d.min(n);
+        }
+        for d in cloud_to_mesh_distances(scene, &pts) {
+            if d.is_finite() {
+                self.mesh_sum += f64::from(d);
+                self.mesh_n += 1;
+            }
+        }
+    }
+
+    /// Points added so far.
+    pub fn points(&self) -> usize {
+        self.points
+    }
+
+    /// The measurement of everything added so far.
+    pub fn measured(&self, gt: &GtSamples) -> Measured {
+        Measured {
+            points: self.points,
+            building_points: self.building_points,
+            completeness: report_from_distances(gt, &self.dist, self.tau, self.finite_points),
+            mean_cloud_to_mesh: (self.mesh_n > 0).then(|| self.mesh_sum / self.mesh_n as f64),
+        }
+    }
+}
+
 /// Measures `before` (the aerial prior) and `after` (prior + scans) against
 /// the scene's building ground truth `gt` (same frame as the scene).
 pub fn evaluate(
@@ -99,8 +165,11 @@ pub fn evaluate(
     after: &Cloud,
     tau: f32,
 ) -> Evaluation {
-    let before = measure(scene, gt, before, tau);
-    let after = measure(scene, gt, after, tau);
+    compare(tau, gt.len(), measure(scene, gt, before, tau), measure(scene, gt, after, tau))
+}
+
+/// The evaluation of two measurements against the same `gt_samples` samples.
+pub fn compare(tau: f32, gt_samples: usize, before: Measured, after: Measured) -> Evaluation {
     let buildings = before
         .completeness
         .buildings
@@ -126,7 +195,7 @@ pub fn evaluate(
         .collect();
     Evaluation {
         tau,
-        gt_samples: gt.len(),
+        gt_samples,
         before,
         after,
         buildings,
@@ -237,6 +306,34 @@ mod tests {
         assert!(e.buildings.iter().all(|r| r.coverage_after == Some(1.0)));
         let md = e.summary_markdown();
         assert!(md.contains("100.00 %"), "{md}");
+    }
+
+    #[test]
+    fn measured_in_parts_equals_measured_whole() {
+        let scene = reference_scene(7);
+        let gt = sample_building_surfaces(&scene, 1.0);
+        // Three arrivals: the roofs, half the walls (offset 0.2 m, so the
+        // distances are not all 0), the rest.
+        let shifted: Vec<[f32; 3]> = gt.xyz.iter().map(|p| [p[0] + 0.2, p[1], p[2]]).collect();
+        let n = shifted.len();
+        let parts = [&shifted[..n / 3], &shifted[n / 3..2 * n / 3], &shifted[2 * n / 3..]];
+        let mut so_far = MeasureSoFar::new(&gt, 0.25);
+        for part in parts {
+            so_far.add(&scene, &gt, &Cloud::from_xyz(part.to_vec()));
+        }
+        let whole = measure(&scene, &gt, &Cloud::from_xyz(shifted.clone()), 0.25);
+        let parts = so_far.measured(&gt);
+        assert_eq!(parts.points, whole.points);
+        assert_eq!(parts.building_points, whole.building_points);
+        let (p, w) = (&parts.completeness, &whole.completeness);
+        assert_eq!(p.overall.ratio, w.overall.ratio);
+        assert_eq!(p.walls.ratio, w.walls.ratio);
+        assert_eq!(p.observed_points, w.observed_points);
+        let close = |a: Option<f64>, b: Option<f64>| (a.unwrap() - b.unwrap()).abs() < 1e-9;
+        assert!(close(p.mean_gt_distance, w.mean_gt_distance));
+        assert!(close(parts.mean_cloud_to_mesh, whole.mean_cloud_to_mesh));
+        assert!(parts.mean_cloud_to_mesh.unwrap() > 0.01);
+        assert!(p.buildings.iter().zip(&w.buildings).all(|(a, b)| a.all.ratio == b.all.ratio));
     }
 
     #[test]

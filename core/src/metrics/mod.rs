@@ -30,7 +30,9 @@ pub use completeness::{
     BuildingCompleteness, CompletenessReport, Coverage, DEFAULT_TAU, completeness,
     completeness_of_cloud, mean_gt_distance, report_from_distances,
 };
-pub use evaluation::{BuildingRow, Evaluation, Measured, building_points, evaluate};
+pub use evaluation::{
+    BuildingRow, Evaluation, MeasureSoFar, Measured, building_points, compare, evaluate,
+};
 pub use ground_height::GroundHeight;
 pub use gt::{
     DEFAULT_SPACING, GtOptions, GtSamples, SurfaceKind, sample_building_surfaces,

@@ -14,7 +14,7 @@ use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
-use skyground_core::metrics::{Evaluation, Mission, completeness_of_cloud, evaluate};
+use skyground_core::metrics::{Evaluation, MeasureSoFar, Measured, Mission, compare};
 use skyground_core::mission::{
     BuildingStatus, Phase, PlannerStatus, ProtocolError, VehicleStatus, Wire,
 };
@@ -32,6 +32,7 @@ use tokio::process::{Child, Command};
 use super::aerial::survey_of;
 use super::city_model::write_completeness;
 use super::eval::{markdown, write_json};
+use super::profile::Profile;
 use crate::convert::diagnostics::from_status;
 use crate::convert::markers::markers_to_regions;
 use crate::convert::path::odom_position;
@@ -277,6 +278,7 @@ fn readable<T>(r: Result<T, ProtocolError>) -> Option<T> {
 pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let t0 = Instant::now();
+    let mut prof = Profile::new("prior");
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
     let bag = a.out.join("mission.mcap");
@@ -287,7 +289,24 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.out.display()
     );
     let (scene_spec, prior, crop) = mission_prior(&a)?;
-    let before = completeness_of_cloud(&prior.gt, &prior.cloud, prior.tau);
+    // The prior's measurement and models are ready before the mission ends;
+    // the merged cloud is measured as its points arrive (report: only the
+    // last round's points are left to measure).
+    let mut before_so_far = MeasureSoFar::new(&prior.gt, prior.tau);
+    before_so_far.add(&prior.scene, &prior.gt, &prior.cloud);
+    let before = before_so_far.measured(&prior.gt);
+    let mut after_so_far = before_so_far.clone();
+    let models_before = {
+        let (dir, scene, cloud, spacing) = (
+            a.out.clone(),
+            prior.scene.clone(),
+            prior.cloud.clone(),
+            prior.gt.spacing,
+        );
+        std::thread::spawn(move || {
+            super::reconstruct::models_of(&dir, "models_before", &scene, &cloud, spacing)
+        })
+    };
     let aerial_path = a.out.join("aerial.las");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial_path, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
@@ -299,7 +318,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             "real prior"
         },
         prior.cloud.len(),
-        before.overall.ratio.unwrap_or(0.0) * 100.0,
+        before.completeness.overall.ratio.unwrap_or(0.0) * 100.0,
         t0.elapsed().as_secs_f64()
     );
     let driver = if a.field.field {
@@ -345,6 +364,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     ] {
         procs.push(start(name, &exe, &node_args(name, &params), &a.out)?);
     }
+    prof.stage("start-up, classification, detection, first route");
     eprintln!(
         "  started {} processes: {}",
         procs.len(),
@@ -373,7 +393,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut w = Watch::default();
     let robot_deadline =
         tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
-    let mut coverage_now = before.overall.ratio.unwrap_or(0.0);
+    let mut coverage_now = before.completeness.overall.ratio.unwrap_or(0.0);
     let mut finished = false;
     let mut why = String::from("interrupted");
     loop {
@@ -385,14 +405,24 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             }
             _ = rt.shutdown.wait() => break,
             r = resampled_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
-                let mut merged = prior.cloud.clone();
-                merged.label = None;
-                merged.xyz.extend_from_slice(&decoded.cloud.xyz);
-                let (gt, tau) = (prior.gt.clone(), prior.tau);
-                coverage_now = tokio::task::spawn_blocking(move || completeness_of_cloud(&gt, &merged, tau).overall.ratio.unwrap_or(0.0))
-                    .await
-                    .unwrap_or(coverage_now);
-                w.resampled = Some(decoded.cloud);
+                let new = arrived_points(w.resampled.as_ref(), &decoded.cloud);
+                if new.len() == decoded.cloud.len() {
+                    after_so_far = before_so_far.clone();
+                }
+                let (scene, gt, mut so_far) = (prior.scene.clone(), prior.gt.clone(), after_so_far.clone());
+                let measured = tokio::task::spawn_blocking(move || {
+                    so_far.add(&scene, &gt, &new);
+                    so_far
+                })
+                .await;
+                match measured {
+                    Ok(m) => {
+                        after_so_far = m;
+                        coverage_now = after_so_far.measured(&prior.gt).completeness.overall.ratio.unwrap_or(0.0);
+                        w.resampled = Some(decoded.cloud);
+                    }
+                    Err(e) => eprintln!("  measuring /resampled_cloud failed: {e}"),
+                }
             },
             r = targets_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
                 let ids = decoded.cloud.building.clone().unwrap_or_default();
@@ -408,6 +438,12 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             Some(Ok((arr, _))) = p_s.next() => if let Some(s) = first_status(&arr, PlannerStatus::from_wire) {
                 w.planner_round = s.round;
                 w.planner_phase = s.phase.clone();
+                if s.round > 0 {
+                    prof.stage(&match s.phase.as_str() {
+                        "driving" | "exploring" => format!("round {} driving", s.round),
+                        _ => format!("round {} done: merge, classification, detection, next route", s.round),
+                    });
+                }
                 w.stops = s.target_points + s.target_regions;
                 w.done = (s.visited.points.len(), s.visited.regions.len());
                 w.unreachable = (s.unreachable_points, s.unreachable_regions);
@@ -444,6 +480,10 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             },
             _ = respawn_tick.tick() => if !rt.shutdown.requested() { respawn(&mut procs, &exe, &a.out)? },
             _ = progress.tick() => {
+                for p in &procs {
+                    prof.sample(p.name, p.child.id());
+                }
+                prof.sample("demo", Some(std::process::id()));
                 eprintln!(
                     "  [{:>5.0} s] round {} {}: targets {}/{} | coverage {:.2} % | {:.0} m driven, {:.0} sim s",
                     t0.elapsed().as_secs_f64(), w.planner_round, if w.planner_phase.is_empty() { "starting" } else { &w.planner_phase },
@@ -477,15 +517,28 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         }
     }
     eprintln!("  {why}; stopping the nodes");
+    prof.stage("stopping the nodes");
     for p in procs.iter_mut().rev() {
+        prof.sample(p.name, p.child.id());
         stop(p).await;
     }
+    prof.stage("report");
     w.restarts = procs
         .iter()
         .map(|p| (p.name.to_string(), p.restarts))
         .filter(|(_, n)| *n > 0)
         .collect();
-    report(&a, &prior, crop.as_ref(), &w, finished, &why, t0).map(|_| ())?;
+    let measured = (before, after_so_far.measured(&prior.gt), models_before);
+    report(
+        &a,
+        &prior,
+        crop.as_ref(),
+        &w,
+        (finished, &why),
+        measured,
+        (t0, &mut prof),
+    )
+    .map(|_| ())?;
     if finished {
         Ok(())
     } else {
@@ -679,17 +732,41 @@ pub(super) fn mission_scene(
     Ok((spec, scene, Some(c)))
 }
 
+/// The prior's models, made in the background while the mission runs.
+type ModelsBefore = std::thread::JoinHandle<
+    Result<skyground_core::reconstruct::ModelEvaluation, RuntimeError>,
+>;
+
+/// The points of `now` (the whole resampled cloud so far) that `before` did
+/// not have: the explorer only appends, so `before` is a prefix unless the
+/// explorer started again (then all of `now`).
+fn arrived_points(before: Option<&Cloud>, now: &Cloud) -> Cloud {
+    let mut c = now.clone();
+    if let Some(b) = before
+        && b.origin == now.origin
+        && now.xyz.get(..b.len()) == Some(&b.xyz[..])
+    {
+        c.xyz.drain(..b.len());
+    }
+    // Every resampled point is a building point (building_points keeps all
+    // of an unlabelled cloud).
+    c.label = None;
+    c.building = None;
+    c
+}
+
 /// Measures, writes report.json / report.md / overview.png and resampled.las.
 fn report(
     a: &DemoArgs,
     prior: &super::aerial::Survey,
     crop: Option<&Cropped>,
     w: &Watch,
-    finished: bool,
-    why: &str,
-    t0: Instant,
+    (finished, why): (bool, &str),
+    (before, after, models_before): (Measured, Measured, ModelsBefore),
+    (t0, prof): (Instant, &mut Profile),
 ) -> Result<Evaluation, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
+    prof.stage("report: merged cloud");
     let mut merged = prior.cloud.clone();
     let scans = w.resampled.as_ref().map_or(0, Cloud::len);
     if let Some(r) = &w.resampled {
@@ -710,8 +787,7 @@ fn report(
             }
         }
     }
-    write_cloud(&a.out.join("resampled.las"), &merged).map_err(|e| err(e.to_string()))?;
-    let e = evaluate(&prior.scene, &prior.gt, &prior.cloud, &merged, prior.tau);
+    let e = compare(prior.tau, prior.gt.len(), before, after);
     let mission = Mission {
         targets: &w.targets,
         rounds: w.rounds_driven(),
@@ -726,18 +802,33 @@ fn report(
         Some(mission),
     )?;
     // Step 10: LoD2 models from the prior and from the merged cloud.
-    let (mb, ma) = super::reconstruct::before_after(
-        &a.out,
-        &prior.scene,
-        &prior.cloud,
-        &merged,
-        prior.gt.spacing,
-    )?;
+    // The LAS is written while the models of the merged cloud are made.
+    prof.stage("report: resampled.las beside the LoD2 models after");
+    let (written, ma) = std::thread::scope(|s| {
+        let las = s.spawn(|| write_cloud(&a.out.join("resampled.las"), &merged));
+        let ma = super::reconstruct::models_of(
+            &a.out,
+            "models_after",
+            &prior.scene,
+            &merged,
+            prior.gt.spacing,
+        );
+        (las.join(), ma)
+    });
+    written
+        .map_err(|_| err("writing resampled.las panicked".into()))?
+        .map_err(|e| err(e.to_string()))?;
+    let ma = ma?;
+    prof.stage("report: LoD2 models before (made during the mission)");
+    let mb = models_before
+        .join()
+        .map_err(|_| err("the prior's models panicked".into()))??;
     let pictured =
         super::reconstruct::write_picture(&a.out.join("models.png"), &prior.scene, &mb, &ma, 3)?;
+    prof.stage("report: tables, pictures, GeoJSON");
     let bag_bytes = std::fs::metadata(a.out.join("mission.mcap")).map_or(0, |m| m.len());
     let wall = t0.elapsed().as_secs_f64();
-    let value = json!({
+    let mut value = json!({
         "scene": a.scene(),
         "mode": if a.field.field { "field" } else { "simulated" },
         // The figures count ground points against this scene's buildings: in
@@ -775,7 +866,6 @@ fn report(
         "models_after": ma,
         "models_pictured": pictured,
     });
-    write_json(&a.out.join("report.json"), &value)?;
     let title = match crop {
         Some(c) => format!(
             "skyground demo: {}, crop {} ({} of {} buildings)",
@@ -805,7 +895,6 @@ fn report(
     if let Some(c) = crop {
         md.push_str(&super::crop::markdown(c));
     }
-    std::fs::write(a.out.join("report.md"), md).map_err(|e| err(e.to_string()))?;
     let outlines = footprints_of_scene(&prior.scene);
     let gains: Vec<BuildingGain> = outlines
         .iter()
@@ -850,6 +939,16 @@ fn report(
         })
         .collect();
     super::field::write_mission(&a.out, &frame, &rows, &w.route, w.odometer, &w.targets)?;
+    // Where the time went, up to here (the process figures were read as
+    // each node was asked to stop).
+    prof.sample("demo", Some(std::process::id()));
+    value["profile"] = prof.to_json();
+    md.push_str(&format!(
+        "\n## Profile\n\nWall seconds per stage; CPU seconds and peak resident memory per process (read from /proc every 5 s and when the node was asked to stop).\n\n{}",
+        prof.to_markdown()
+    ));
+    write_json(&a.out.join("report.json"), &value)?;
+    std::fs::write(a.out.join("report.md"), md).map_err(|e| err(e.to_string()))?;
     let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.2} %", v * 100.0));
     eprintln!(
         "\nskyground demo: {} in {wall:.1} s — coverage {} → {}, mean GT distance {:.3} → {:.3} m, {} rounds, {:.0} m driven; report {}",

@@ -15,6 +15,7 @@ pub mod info;
 pub mod plan;
 pub mod play;
 pub mod prior;
+pub mod profile;
 pub mod reconstruct;
 pub mod record;
 pub mod sink;

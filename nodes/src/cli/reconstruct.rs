@@ -266,12 +266,23 @@ pub fn before_after(
     merged: &Cloud,
     spacing: f32,
 ) -> Result<(ModelEvaluation, ModelEvaluation), RuntimeError> {
-    let before = reconstruct_and_write(prior, None, dir, "models_before", None)?;
-    let after = reconstruct_and_write(merged, None, dir, "models_after", None)?;
     Ok((
-        evaluate_against(scene, &before, spacing),
-        evaluate_against(scene, &after, spacing),
+        models_of(dir, "models_before", scene, prior, spacing)?,
+        models_of(dir, "models_after", scene, merged, spacing)?,
     ))
+}
+
+/// Reconstructs `cloud`, writes `DIR/NAME.city.json` and `.obj`, and
+/// evaluates the models against the scene's buildings.
+pub fn models_of(
+    dir: &Path,
+    name: &str,
+    scene: &Scene,
+    cloud: &Cloud,
+    spacing: f32,
+) -> Result<ModelEvaluation, RuntimeError> {
+    let rec = reconstruct_and_write(cloud, None, dir, name, None)?;
+    Ok(evaluate_against(scene, &rec, spacing))
 }
 
 /// Writes `models.png`: the `n` buildings whose models improved most,

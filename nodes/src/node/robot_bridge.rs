@@ -97,13 +97,14 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                             z: f64::from(w[2]),
                         },
                     };
-                    let _ = way_pub.async_publish(msg).await;
+                    rt.log.sent("/way_point", way_pub.async_publish(msg).await);
                 }
                 FollowEvent::Arrived { goal } => {
                     rt.log
                         .info(&format!("arrived at ({:.1}, {:.1})", goal[0], goal[1]));
                     let s = status(header.clone(), VehicleEvent::Arrived, goal, &f);
-                    let _ = status_pub.async_publish(s).await;
+                    rt.log
+                        .sent("/vehicle_status", status_pub.async_publish(s).await);
                 }
                 FollowEvent::Blocked { goal, reason } => {
                     rt.log.warn(&format!(
@@ -111,7 +112,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         goal[0], goal[1]
                     ));
                     let s = status(header.clone(), VehicleEvent::Blocked(reason), goal, &f);
-                    let _ = status_pub.async_publish(s).await;
+                    rt.log
+                        .sent("/vehicle_status", status_pub.async_publish(s).await);
                 }
             }
         }

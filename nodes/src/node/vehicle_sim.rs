@@ -1,7 +1,8 @@
 //! vehicle_sim: /way_point and paths (/local_path by default) → a simulated ground
 //! vehicle with a spinning LiDAR → /state_estimation, /registered_scan, /clock,
 //! /vehicle_status, /tf (map → base_link) and /tf_static (base_link → sensor).
-//! Simulated time runs `time_factor` times faster than wall time.
+//! Simulated time is robot time: `time_factor` times faster than wall time
+//! while the vehicle drives or turns, wall speed while it waits for orders.
 
 use std::time::{Duration, Instant};
 
@@ -9,7 +10,9 @@ use serde::Deserialize;
 use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
 use skyground_core::mission::VehicleStatus;
 use skyground_core::scene::load_scene;
-use skyground_core::vehicle::{Every, ScanSchedule, Step, Vehicle, VehicleConfig, free_spot};
+use skyground_core::vehicle::{
+    Every, RobotClock, ScanSchedule, Step, Vehicle, VehicleConfig, free_spot,
+};
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::geometry_msgs::PointStamped;
@@ -103,7 +106,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     };
     let mount = [0.0, 0.0, f64::from(p.vehicle.sensor_height)];
     let sensor_mount = transform(&body, &p.sensor_frame_id, mount, 0.0);
-    let _ = tf_static_pub.async_publish(tf_message(sensor_mount)).await;
+    rt.log.sent(
+        "/tf_static",
+        tf_static_pub.async_publish(tf_message(sensor_mount)).await,
+    );
     let (tx, mut paths) = mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
     let (goal_tx, mut goals) = mpsc::channel::<[f32; 2]>(16);
@@ -118,7 +124,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);
     let mut scan_due = ScanSchedule::new(rate, p.scan_min_move_m, p.stationary_scan_period_s);
-    let mut sim = 0.0f64;
+    let mut clock = RobotClock::new(p.step_s, p.time_factor);
     let mut scans = 0u64;
     let wall0 = Instant::now();
     while !rt.shutdown.requested() {
@@ -132,7 +138,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             vehicle.set_path(pts.iter().map(|q| [q[0], q[1]]));
         }
         let step = vehicle.step(&caster, p.step_s as f32);
-        sim += p.step_s;
+        let pause = clock.tick(step != Step::Idle, wall0.elapsed().as_secs_f64());
+        let sim = clock.now();
         let h = Header {
             stamp: stamp(sim),
             frame_id: p.frame_id.clone(),
@@ -142,19 +149,25 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             rt.log.warn(&format!("blocked going to {at}: {reason}"));
         }
         if let Some(s) = VehicleStatus::from_step("vehicle_sim", &step, &vehicle.state) {
-            let _ = status_pub
+            let r = status_pub
                 .async_publish(array(h.clone(), s.to_wire()))
                 .await;
+            rt.log.sent("/vehicle_status", r);
         }
         if clock_due.due(sim) {
-            let _ = clock_pub.async_publish(Clock { clock: stamp(sim) }).await;
+            rt.log.sent(
+                "/clock",
+                clock_pub.async_publish(Clock { clock: stamp(sim) }).await,
+            );
         }
         if odom_due.due(sim) {
             let at = vehicle.state.position.map(f64::from);
             let pose = transform(&h, &p.child_frame_id, at, vehicle.state.yaw);
             let o = odometry(h.clone(), &p.child_frame_id, &vehicle.state);
-            let _ = odom_pub.async_publish(o).await;
-            let _ = tf_pub.async_publish(tf_message(pose)).await;
+            rt.log
+                .sent("/state_estimation", odom_pub.async_publish(o).await);
+            rt.log
+                .sent("/tf", tf_pub.async_publish(tf_message(pose)).await);
         }
         let sensor = vehicle.sensor_position();
         if scan_due.due(sim, sensor) {
@@ -163,20 +176,20 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 scan(&caster, &p.lidar, &pose, scans).map_err(|e| err(format!("lidar: {e}")))?;
             let cloud = points.to_cloud(caster.origin());
             let msg = encode(&cloud, h, &EncodeOptions::default());
-            let _ = scan_pub.async_publish(msg).await;
+            rt.log
+                .sent("/registered_scan", scan_pub.async_publish(msg).await);
             scans += 1;
         }
-        // Keep simulated time `time_factor` ahead of wall time, never behind.
-        let due = Duration::from_secs_f64(sim / p.time_factor);
-        let now = wall0.elapsed();
-        if due > now {
-            tokio::time::sleep(due - now).await;
+        if pause > 0.0 {
+            tokio::time::sleep(Duration::from_secs_f64(pause)).await;
         } else {
             tokio::task::yield_now().await;
         }
     }
+    let (working, waiting) = clock.split();
     rt.log.info(&format!(
-        "stopped after {sim:.1} simulated s in {:.1} wall s, {scans} scans, {:.1} m driven",
+        "stopped after {:.1} simulated s ({working:.1} s driving or turning, {waiting:.1} s waiting for orders) in {:.1} wall s, {scans} scans, {:.1} m driven",
+        clock.now(),
         wall0.elapsed().as_secs_f64(),
         vehicle.state.odometer
     ));

@@ -107,4 +107,10 @@ impl Logger {
     pub fn error(&self, msg: &str) {
         self.log(Level::Error, msg);
     }
+
+    /// Logs a failed publish on `topic` (a DDS write error) and says whether it went out.
+    pub fn sent<E: std::fmt::Debug>(&self, topic: &str, r: Result<(), E>) -> bool {
+        r.map_err(|e| self.warn(&format!("publishing on {topic} failed: {e:?}")))
+            .is_ok()
+    }
 }
