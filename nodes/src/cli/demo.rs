@@ -971,3 +971,31 @@ fn report(
     );
     Ok(e)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cloud(n: usize) -> Cloud {
+        let mut c = Cloud::from_xyz((0..n).map(|i| [i as f32, 0.0, 0.0]).collect());
+        c.label = Some(vec![class::BUILDING; n]);
+        c
+    }
+
+    #[test]
+    fn only_the_appended_points_are_new() {
+        let (old, now) = (cloud(3), cloud(5));
+        let new = arrived_points(Some(&old), &now);
+        assert_eq!(new.xyz, vec![[3.0, 0.0, 0.0], [4.0, 0.0, 0.0]]);
+        assert_eq!(new.label, None);
+        assert_eq!(arrived_points(None, &now).len(), 5);
+    }
+
+    #[test]
+    fn a_restarted_explorer_sends_all_points_again() {
+        let mut now = cloud(5);
+        now.xyz[1][2] = 9.0;
+        assert_eq!(arrived_points(Some(&cloud(3)), &now).len(), 5);
+        assert_eq!(arrived_points(Some(&cloud(6)), &cloud(5)).len(), 5);
+    }
+}
