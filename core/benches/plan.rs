@@ -4,7 +4,8 @@
 //! - `plan/graph_matrix_tour`: ground graph build + distance matrix + both tours (target ≤ 1 s);
 //! - `plan/explore_cycle`: one explorer update with a VLP-16 scan + viewpoint reselection (target ≤ 100 ms);
 //! - `plan/voxel_merge_40_scans`: 40 VLP-16 scans, 0.2 m apart (2 s of driving at 10 Hz), into the
-//!   explorer's 5 cm de-duplication, as /resampled_cloud is kept.
+//!   explorer's 5 cm de-duplication, as /resampled_cloud is kept;
+//! - `plan/voxel_merge_40_scans_into_15M`: the same scans again into a merge holding 15 M voxels.
 
 #[path = "../tests/planning_scene/mod.rs"]
 mod planning_scene;
@@ -95,6 +96,36 @@ fn benches(c: &mut Criterion) {
                 }
             }
             m.len()
+        })
+    });
+    // The same scans once more into a merge that already holds them and a
+    // whole mission's other voxels (15 M, as after the reference demo): what
+    // every scan costs the explorer late in a mission.
+    let mut full = VoxelMerge::new(0.05).unwrap();
+    for i in 0..3873 {
+        for j in 0..3873 {
+            full.add([
+                (i as f32 + 0.5) * 0.05 - 500.0,
+                (j as f32 + 0.5) * 0.05 - 500.0,
+                -50.0,
+            ]);
+        }
+    }
+    for s in &scans {
+        for p in s {
+            full.add(*p);
+        }
+    }
+    println!("voxel_merge: {} voxels held", full.len());
+    group.bench_function("voxel_merge_40_scans_into_15M", |b| {
+        b.iter(|| {
+            let mut new = 0;
+            for s in &scans {
+                for p in s {
+                    new += usize::from(full.add(black_box(*p)));
+                }
+            }
+            new
         })
     });
     group.finish();

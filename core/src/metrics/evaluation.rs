@@ -6,8 +6,8 @@ use serde::Serialize;
 
 use super::accuracy::{cloud_to_mesh_distances, mean_cloud_to_mesh};
 use super::completeness::{CompletenessReport, completeness, report_from_distances};
-use super::nearest::nearest_distances;
 use super::gt::GtSamples;
+use super::nearest::nearest_distances;
 use crate::cloud::{Cloud, class};
 use crate::scene::Scene;
 
@@ -125,7 +125,10 @@ impl MeasureSoFar {
         let pts = building_points(cloud, gt.origin);
         self.points += cloud.len();
         self.building_points += pts.len();
-        self.finite_points += pts.iter().filter(|p| p.iter().all(|v| v.is_finite())).count();
+        self.finite_points += pts
+            .iter()
+            .filter(|p| p.iter().all(|v| v.is_finite()))
+            .count();
         if pts.is_empty() {
             return;
         }
@@ -165,7 +168,12 @@ pub fn evaluate(
     after: &Cloud,
     tau: f32,
 ) -> Evaluation {
-    compare(tau, gt.len(), measure(scene, gt, before, tau), measure(scene, gt, after, tau))
+    compare(
+        tau,
+        gt.len(),
+        measure(scene, gt, before, tau),
+        measure(scene, gt, after, tau),
+    )
 }
 
 /// The evaluation of two measurements against the same `gt_samples` samples.
@@ -316,7 +324,11 @@ mod tests {
         // distances are not all 0), the rest.
         let shifted: Vec<[f32; 3]> = gt.xyz.iter().map(|p| [p[0] + 0.2, p[1], p[2]]).collect();
         let n = shifted.len();
-        let parts = [&shifted[..n / 3], &shifted[n / 3..2 * n / 3], &shifted[2 * n / 3..]];
+        let parts = [
+            &shifted[..n / 3],
+            &shifted[n / 3..2 * n / 3],
+            &shifted[2 * n / 3..],
+        ];
         let mut so_far = MeasureSoFar::new(&gt, 0.25);
         for part in parts {
             so_far.add(&scene, &gt, &Cloud::from_xyz(part.to_vec()));
@@ -333,7 +345,12 @@ mod tests {
         assert!(close(p.mean_gt_distance, w.mean_gt_distance));
         assert!(close(parts.mean_cloud_to_mesh, whole.mean_cloud_to_mesh));
         assert!(parts.mean_cloud_to_mesh.unwrap() > 0.01);
-        assert!(p.buildings.iter().zip(&w.buildings).all(|(a, b)| a.all.ratio == b.all.ratio));
+        assert!(
+            p.buildings
+                .iter()
+                .zip(&w.buildings)
+                .all(|(a, b)| a.all.ratio == b.all.ratio)
+        );
     }
 
     #[test]

@@ -115,6 +115,7 @@ pub struct ExplorerMachine {
     last_done: Option<(usize, u32, f64)>,
     published_rounds: Vec<u32>,
     merged: VoxelMerge,
+    scans: usize,
     out: Vec<ExplorerCommand>,
 }
 
@@ -137,6 +138,7 @@ impl ExplorerMachine {
             last_done: None,
             published_rounds: Vec::new(),
             merged,
+            scans: 0,
             out: Vec::new(),
         })
     }
@@ -144,6 +146,11 @@ impl ExplorerMachine {
     /// The building points scanned so far, voxel de-duplicated.
     pub fn resampled(&self) -> &[[f32; 3]] {
         self.merged.points()
+    }
+
+    /// Scans received so far (what the simulator sent less what DDS dropped).
+    pub fn scans(&self) -> usize {
+        self.scans
     }
 
     /// The ground graph regions are explored on (once one was requested).
@@ -169,6 +176,7 @@ impl ExplorerMachine {
             }
             ExplorerEvent::Planner(s) => self.on_planner(s),
             ExplorerEvent::Scan { xyz, labels } => {
+                self.scans += 1;
                 for (i, q) in xyz.iter().enumerate() {
                     let l = labels.as_ref().map(|l| l.get(i));
                     if l.is_none_or(|l| l == Some(&class::BUILDING)) {

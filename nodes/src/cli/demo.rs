@@ -733,9 +733,8 @@ pub(super) fn mission_scene(
 }
 
 /// The prior's models, made in the background while the mission runs.
-type ModelsBefore = std::thread::JoinHandle<
-    Result<skyground_core::reconstruct::ModelEvaluation, RuntimeError>,
->;
+type ModelsBefore =
+    std::thread::JoinHandle<Result<skyground_core::reconstruct::ModelEvaluation, RuntimeError>>;
 
 /// The points of `now` (the whole resampled cloud so far) that `before` did
 /// not have: the explorer only appends, so `before` is a prefix unless the

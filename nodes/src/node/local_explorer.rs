@@ -166,8 +166,9 @@ async fn perform(
             let mut c = Cloud::from_xyz(ex.resampled().to_vec());
             c.label = Some(vec![class::BUILDING; c.len()]);
             rt.log.info(&format!(
-                "publishing /resampled_cloud: {} building points",
-                c.len()
+                "publishing /resampled_cloud: {} building points from {} scans",
+                c.len(),
+                ex.scans()
             ));
             resampled_pub
                 .publish(encode(&c, h, &EncodeOptions { double: false }))
