@@ -156,7 +156,11 @@ impl Cloud {
         crs.vertical_unit = unit;
         crs.unit_source = UnitSource::User;
         let new = crs.to_metre();
-        let r = [0, 1, 2].map(|k| new[k] / old[k]);
+        self.rescale([0, 1, 2].map(|k| new[k] / old[k]));
+    }
+
+    /// Multiplies points and origin by `r` per axis (a change of unit).
+    pub(crate) fn rescale(&mut self, r: [f64; 3]) {
         if r == [1.0; 3] {
             return;
         }
