@@ -33,9 +33,8 @@ pub struct ClassifyArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
-    #[arg(long, value_parser = super::info::parse_unit)]
-    pub units: Option<skyground_core::crs::LinearUnit>,
+    #[command(flatten)]
+    pub units: super::units::UnitsArg,
 }
 
 /// Options of `skyground train`.
@@ -109,10 +108,7 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     )?;
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
     let t0 = Instant::now();
-    let mut cloud = read_cloud(&a.input).map_err(err)?;
-    if let Some(u) = &a.units {
-        cloud.set_unit(u.clone());
-    }
+    let mut cloud = a.units.read(&a.input)?;
     let read_s = t0.elapsed().as_secs_f64();
     let classified = classifier
         .classify_cloud(&cloud)

@@ -8,7 +8,7 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
-use skyground_core::cloud::{Cloud, class, read_cloud, write_cloud};
+use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints_in};
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
@@ -47,9 +47,8 @@ pub struct DetectArgs {
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
-    #[arg(long, value_parser = super::info::parse_unit)]
-    pub units: Option<skyground_core::crs::LinearUnit>,
+    #[command(flatten)]
+    pub units: super::units::UnitsArg,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -128,10 +127,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     )?;
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let t0 = Instant::now();
-    let mut cloud: Cloud = read_cloud(&a.input).map_err(err)?;
-    if let Some(u) = &a.units {
-        cloud.set_unit(u.clone());
-    }
+    let mut cloud: Cloud = a.units.read(&a.input)?;
     let labelled = cloud
         .label
         .as_ref()

@@ -18,6 +18,7 @@ pub mod prior;
 pub mod reconstruct;
 pub mod record;
 pub mod sink;
+pub mod units;
 
 use std::time::{Duration, Instant};
 
