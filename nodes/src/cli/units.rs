@@ -31,15 +31,3 @@ impl UnitsArg {
 pub fn parse_unit(text: &str) -> Result<LinearUnit, String> {
     LinearUnit::parse(text).ok_or_else(|| format!("unknown unit `{text}` (m, ft, ftUS)"))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn units_parse_by_short_and_long_name_and_reject_others() {
-        assert_eq!(parse_unit("ftUS"), Ok(LinearUnit::UsSurveyFoot));
-        assert_eq!(parse_unit("m"), Ok(LinearUnit::Metre));
-        assert!(parse_unit("furlong").unwrap_err().contains("furlong"));
-    }
-}
