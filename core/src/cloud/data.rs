@@ -56,6 +56,17 @@ impl Cloud {
         }
     }
 
+    /// Positions of the points labelled `label` (none when the cloud is unlabelled).
+    pub fn xyz_of_class(&self, label: u8) -> Vec<[f32; 3]> {
+        let labels = self.label.as_deref().unwrap_or_default();
+        self.xyz
+            .iter()
+            .zip(labels)
+            .filter(|(_, l)| **l == label)
+            .map(|(p, _)| *p)
+            .collect()
+    }
+
     /// Number of points.
     pub fn len(&self) -> usize {
         self.xyz.len()

@@ -177,13 +177,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     targets.points = kept;
     let targets_s = t2.elapsed().as_secs_f64();
 
-    let bpts: Vec<[f32; 3]> = cloud
-        .xyz
-        .iter()
-        .zip(labels)
-        .filter(|(_, l)| **l == class::BUILDING)
-        .map(|(p, _)| *p)
-        .collect();
+    let bpts = cloud.xyz_of_class(class::BUILDING);
     let mut missing = Cloud::from_xyz(detection.missing_xyz());
     missing.building = Some(
         detection
