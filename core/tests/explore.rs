@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use planning_scene::{corner_region, graph, start, world};
 use skyground_core::explore::{ExploreError, ExploreParams, Explorer, SurfaceSamples, resample};
-use skyground_core::graph::{GraphParams, GroundGraph, polygon_contains};
+use skyground_core::graph::{GroundGraph, polygon_contains};
 use skyground_core::lidar::{LidarConfig, Pose, scan};
 use skyground_core::metrics::{SurfaceKind, nearest_distances};
 use skyground_core::targets::Region;

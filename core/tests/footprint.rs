@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use geo::{Area, BooleanOps, Distance, Euclidean};
+use skyground_core::cloud::Cloud;
 use skyground_core::cloud::class::BUILDING;
-use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::footprint::{
     DeriveParams, Footprint, FootprintError, ParseError, RingProblem, SplitParams, derive,
     footprints_of_scene, iou, load_footprints, match_footprints, parse_cityjson_footprints,

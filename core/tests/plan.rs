@@ -9,7 +9,7 @@ mod planning_scene;
 use planning_scene::{
     building_box, building_named, graph, ground_z, kind_below, start, target_set, world,
 };
-use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::graph::GraphParams;
 use skyground_core::route::{RouteParams, Stop, TourChoice, Visited, plan, replan};
 use skyground_core::scene::ObjectKind;
 use skyground_core::targets::{TargetPoint, TargetSet};
