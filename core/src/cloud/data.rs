@@ -47,6 +47,16 @@ pub struct Cloud {
     pub crs: Option<Crs>,
 }
 
+/// The positions whose entry in the per-point `column` (labels, building
+/// ids) equals `value`.
+pub fn positions_where<T: PartialEq>(xyz: &[[f32; 3]], column: &[T], value: T) -> Vec<[f32; 3]> {
+    xyz.iter()
+        .zip(column)
+        .filter(|(_, c)| **c == value)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
 impl Cloud {
     /// A cloud of bare positions with origin zero.
     pub fn from_xyz(xyz: Vec<[f32; 3]>) -> Self {
@@ -58,13 +68,7 @@ impl Cloud {
 
     /// Positions of the points labelled `label` (none when the cloud is unlabelled).
     pub fn xyz_of_class(&self, label: u8) -> Vec<[f32; 3]> {
-        let labels = self.label.as_deref().unwrap_or_default();
-        self.xyz
-            .iter()
-            .zip(labels)
-            .filter(|(_, l)| **l == label)
-            .map(|(p, _)| *p)
-            .collect()
+        positions_where(&self.xyz, self.label.as_deref().unwrap_or_default(), label)
     }
 
     /// Number of points.
