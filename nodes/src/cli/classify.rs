@@ -11,6 +11,7 @@ use skyground_core::classify::{
 use skyground_core::cloud::{read_cloud, write_cloud};
 use skyground_core::ground::CsfParams;
 
+use super::err;
 use crate::node::scene_classifier::load_model;
 use crate::runtime::{RuntimeError, params::ParamSet};
 
@@ -74,10 +75,6 @@ pub struct TrainArgs {
 #[derive(Debug, Deserialize)]
 struct NodeParams {
     csf: CsfParams,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 fn csf_params(file: Option<&std::path::Path>) -> Result<CsfParams, RuntimeError> {

@@ -18,6 +18,7 @@ use skyground_core::plot::detection_picture_in;
 use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
+use super::err;
 use crate::convert::detection::strategy_name;
 use crate::node::scene_classifier::load_model;
 use crate::runtime::{RuntimeError, params::ParamSet};
@@ -65,10 +66,6 @@ struct DetectorParams {
 struct GeneratorParams {
     #[serde(default)]
     targets: TargetParams,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 /// A node's params section as `T`, from its config/ defaults and an optional file

@@ -10,6 +10,7 @@ use skyground_core::crs::{Crs, JsonCrs, cityjson_crs, geojson_crs};
 use skyground_core::footprint::load_footprints;
 use skyground_core::scene::load_scene;
 
+use super::err;
 use crate::runtime::RuntimeError;
 
 /// Options of `skyground info`.
@@ -22,10 +23,6 @@ pub struct InfoArgs {
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 const UNKNOWN: &str = "unknown CRS, metres assumed";

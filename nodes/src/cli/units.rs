@@ -19,7 +19,7 @@ pub struct UnitsArg {
 impl UnitsArg {
     /// Reads the cloud at `path`, its coordinates taken in `--units` when given.
     pub fn read(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        let mut cloud = read_cloud(path).map_err(|e| RuntimeError::Node(e.to_string()))?;
+        let mut cloud = read_cloud(path).map_err(super::err)?;
         if let Some(u) = &self.units {
             cloud.set_unit(u.clone());
         }
