@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{BatchSize, Criterion};
-use planning_scene::{corner_region, start, target_set, world};
+use planning_scene::{corner_region, graph, start, target_set, world};
 use skyground_core::explore::{ExploreParams, Explorer, VoxelMerge};
 use skyground_core::graph::{GraphParams, GroundGraph, polygon_contains};
 use skyground_core::lidar::{LidarConfig, Pose, scan};
@@ -36,7 +36,7 @@ fn benches(c: &mut Criterion) {
                 .length_m
         })
     });
-    let g = Arc::new(GroundGraph::build(&w.xyz, &w.labels, s, &GraphParams::default()).unwrap());
+    let g = Arc::new(graph());
     let region = corner_region(w, 2, 6.0, 12.0);
     // All wall samples of the corner (not only the missing ones): the heavier case.
     let surface: Vec<[f32; 3]> = (0..w.gt.len())

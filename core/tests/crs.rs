@@ -2,7 +2,7 @@
 //! README): units read from their WKT and GeoTIFF records, metres inside, and
 //! written files that keep the records and the feet.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
 use skyground_core::crs::{LinearUnit, UnitSource};
@@ -66,26 +66,42 @@ fn assert_written_in_feet(input: &Path, c: &Cloud, test: &str) {
     std::fs::remove_dir(&dir).unwrap();
 }
 
-#[test]
-fn nebraska_us_survey_feet_in_metres_inside_and_feet_outside() {
-    let Some(path) = real_file("laspy_nebraska_ftus.las") else {
-        return;
-    };
+/// Real file `name` read, after checking that its CRS is `crs_name` with
+/// x, y and z in `unit` (as its WKT says) and that its extent, `extent` in
+/// that unit, is read as metres.
+fn read_in_feet(
+    name: &str,
+    unit: LinearUnit,
+    crs_name: &str,
+    extent: [f64; 3],
+) -> Option<(PathBuf, Cloud)> {
+    let path = real_file(name)?;
     let c = read_cloud(&path).unwrap();
     let crs = c.crs.clone().expect("the file has WKT and GeoTIFF records");
-    assert_eq!(crs.horizontal_unit, LinearUnit::UsSurveyFoot);
-    assert_eq!(crs.vertical_unit, LinearUnit::UsSurveyFoot);
+    assert_eq!((&crs.horizontal_unit, &crs.vertical_unit), (&unit, &unit));
     assert_eq!(crs.unit_source, UnitSource::Wkt);
-    assert_eq!(crs.name.as_deref(), Some("NAD83_2011_Nebraska_ft"));
-    // Header: 2445180–2445239.99 × 604300–604339.98 × 1352.7–1403.96 ftUS.
-    let ft = 1200.0 / 3937.0;
+    assert_eq!(crs.name.as_deref(), Some(crs_name));
     let e = extent_m(&c).map(f64::from);
     assert_near(
         e,
-        [59.99 * ft, 39.98 * ft, 51.26 * ft],
+        extent.map(|v| v * unit.to_metre()),
         0.01,
         "extent in metres",
     );
+    Some((path, c))
+}
+
+#[test]
+fn nebraska_us_survey_feet_in_metres_inside_and_feet_outside() {
+    // Header: 2445180–2445239.99 × 604300–604339.98 × 1352.7–1403.96 ftUS.
+    let Some((path, c)) = read_in_feet(
+        "laspy_nebraska_ftus.las",
+        LinearUnit::UsSurveyFoot,
+        "NAD83_2011_Nebraska_ft",
+        [59.99, 39.98, 51.26],
+    ) else {
+        return;
+    };
     let first = c.source_coordinates(c.xyz[0]);
     let (lo, hi) = file_bounds(&path);
     for k in 0..3 {
@@ -99,25 +115,15 @@ fn nebraska_us_survey_feet_in_metres_inside_and_feet_outside() {
 
 #[test]
 fn autzen_international_feet_in_metres_inside_and_feet_outside() {
-    let Some(path) = real_file("autzen_trim.las") else {
+    // 1178 × 563 × 114 ft (PDAL's test file; its README said metres).
+    let Some((path, c)) = read_in_feet(
+        "autzen_trim.las",
+        LinearUnit::Foot,
+        "NAD_1983_HARN_Lambert_Conformal_Conic",
+        [1177.46, 562.70, 114.25],
+    ) else {
         return;
     };
-    let c = read_cloud(&path).unwrap();
-    let crs = c.crs.clone().expect("the file has WKT and GeoTIFF records");
-    assert_eq!(crs.horizontal_unit, LinearUnit::Foot);
-    assert_eq!(crs.vertical_unit, LinearUnit::Foot);
-    assert_eq!(
-        crs.name.as_deref(),
-        Some("NAD_1983_HARN_Lambert_Conformal_Conic")
-    );
-    // 1178 × 563 × 114 ft (PDAL's test file; its README said metres).
-    let e = extent_m(&c).map(f64::from);
-    assert_near(
-        e,
-        [1177.46 * 0.3048, 562.70 * 0.3048, 114.25 * 0.3048],
-        0.01,
-        "extent",
-    );
     assert_written_in_feet(&path, &c, "autzen");
 }
 

@@ -12,8 +12,8 @@ use geo::{Area, Contains, Coord, LineString, MultiPolygon, Polygon};
 use skyground_core::cloud::read_cloud;
 use skyground_core::metrics::sample_building_surfaces;
 use skyground_core::missing::{
-    DetectParams, Detection, GroundGrid, SkipReason, Strategy, detect_all, detect_all_on,
-    detect_building, evaluate,
+    BuildingDetection, DetectParams, Detection, GroundGrid, SkipReason, Strategy, detect_all,
+    detect_all_on, detect_building, evaluate,
 };
 use skyground_core::scene::{Scene, load_scene};
 
@@ -32,23 +32,31 @@ fn prior_buildings(scene: &Scene) -> Prior {
     (p.buildings, p.ids, p.xyz, terrain)
 }
 
+/// The header of [`row`]'s table.
+const HEADER: &str = "building points slices structures boundary missing R_missing strategy";
+
+/// One building's figures as a row under [`HEADER`].
+fn row(b: &BuildingDetection) -> String {
+    match &b.skipped {
+        Some(r) => format!("{:>8} {:>6} skipped: {r}", b.building, b.points),
+        None => format!(
+            "{:>8} {:>6} {:>6} {:>10} {:>8} {:>7} {:>9.3} {:?}",
+            b.building,
+            b.points,
+            b.slices.len(),
+            b.structures.len(),
+            b.boundary.len(),
+            b.missing.len(),
+            b.r_missing,
+            b.strategy
+        ),
+    }
+}
+
 fn print_detection(det: &Detection) {
-    println!("building points slices structures boundary missing R_missing strategy");
+    println!("{HEADER}");
     for b in &det.buildings {
-        match &b.skipped {
-            Some(r) => println!("{:>8} {:>6} skipped: {r}", b.building, b.points),
-            None => println!(
-                "{:>8} {:>6} {:>6} {:>10} {:>8} {:>7} {:>9.3} {:?}",
-                b.building,
-                b.points,
-                b.slices.len(),
-                b.structures.len(),
-                b.boundary.len(),
-                b.missing.len(),
-                b.r_missing,
-                b.strategy
-            ),
-        }
+        println!("{}", row(b));
     }
 }
 
@@ -223,16 +231,10 @@ fn city3d_building_with_footprint() {
     for (name, d) in [("footprint", &with), ("derived", &without)] {
         assert!(d.skipped.is_none(), "{:?}", d.skipped);
         println!(
-            "CITY3D {name}: {} points, ground {:.1} top {:.1}, {} slices, {} structures, {} boundary points, {} missing, R_missing {:.3} → {:?}",
-            d.points,
+            "CITY3D {name}: ground {:.1} top {:.1}\n{HEADER}\n{}",
             d.ground_z,
             d.top_z,
-            d.slices.len(),
-            d.structures.len(),
-            d.boundary.len(),
-            d.missing.len(),
-            d.r_missing,
-            d.strategy
+            row(d)
         );
         for s in &d.slices {
             println!(

@@ -7,9 +7,9 @@ mod planning_scene;
 
 use std::sync::Arc;
 
-use planning_scene::{corner_region, start, world};
+use planning_scene::{corner_region, graph, start, world};
 use skyground_core::explore::{ExploreError, ExploreParams, Explorer, SurfaceSamples, resample};
-use skyground_core::graph::{GraphParams, GroundGraph, polygon_contains};
+use skyground_core::graph::{GroundGraph, polygon_contains};
 use skyground_core::lidar::{LidarConfig, Pose, scan};
 use skyground_core::metrics::{SurfaceKind, nearest_distances};
 use skyground_core::targets::Region;
@@ -78,8 +78,7 @@ fn reachable_coverage(
 #[test]
 fn coverage_rises_with_every_scan_until_done() {
     let w = world();
-    let g =
-        Arc::new(GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap());
+    let g = Arc::new(graph());
     let params = ExploreParams::default();
     let lidar = LidarConfig::default();
     for b in [2u32, 9] {
@@ -144,8 +143,7 @@ fn coverage_rises_with_every_scan_until_done() {
 #[test]
 fn bad_input_gives_errors() {
     let w = world();
-    let g =
-        Arc::new(GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap());
+    let g = Arc::new(graph());
     let region = corner_region(w, 2, 6.0, 12.0);
     let p = ExploreParams::default();
     let bad = SurfaceSamples {
@@ -180,8 +178,7 @@ fn bad_input_gives_errors() {
 #[test]
 fn path_to_follows_graph_edges_to_the_target_node() {
     let w = world();
-    let g =
-        Arc::new(GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap());
+    let g = Arc::new(graph());
     let region = corner_region(w, 2, 6.0, 12.0);
     let ex = Explorer::new(&region, vec![], &[], g.clone(), &ExploreParams::default()).unwrap();
     let from = start(w);

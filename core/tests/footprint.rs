@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use geo::{Area, BooleanOps, Distance, Euclidean};
+use skyground_core::cloud::Cloud;
 use skyground_core::cloud::class::BUILDING;
-use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::footprint::{
     DeriveParams, Footprint, FootprintError, ParseError, RingProblem, SplitParams, derive,
     footprints_of_scene, iou, load_footprints, match_footprints, parse_cityjson_footprints,
@@ -17,7 +17,7 @@ use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::scene::{REFERENCE_SEED, Scene, load_scene, reference_scene};
 
 mod common;
-use common::real_file;
+use common::{city3d_001, real_file};
 
 fn prior(scene: &Scene) -> Cloud {
     airborne_scan(&Caster::new(scene).unwrap(), &AirborneConfig::default()).unwrap()
@@ -319,14 +319,9 @@ fn delft_lod1_loads() {
 
 #[test]
 fn city3d_points_fall_inside_their_footprint() {
-    let (Some(ply), Some(obj)) = (
-        real_file("city3d_001.ply"),
-        real_file("city3d_001_footprint.obj"),
-    ) else {
+    let Some((cloud, loaded)) = city3d_001() else {
         return;
     };
-    let cloud = read_cloud(&ply).unwrap();
-    let loaded = load_footprints(&obj, cloud.origin).unwrap();
     assert_eq!(loaded.footprints.len(), 1);
     let fp = &loaded.footprints[0];
     let ring = &fp.polygon.0[0];

@@ -7,17 +7,12 @@
 mod planning_scene;
 
 use planning_scene::{
-    building_box, building_named, ground_z, kind_below, start, target_set, world,
+    building_box, building_named, graph, ground_z, kind_below, start, target_set, world,
 };
-use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::graph::GraphParams;
 use skyground_core::route::{RouteParams, Stop, TourChoice, Visited, plan, replan};
 use skyground_core::scene::ObjectKind;
 use skyground_core::targets::{TargetPoint, TargetSet};
-
-fn graph() -> GroundGraph {
-    let w = world();
-    GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap()
-}
 
 #[test]
 fn route_reaches_every_reachable_target_and_tsp_beats_greedy() {

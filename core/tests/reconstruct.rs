@@ -5,13 +5,11 @@
 
 use std::path::PathBuf;
 
-use skyground_core::cloud::read_cloud;
-use skyground_core::footprint::load_footprints;
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{ReconstructParams, cityjson, reconstruct_cloud};
 
 mod common;
-use common::real_file;
+use common::city3d_001;
 
 /// `cjval` from `SKYGROUND_CJVAL`, the workspace's `.tools/bin`, or PATH.
 fn cjval() -> Option<PathBuf> {
@@ -32,14 +30,9 @@ fn cjval() -> Option<PathBuf> {
 
 #[test]
 fn city3d_001_gives_a_valid_model_close_to_its_points() {
-    let (Some(ply), Some(obj)) = (
-        real_file("city3d_001.ply"),
-        real_file("city3d_001_footprint.obj"),
-    ) else {
+    let Some((cloud, loaded)) = city3d_001() else {
         return;
     };
-    let cloud = read_cloud(&ply).unwrap_or_else(|e| panic!("{e}"));
-    let loaded = load_footprints(&obj, cloud.origin).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(loaded.footprints.len(), 1);
     let rec = reconstruct_cloud(
         &cloud,

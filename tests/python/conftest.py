@@ -173,3 +173,38 @@ def qos(kind="reliable", depth=10):
     from peer_cloud import qos as peer_qos
 
     return peer_qos(kind, depth)
+
+
+def record_live_bag(ros, spawn, bag, points, path_xy, odom_x, gap):
+    """Records a live session into `bag` with `skyground record`: /aerial_cloud
+    from a cloud_publisher of `points` points, a latched /global_path through
+    `path_xy` and /state_estimation at x = each of `odom_x`, `gap` s apart.
+    On return the recorder has stopped cleanly and this node's publishers are
+    gone; the cloud publisher is returned (still running)."""
+    from geometry_msgs.msg import PoseStamped
+    from nav_msgs.msg import Odometry, Path as NavPath
+
+    path_pub = ros.node.create_publisher(NavPath, "/global_path", qos("latched", 1))
+    odom_pub = ros.node.create_publisher(Odometry, "/state_estimation", qos("reliable", 10))
+    source = spawn("cloud_publisher", "--ros-args", "-p", f"synthetic_points:={points}")
+    rec = spawn("skyground", "record", "-o", bag, "/aerial_cloud", "/global_path", "/state_estimation")
+    path = NavPath()
+    path.header.frame_id = "map"
+    for x, y in path_xy:
+        p = PoseStamped()
+        p.pose.position.x, p.pose.position.y = float(x), float(y)
+        path.poses.append(p)
+    path_pub.publish(path)
+    # Odometry is volatile: publish once the recorder subscribes.
+    assert ros.spin_until(lambda: odom_pub.get_subscription_count() > 0, 30), rec.stderr()
+    for x in odom_x:
+        o = Odometry()
+        o.header.frame_id = "map"
+        o.pose.pose.position.x = float(x)
+        odom_pub.publish(o)
+        ros.spin_until(lambda: False, gap)
+    ros.spin_until(lambda: False, 2.0)
+    assert rec.stop(signal.SIGINT) == 0, rec.stderr()
+    ros.node.destroy_publisher(path_pub)
+    ros.node.destroy_publisher(odom_pub)
+    return source

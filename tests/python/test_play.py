@@ -4,39 +4,17 @@ its timing."""
 import signal
 import time
 
-from conftest import qos
+from conftest import qos, record_live_bag
 
 
 def test_played_bag_reaches_rclpy_with_timing(spawn, ros, tmp_path):
-    from geometry_msgs.msg import PoseStamped
     from nav_msgs.msg import Odometry, Path
     from sensor_msgs.msg import PointCloud2
 
     bag = tmp_path / "for_play.mcap"
-    path_pub = ros.node.create_publisher(Path, "/global_path", qos("latched", 1))
-    odom_pub = ros.node.create_publisher(Odometry, "/state_estimation", qos("reliable", 10))
-    source = spawn("cloud_publisher", "--ros-args", "-p", "synthetic_points:=100000")
-    rec = spawn("skyground", "record", "-o", bag, "/aerial_cloud", "/global_path", "/state_estimation")
-    path = Path()
-    path.header.frame_id = "map"
-    for i in range(5):
-        p = PoseStamped()
-        p.pose.position.y = float(i)
-        path.poses.append(p)
-    path_pub.publish(path)
-    assert ros.spin_until(lambda: odom_pub.get_subscription_count() > 0, 30), rec.stderr()
-    for k in range(6):
-        o = Odometry()
-        o.header.frame_id = "map"
-        o.pose.pose.position.x = float(k)
-        odom_pub.publish(o)
-        ros.spin_until(lambda: False, 0.4)
-    ros.spin_until(lambda: False, 2.0)
-    assert rec.stop(signal.SIGINT) == 0, rec.stderr()
+    source = record_live_bag(ros, spawn, bag, 100000, [(0, i) for i in range(5)], range(6), 0.4)
     # Only the player may publish from here on.
     source.stop()
-    ros.node.destroy_publisher(path_pub)
-    ros.node.destroy_publisher(odom_pub)
 
     got = {"odom": [], "path": [], "tiles": []}
     ros.node.create_subscription(

@@ -6,35 +6,12 @@ import time
 import numpy as np
 from mcap_ros2.reader import read_ros2_messages
 
-from conftest import qos
+from conftest import qos, record_live_bag
 
 
 def test_recorded_bag_decodes_in_python(spawn, ros, tmp_path):
-    from geometry_msgs.msg import PoseStamped
-    from nav_msgs.msg import Odometry, Path
-
     bag = tmp_path / "live.mcap"
-    path_pub = ros.node.create_publisher(Path, "/global_path", qos("latched", 1))
-    odom_pub = ros.node.create_publisher(Odometry, "/state_estimation", qos("reliable", 10))
-    spawn("cloud_publisher", "--ros-args", "-p", "synthetic_points:=200000")
-    rec = spawn("skyground", "record", "-o", bag, "/aerial_cloud", "/global_path", "/state_estimation")
-    path = Path()
-    path.header.frame_id = "map"
-    for i in range(7):
-        p = PoseStamped()
-        p.pose.position.x = float(i)
-        path.poses.append(p)
-    path_pub.publish(path)
-    # Odometry is volatile: publish once the recorder subscribes.
-    assert ros.spin_until(lambda: odom_pub.get_subscription_count() > 0, 30), rec.stderr()
-    for k in range(5):
-        o = Odometry()
-        o.header.frame_id = "map"
-        o.pose.pose.position.x = 10.0 + k
-        odom_pub.publish(o)
-        ros.spin_until(lambda: False, 0.05)
-    ros.spin_until(lambda: False, 2.0)
-    assert rec.stop(signal.SIGINT) == 0, rec.stderr()
+    record_live_bag(ros, spawn, bag, 200000, [(i, 0) for i in range(7)], [10.0 + k for k in range(5)], 0.05)
 
     by_topic = {}
     for m in read_ros2_messages(str(bag)):

@@ -63,3 +63,19 @@ pub enum ClassifyError {
         message: String,
     },
 }
+
+impl ClassifyError {
+    /// `Ok` when column `what` has one value (`got` of them) per point
+    /// (`expected`), else [`ClassifyError::LengthMismatch`].
+    pub fn check_length(what: &'static str, expected: usize, got: usize) -> Result<(), Self> {
+        if got == expected {
+            Ok(())
+        } else {
+            Err(Self::LengthMismatch {
+                what,
+                expected,
+                got,
+            })
+        }
+    }
+}

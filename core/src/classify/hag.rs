@@ -18,13 +18,7 @@ pub fn hag_from_ground_points(
     xyz: &[[f32; 3]],
     is_ground: &[bool],
 ) -> Result<Vec<f32>, ClassifyError> {
-    if is_ground.len() != xyz.len() {
-        return Err(ClassifyError::LengthMismatch {
-            what: "is_ground",
-            expected: xyz.len(),
-            got: is_ground.len(),
-        });
-    }
+    ClassifyError::check_length("is_ground", xyz.len(), is_ground.len())?;
     if let Some(index) = xyz.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
         return Err(ClassifyError::NonFinite { index });
     }

@@ -23,13 +23,7 @@ pub fn classify(
         return Err(ClassifyError::Empty);
     }
     for (what, got) in [("hag", hag.len()), ("is_ground", is_ground.len())] {
-        if got != xyz.len() {
-            return Err(ClassifyError::LengthMismatch {
-                what,
-                expected: xyz.len(),
-                got,
-            });
-        }
+        ClassifyError::check_length(what, xyz.len(), got)?;
     }
     model.check()?;
     let rows: Vec<usize> = (0..xyz.len()).filter(|&i| !is_ground[i]).collect();

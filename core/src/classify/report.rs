@@ -60,13 +60,7 @@ impl ClassReport {
 
     /// Compares `predicted` with `truth` (producer LAS codes, folded).
     pub fn new(truth: &[u8], predicted: &[u8]) -> Result<Self, ClassifyError> {
-        if truth.len() != predicted.len() {
-            return Err(ClassifyError::LengthMismatch {
-                what: "predicted labels",
-                expected: truth.len(),
-                got: predicted.len(),
-            });
-        }
+        ClassifyError::check_length("predicted labels", truth.len(), predicted.len())?;
         let classes = vec![UNCLASSIFIED, GROUND, VEGETATION, BUILDING];
         let at = |c: u8| classes.iter().position(|&k| k == fold(c)).unwrap_or(0);
         let mut confusion = vec![vec![0u64; classes.len()]; classes.len()];

@@ -150,13 +150,7 @@ impl GroundReport {
     /// over the points of producer class 2–6, or over all points when the
     /// reference labels no class 3–6 point.
     pub fn new(truth: &[u8], is_ground: &[bool]) -> Result<Self, ClassifyError> {
-        if truth.len() != is_ground.len() {
-            return Err(ClassifyError::LengthMismatch {
-                what: "ground flags",
-                expected: truth.len(),
-                got: is_ground.len(),
-            });
-        }
+        ClassifyError::check_length("ground flags", truth.len(), is_ground.len())?;
         if truth.is_empty() {
             return Err(ClassifyError::Empty);
         }

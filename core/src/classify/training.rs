@@ -98,13 +98,7 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
     let mut x = Vec::new();
     let mut y = Vec::new();
     for (ci, c) in clouds.iter().enumerate() {
-        if c.label.len() != c.xyz.len() {
-            return Err(ClassifyError::LengthMismatch {
-                what: "training labels",
-                expected: c.xyz.len(),
-                got: c.label.len(),
-            });
-        }
+        ClassifyError::check_length("training labels", c.xyz.len(), c.label.len())?;
         let rows = balanced_rows(
             &c.label,
             c.candidates.as_deref(),

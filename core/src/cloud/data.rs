@@ -47,6 +47,16 @@ pub struct Cloud {
     pub crs: Option<Crs>,
 }
 
+/// The positions whose entry in the per-point `column` (labels, building
+/// ids) equals `value`.
+pub fn positions_where<T: PartialEq>(xyz: &[[f32; 3]], column: &[T], value: T) -> Vec<[f32; 3]> {
+    xyz.iter()
+        .zip(column)
+        .filter(|(_, c)| **c == value)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
 impl Cloud {
     /// A cloud of bare positions with origin zero.
     pub fn from_xyz(xyz: Vec<[f32; 3]>) -> Self {
@@ -54,6 +64,11 @@ impl Cloud {
             xyz,
             ..Self::default()
         }
+    }
+
+    /// Positions of the points labelled `label` (none when the cloud is unlabelled).
+    pub fn xyz_of_class(&self, label: u8) -> Vec<[f32; 3]> {
+        positions_where(&self.xyz, self.label.as_deref().unwrap_or_default(), label)
     }
 
     /// Number of points.
@@ -156,7 +171,11 @@ impl Cloud {
         crs.vertical_unit = unit;
         crs.unit_source = UnitSource::User;
         let new = crs.to_metre();
-        let r = [0, 1, 2].map(|k| new[k] / old[k]);
+        self.rescale([0, 1, 2].map(|k| new[k] / old[k]));
+    }
+
+    /// Multiplies points and origin by `r` per axis (a change of unit).
+    pub(crate) fn rescale(&mut self, r: [f64; 3]) {
         if r == [1.0; 3] {
             return;
         }

@@ -38,22 +38,6 @@ pub struct BuildingFigures {
     pub after: Option<f64>,
 }
 
-/// Point targets and regions of one building.
-pub fn target_counts(targets: &TargetSet, building: u32) -> (usize, usize) {
-    (
-        targets
-            .points
-            .iter()
-            .filter(|t| t.building == building)
-            .count(),
-        targets
-            .regions
-            .iter()
-            .filter(|r| r.building == building)
-            .count(),
-    )
-}
-
 /// The figures detection gives: detected completeness is 1 − R_missing.
 pub fn detection_figures(detection: &Detection, targets: &TargetSet) -> Vec<BuildingFigures> {
     detection
@@ -68,8 +52,8 @@ pub fn detection_figures(detection: &Detection, targets: &TargetSet) -> Vec<Buil
             missing_points: b.missing.len(),
             r_missing: f64::from(b.r_missing),
             strategy: b.skipped.is_none().then_some(b.strategy),
-            target_points: target_counts(targets, b.building).0,
-            target_regions: target_counts(targets, b.building).1,
+            target_points: targets.counts_of(b.building).0,
+            target_regions: targets.counts_of(b.building).1,
             before: None,
             after: None,
         })

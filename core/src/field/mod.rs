@@ -9,7 +9,7 @@ mod route;
 mod targets;
 
 pub use completeness::{
-    BuildingFigures, completeness_csv, completeness_geojson, detection_figures, target_counts,
+    BuildingFigures, completeness_csv, completeness_geojson, detection_figures,
 };
 pub use geojson::feature_collection;
 pub use route::{path_geojson, route_geojson};

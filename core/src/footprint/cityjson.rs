@@ -11,11 +11,14 @@
 use std::collections::{BTreeMap, HashMap};
 
 use geo::Polygon;
+use serde::Deserialize;
 use serde_json::Value;
 
 use super::error::{ParseError, Skipped, shape};
 use super::polygon::{ring, union_valid};
 use super::types::{Footprint, Loaded};
+use crate::scene::cityjson::boundaries::{self, Surface};
+use crate::scene::cityjson::model::Geometry;
 
 /// Parent links followed at most this deep (guards against cycles).
 const MAX_DEPTH: usize = 32;
@@ -150,30 +153,6 @@ fn root_of<'a>(
     objects.get_key_value(cur).map_or(id, |(k, _)| k.as_str())
 }
 
-/// Array levels above the surface level for surface geometry types.
-fn surface_depth(kind: &str) -> Option<usize> {
-    match kind {
-        "MultiSurface" | "CompositeSurface" => Some(0),
-        "Solid" => Some(1),
-        "MultiSolid" | "CompositeSolid" => Some(2),
-        _ => None,
-    }
-}
-
-fn lod_value(g: &Value) -> f64 {
-    match g.get("lod") {
-        Some(Value::Number(n)) => n.as_f64().unwrap_or(0.0),
-        Some(Value::String(s)) => s.trim().parse().unwrap_or(0.0),
-        _ => 0.0,
-    }
-}
-
-/// One surface: rings of vertex indices, and its semantic type if any.
-struct Surface<'a> {
-    rings: &'a [Value],
-    semantic: Option<&'a str>,
-}
-
 /// The footprint polygons of one object (empty when it has no surface geometry).
 fn object_footprint(
     id: &str,
@@ -182,47 +161,40 @@ fn object_footprint(
     origin: [f64; 3],
     skipped: &mut Vec<Skipped>,
 ) -> Result<Vec<Polygon<f64>>, ParseError> {
-    let geoms = object.get("geometry").and_then(Value::as_array);
-    let best = geoms
+    // The highest-LoD surface geometry, read as the scene's CityJSON reader reads it.
+    let geoms: Vec<Geometry> = object
+        .get("geometry")
+        .and_then(Value::as_array)
         .into_iter()
         .flatten()
-        .filter_map(|g| Some((g, surface_depth(g.get("type")?.as_str()?)?)))
-        .max_by(|a, b| lod_value(a.0).total_cmp(&lod_value(b.0)));
-    let Some((g, depth)) = best else {
+        .filter_map(|g| Geometry::deserialize(g).ok())
+        .filter(|g| g.surface_depth().is_some())
+        .collect();
+    let Some(g) = geoms
+        .iter()
+        .max_by(|a, b| a.lod_value().total_cmp(&b.lod_value()))
+    else {
         return Ok(Vec::new());
     };
-    let types: Vec<Option<&str>> = g
-        .pointer("/semantics/surfaces")
-        .and_then(Value::as_array)
-        .map(|s| {
-            s.iter()
-                .map(|t| t.get("type").and_then(Value::as_str))
-                .collect()
-        })
-        .unwrap_or_default();
-    let mut surfaces = Vec::new();
-    walk(
-        g.get("boundaries").unwrap_or(&Value::Null),
-        g.pointer("/semantics/values"),
-        depth,
-        &types,
-        &mut surfaces,
-    )
-    .map_err(|reason| shape(&format!("city object `{id}`: {reason}")))?;
-    let grounds = surfaces.iter().any(|s| s.semantic == Some("GroundSurface"));
+    let values = g.semantics.as_ref().and_then(|s| s.get("values"));
+    let depth = g.surface_depth().unwrap_or(0);
+    let surfaces = boundaries::surfaces(&g.boundaries, values, depth)
+        .map_err(|reason| shape(&format!("city object `{id}`: {reason}")))?;
+    let semantic = |s: &Surface| s.semantic.and_then(|i| g.semantic_type(i));
+    let grounds = surfaces
+        .iter()
+        .any(|s| semantic(s) == Some("GroundSurface"));
     let mut out = Vec::new();
     for (k, s) in surfaces.iter().enumerate() {
-        if grounds && s.semantic != Some("GroundSurface") {
+        if grounds && semantic(s) != Some("GroundSurface") {
             continue;
         }
         let mut rings = Vec::with_capacity(s.rings.len());
-        for r in s.rings {
-            let idx = r.as_array().map(Vec::as_slice).unwrap_or_default();
-            let mut pts = Vec::with_capacity(idx.len());
-            for i in idx {
-                let p = i
-                    .as_u64()
-                    .and_then(|i| usize::try_from(i).ok())
+        for r in &s.rings {
+            let mut pts = Vec::with_capacity(r.len());
+            for i in r {
+                let p = usize::try_from(*i)
+                    .ok()
                     .and_then(|i| vertices.get(i))
                     .ok_or_else(|| {
                         shape(&format!(
@@ -246,33 +218,4 @@ fn object_footprint(
         }
     }
     Ok(out)
-}
-
-/// Walks nested `boundaries` (and the parallel `semantics.values`) down to surfaces.
-fn walk<'a>(
-    b: &'a Value,
-    values: Option<&'a Value>,
-    depth: usize,
-    types: &[Option<&'a str>],
-    out: &mut Vec<Surface<'a>>,
-) -> Result<(), &'static str> {
-    let items = b
-        .as_array()
-        .ok_or("`boundaries` do not nest as the geometry type requires")?;
-    let vals = values.and_then(Value::as_array);
-    for (k, item) in items.iter().enumerate() {
-        let v = vals.and_then(|a| a.get(k));
-        if depth > 0 {
-            walk(item, v, depth - 1, types, out)?;
-        } else {
-            let rings = item
-                .as_array()
-                .ok_or("a surface must be an array of rings")?;
-            let semantic = v
-                .and_then(Value::as_u64)
-                .and_then(|i| types.get(usize::try_from(i).ok()?).copied().flatten());
-            out.push(Surface { rings, semantic });
-        }
-    }
-    Ok(())
 }

@@ -82,13 +82,7 @@ pub fn parse_geojson(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError
     }
     let footprints: Vec<Footprint> = by_id
         .into_iter()
-        .filter_map(|(id, (name, polys))| {
-            Some(Footprint {
-                id,
-                polygon: union_valid(&polys).ok()?,
-                name,
-            })
-        })
+        .filter_map(|(id, (name, polys))| Footprint::from_parts(id, name, &polys))
         .collect();
     Loaded::new(footprints, skipped)
 }

@@ -7,7 +7,6 @@ use std::collections::BTreeMap;
 use geo::{Coord, LineString, Polygon};
 use rayon::prelude::*;
 
-use super::polygon::union_valid;
 use super::types::Footprint;
 use crate::scene::{ObjectKind, Scene};
 
@@ -36,13 +35,7 @@ pub fn footprints_of_scene(scene: &Scene) -> Vec<Footprint> {
     tris.into_iter()
         .collect::<Vec<_>>()
         .into_par_iter()
-        .filter_map(|(id, (name, polys))| {
-            Some(Footprint {
-                id,
-                polygon: union_valid(&polys).ok()?,
-                name,
-            })
-        })
+        .filter_map(|(id, (name, polys))| Footprint::from_parts(id, name, &polys))
         .collect()
 }
 

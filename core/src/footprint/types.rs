@@ -14,6 +14,13 @@ pub struct Footprint {
 }
 
 impl Footprint {
+    /// Footprint `id` as the union of its `parts` (faces, features);
+    /// `None` when they make no valid polygon.
+    pub fn from_parts(id: u32, name: String, parts: &[Polygon<f64>]) -> Option<Self> {
+        let polygon = super::polygon::union_valid(parts).ok()?;
+        Some(Self { id, polygon, name })
+    }
+
     /// Plan area, m².
     pub fn area(&self) -> f64 {
         self.polygon.unsigned_area()

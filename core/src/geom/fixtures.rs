@@ -13,3 +13,11 @@ pub(crate) fn lattice(
         .map(|(x, y)| [x, y, z(x, y)])
         .collect()
 }
+
+/// Flat open ground, `ni × nj` points `step` apart from the origin at z = 0,
+/// each labelled ground.
+pub(crate) fn flat_ground(ni: usize, nj: usize, step: f32) -> (Vec<[f32; 3]>, Vec<u8>) {
+    let xyz = lattice(ni, nj, step, |_, _| 0.0);
+    let labels = vec![crate::cloud::class::GROUND; xyz.len()];
+    (xyz, labels)
+}

@@ -1,5 +1,6 @@
 //! One 2D grid frame over xy (origin, square cell, dimensions, index ↔
-//! world) and the morphology the occupancy rasters share.
+//! world) and the morphology the occupancy rasters share; its tiled
+//! storage is [`super::tiled`].
 
 /// Square cells of side `cell`; cell `(i, j)` spans
 /// `[origin + (i, j) · cell, origin + (i + 1, j + 1) · cell)`, row-major
@@ -62,8 +63,16 @@ impl GridFrame {
         )
     }
 
+    /// Signed cell coordinates of world `(x, y)`, which may lie off the grid.
+    pub fn key(&self, x: f64, y: f64) -> (i64, i64) {
+        (
+            ((x - self.origin[0]) / self.cell).floor() as i64,
+            ((y - self.origin[1]) / self.cell).floor() as i64,
+        )
+    }
+
     /// Flat index of cell `(i, j)`, `None` off the grid.
-    pub fn index(&self, i: isize, j: isize) -> Option<usize> {
+    pub fn index(&self, i: i64, j: i64) -> Option<usize> {
         let inside = i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny;
         inside.then(|| j as usize * self.nx + i as usize)
     }

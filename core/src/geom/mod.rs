@@ -4,6 +4,7 @@
 //! - [`eigen`]: the 3×3 symmetric eigen solver (nalgebra).
 //! - [`segment`]: point-to-segment projection and distance in the plane (geo).
 //! - [`grid`]: the 2D grid frame and the occupancy rasters' morphology.
+//! - [`tiled`]: a grid frame's cells stored in tiles only where wanted.
 //! - [`ring`]: point-in-polygon for a ring of points (geo).
 //! - `fixtures` (tests only): point sets the unit tests share.
 
@@ -13,3 +14,4 @@ pub(crate) mod fixtures;
 pub mod grid;
 pub mod ring;
 pub mod segment;
+pub mod tiled;

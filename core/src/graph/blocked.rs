@@ -77,13 +77,7 @@ mod tests {
 
     /// Flat open ground, 20 m × 6 m, one ground point every 0.25 m.
     fn strip() -> GroundGraph {
-        let mut xyz = Vec::new();
-        for i in 0..80 {
-            for j in 0..24 {
-                xyz.push([i as f32 * 0.25, j as f32 * 0.25, 0.0]);
-            }
-        }
-        let labels = vec![2u8; xyz.len()];
+        let (xyz, labels) = crate::geom::fixtures::flat_ground(80, 24, 0.25);
         GroundGraph::build(&xyz, &labels, [1.0, 3.0, 0.0], &GraphParams::default())
             .expect("open ground builds")
     }

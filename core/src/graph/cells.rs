@@ -1,9 +1,9 @@
 //! Distance-based downsampling of the ground: ground points binned into
 //! square cells, one node per occupied cell at the cell's mean point.
 
-use super::grid::{GridFrame, TiledFrame};
 use crate::cloud::class;
-use crate::geom::grid::{self, Neighbours};
+use crate::geom::grid::{self, GridFrame, Neighbours};
+use crate::geom::tiled::TiledFrame;
 
 /// ASPRS class 17: bridge deck.
 const BRIDGE_DECK: u8 = 17;
@@ -58,19 +58,24 @@ pub fn bin_ground(
     if n == 0 {
         return None;
     }
-    let frame = GridFrame::covering(lo, hi, spacing, pad);
+    let frame = GridFrame::covering(
+        lo.map(f64::from),
+        hi.map(f64::from),
+        f64::from(spacing),
+        pad,
+    );
     let ground_cells = xyz
         .iter()
         .zip(labels)
         .filter(|(p, l)| is_ground(p, **l))
-        .map(|(p, _)| frame.key(p[0], p[1]));
+        .map(|(p, _)| frame.key(f64::from(p[0]), f64::from(p[1])));
     let grid = TiledFrame::around(frame, NODE_TILE, ground_cells, 1);
     let mut sum = vec![[0.0f64; 4]; grid.len()];
     for (p, &l) in xyz.iter().zip(labels) {
         if !is_ground(p, l) {
             continue;
         }
-        if let Some(k) = grid.index_of(p[0], p[1]) {
+        if let Some(k) = grid.index_of(f64::from(p[0]), f64::from(p[1])) {
             let s = &mut sum[k];
             s[0] += f64::from(p[0]);
             s[1] += f64::from(p[1]);

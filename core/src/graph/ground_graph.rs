@@ -6,11 +6,11 @@ use rayon::prelude::*;
 
 use super::cells::{bin_ground, drivable, filled_heights};
 use super::error::GraphError;
-use super::grid::TiledFrame;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
 use crate::density::Density;
 use crate::geom::ring::Ring;
+use crate::geom::tiled::TiledFrame;
 
 /// A way-point counts as reached this close (vehicle_sim's `goal_tolerance`),
 /// so the vehicle's look-ahead reaches this far past an edge's end node.
@@ -122,7 +122,7 @@ impl GroundGraph {
         let grid = cells.grid.clone();
         let frame = grid.frame;
         let occ_cells =
-            frame.len() as f64 * f64::from(frame.cell / params.occupancy_resolution_m).powi(2);
+            frame.len() as f64 * (frame.cell / f64::from(params.occupancy_resolution_m)).powi(2);
         if occ_cells > MAX_OCCUPANCY_CELLS {
             return Err(GraphError::TooLarge {
                 cells: occ_cells as usize,
@@ -304,8 +304,8 @@ impl GroundGraph {
     /// Up to `k` nearest nodes within `max_dist` (xy) of `xy`, nearest first.
     pub fn nodes_near(&self, xy: [f32; 2], max_dist: f32, k: usize) -> Vec<(usize, f32)> {
         let g = &self.grid;
-        let r = (max_dist / g.frame.cell).ceil().min(1.0e6) as i64 + 1;
-        let (ci, cj) = g.frame.key(xy[0], xy[1]);
+        let r = (max_dist / g.frame.cell as f32).ceil().min(1.0e6) as i64 + 1;
+        let (ci, cj) = g.frame.key(f64::from(xy[0]), f64::from(xy[1]));
         let mut out = Vec::new();
         for j in cj - r..=cj + r {
             for i in ci - r..=ci + r {
@@ -342,7 +342,7 @@ impl GroundGraph {
     /// ones where the cell has none); `None` off the known ground.
     pub fn ground_height(&self, xy: [f32; 2]) -> Option<f32> {
         self.grid
-            .index_of(xy[0], xy[1])
+            .index_of(f64::from(xy[0]), f64::from(xy[1]))
             .map(|k| self.heights[k])
             .filter(|z| z.is_finite())
     }
@@ -351,7 +351,7 @@ impl GroundGraph {
     fn cell_of(&self, n: usize) -> Option<usize> {
         let p = self.positions.get(n)?;
         self.grid
-            .index_of(p[0], p[1])
+            .index_of(f64::from(p[0]), f64::from(p[1]))
             .filter(|&c| self.cell_node[c] as usize == n)
     }
 
@@ -391,7 +391,7 @@ fn nearest_in(
         return None;
     }
     let frame = &grid.frame;
-    let (ci, cj) = frame.key(xy[0], xy[1]);
+    let (ci, cj) = frame.key(f64::from(xy[0]), f64::from(xy[1]));
     let (nx, ny) = (frame.nx as i64, frame.ny as i64);
     // Rings before the first one touching the grid are empty; the last one covers it all.
     let first = [ci - (nx - 1), -ci, cj - (ny - 1), -cj, 0]
@@ -414,7 +414,7 @@ fn nearest_in(
     };
     for r in first..=last {
         // Every node in ring r is at least (r - 1) cells away.
-        let ring_min = (r - 1).max(0) as f32 * frame.cell;
+        let ring_min = (r - 1).max(0) as f32 * frame.cell as f32;
         if best.is_some_and(|(_, d)| d <= ring_min) || ring_min > max {
             break;
         }
@@ -444,7 +444,7 @@ fn candidate_edges(
     obstacles: &ObstacleMap,
     params: &GraphParams,
 ) -> Vec<(u32, u32, f32)> {
-    let r = (params.d_threshold() / grid.frame.cell).ceil() as i64;
+    let r = (params.d_threshold() / grid.frame.cell as f32).ceil() as i64;
     let max_grade = params.max_slope_deg.to_radians().tan();
     (0..pos.len())
         .into_par_iter()

@@ -5,7 +5,7 @@
 //! reachable from the start.
 //!
 //! - [`GraphParams`] (`params`), [`GraphError`] (`error`);
-//! - `cells`: ground binning; `obstacles`: the obstacle map; `grid`: the cell frame;
+//! - `cells`: ground binning on [`crate::geom::tiled::TiledFrame`]; `obstacles`: the obstacle map;
 //! - [`GroundGraph`] (`ground_graph`, adjacency in compressed rows), its
 //!   searches ([`ShortestPaths`], `search`: multi-source Dijkstra with
 //!   predecessors and roots, which `petgraph::algo` does not offer; petgraph
@@ -15,7 +15,6 @@
 mod blocked;
 mod cells;
 mod error;
-mod grid;
 mod ground_graph;
 mod obstacles;
 mod params;

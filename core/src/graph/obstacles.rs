@@ -3,8 +3,9 @@
 //! the ground's height per cell; built once and asked for every edge.
 
 use super::cells::drivable;
-use super::grid::{GridFrame, TiledFrame};
 use crate::cloud::class;
+use crate::geom::grid::GridFrame;
+use crate::geom::tiled::TiledFrame;
 use crate::vehicle::profile_climbable;
 
 /// Distances saturate here: nothing farther matters to a vehicle, metres.
@@ -64,9 +65,9 @@ impl ObstacleMap {
     ) -> Self {
         let g = &ground.grid.frame;
         let frame = GridFrame::covering(
-            [g.x0, g.y0],
-            [g.x0 + g.nx as f32 * g.cell, g.y0 + g.ny as f32 * g.cell],
-            resolution,
+            g.origin,
+            g.corner(g.nx as f64, g.ny as f64),
+            f64::from(resolution),
             0,
         );
         // Every node-grid cell with a height, and one ring of tiles around it.
@@ -85,7 +86,7 @@ impl ObstacleMap {
             if l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
-            let Some(cell) = grid.index_of(p[0], p[1]) else {
+            let Some(cell) = grid.index_of(f64::from(p[0]), f64::from(p[1])) else {
                 continue;
             };
             if drivable(l) {
@@ -98,7 +99,11 @@ impl ObstacleMap {
             let blocks = if band.canopy && canopy {
                 true
             } else {
-                match ground.grid.index_of(p[0], p[1]).map(|k| ground.z[k]) {
+                match ground
+                    .grid
+                    .index_of(f64::from(p[0]), f64::from(p[1]))
+                    .map(|k| ground.z[k])
+                {
                     Some(z0) if z0.is_finite() => {
                         let h = p[2] - z0;
                         h >= band.low && h <= band.high
@@ -134,7 +139,7 @@ impl ObstacleMap {
     /// Mean ground height of the cell holding `xy`; NaN where it has no ground point.
     pub fn ground_z(&self, x: f32, y: f32) -> f32 {
         self.grid
-            .index_of(x, y)
+            .index_of(f64::from(x), f64::from(y))
             .map_or(f32::NAN, |k| self.ground_z[k])
     }
 
@@ -149,7 +154,7 @@ impl ObstacleMap {
         }
         let dir = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
         // Half a cell: a diagonal line skips no cell it crosses.
-        let step = 0.5 * self.grid.frame.cell;
+        let step = 0.5 * self.grid.frame.cell as f32;
         let total = len + 2.0 * overhang;
         let n = (total / step).ceil() as usize;
         let z: Vec<f32> = (0..=n)
@@ -180,13 +185,15 @@ impl ObstacleMap {
     /// Distance (xy) from `p` to the nearest obstacle, metres, capped at 8 m;
     /// 0 outside the mapped area (unknown ground is not driven on).
     pub fn clearance(&self, x: f32, y: f32) -> f32 {
-        self.grid.index_of(x, y).map_or(0.0, |k| self.distance[k])
+        self.grid
+            .index_of(f64::from(x), f64::from(y))
+            .map_or(0.0, |k| self.distance[k])
     }
 
     /// True when every point of the segment `a → b` (xy) is at least `radius` from obstacles.
     pub fn segment_free(&self, a: [f32; 2], b: [f32; 2], radius: f32) -> bool {
         let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-        let steps = ((len / (0.5 * self.grid.frame.cell)).ceil() as usize).max(1);
+        let steps = ((len / (0.5 * self.grid.frame.cell as f32)).ceil() as usize).max(1);
         (0..=steps).all(|s| {
             let t = s as f32 / steps as f32;
             self.clearance(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])) >= radius
@@ -200,7 +207,7 @@ impl ObstacleMap {
 /// reach is seen and the result equals a dense map's.
 fn tiled_distance(grid: &TiledFrame, occ: &[bool]) -> Vec<f32> {
     let frame = &grid.frame;
-    let halo = (FAR / frame.cell).ceil() as usize + 1;
+    let halo = (FAR / frame.cell as f32).ceil() as usize + 1;
     let side = TILE + 2 * halo;
     let mut out = vec![FAR; occ.len()];
     for base in (0..grid.len()).step_by(TILE * TILE) {
@@ -215,8 +222,7 @@ fn tiled_distance(grid: &TiledFrame, occ: &[bool]) -> Vec<f32> {
             }
         }
         let local = GridFrame {
-            x0: 0.0,
-            y0: 0.0,
+            origin: [0.0; 2],
             cell: frame.cell,
             nx: side,
             ny: side,
@@ -235,7 +241,7 @@ fn tiled_distance(grid: &TiledFrame, occ: &[bool]) -> Vec<f32> {
 /// occupied one, in metres, capped; the cell's own half-width is subtracted
 /// so a cell next to an obstacle is half a cell away, not a whole one.
 fn distance_field(frame: &GridFrame, occ: &[bool]) -> Vec<f32> {
-    let (nx, ny, c) = (frame.nx, frame.ny, frame.cell);
+    let (nx, ny, c) = (frame.nx, frame.ny, frame.cell as f32);
     let mut d: Vec<f32> = occ.iter().map(|&o| if o { 0.0 } else { FAR + c }).collect();
     let diag = c * std::f32::consts::SQRT_2;
     for j in 0..ny {

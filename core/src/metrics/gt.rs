@@ -102,12 +102,7 @@ pub struct GtSamples {
 impl GtSamples {
     /// Positions of building `id`'s samples.
     pub fn of_building(&self, id: u32) -> Vec<[f32; 3]> {
-        self.xyz
-            .iter()
-            .zip(&self.building)
-            .filter(|(_, b)| **b == id)
-            .map(|(p, _)| *p)
-            .collect()
+        crate::cloud::positions_where(&self.xyz, &self.building, id)
     }
 
     /// Number of samples.

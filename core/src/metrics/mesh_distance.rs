@@ -7,7 +7,7 @@ use parry3d::math::Vector;
 use parry3d::shape::{CompositeShapeRef, TriMesh};
 
 use super::triangle_grid::TriangleGrid;
-use crate::scene::vec3::{point_triangle_dist2, wide};
+use crate::scene::vec3::{area_vector, dot, point_triangle_dist2, wide};
 use crate::scene::{ObjectKind, Scene};
 
 /// Which index answers nearest-triangle queries.
@@ -139,14 +139,8 @@ fn local(p: [f64; 3], centre: [f64; 3]) -> Vector {
 
 /// Twice the triangle's area, squared.
 fn area2(t: &[[f64; 3]; 3]) -> f64 {
-    let u = [0, 1, 2].map(|k| t[1][k] - t[0][k]);
-    let v = [0, 1, 2].map(|k| t[2][k] - t[0][k]);
-    let c = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    c.iter().map(|x| x * x).sum()
+    let c = area_vector(t[0], t[1], t[2]);
+    dot(c, c)
 }
 
 #[cfg(test)]

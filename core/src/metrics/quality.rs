@@ -78,18 +78,7 @@ pub fn building_attributes(
         );
         put("tau_m", json!(e.tau));
         if let Some(mission) = mission {
-            let points = mission
-                .targets
-                .points
-                .iter()
-                .filter(|p| p.building == b.building)
-                .count();
-            let regions = mission
-                .targets
-                .regions
-                .iter()
-                .filter(|r| r.building == b.building)
-                .count();
+            let (points, regions) = mission.targets.counts_of(b.building);
             put("strategy", json!(strategy(points, regions)));
             put("target_points", json!(points));
             put("target_regions", json!(regions));

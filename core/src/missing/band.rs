@@ -1,55 +1,38 @@
 //! Building points bucketed by slice band and 1 m xy cell, for the strip
 //! queries of the boundary test.
 
+use crate::geom::grid::GridFrame;
+
 /// Points of one building sorted by (band, cell).
 #[derive(Debug, Clone)]
 pub struct BandIndex {
-    origin: [f64; 2],
-    cell: f64,
-    nx: usize,
-    ny: usize,
+    frame: GridFrame,
     keys: Vec<u64>,
     points: Vec<[f32; 3]>,
 }
 
 impl BandIndex {
     /// Buckets `points` into bands of thickness `spacing` starting at `base`
-    /// (`bands` of them) and xy cells of `cell` metres from `origin`
-    /// covering `nx` × `ny` cells; points outside are left out.
+    /// (`bands` of them) and the cells of `frame`; points outside are left out.
     pub fn new(
         points: &[[f32; 3]],
         base: f32,
         spacing: f32,
         bands: usize,
-        origin: [f64; 2],
-        cell: f64,
-        size: [usize; 2],
+        frame: GridFrame,
     ) -> Self {
-        let [nx, ny] = size;
+        let cells = frame.len() as u64;
         let mut keyed: Vec<(u64, [f32; 3])> = points
             .iter()
             .filter_map(|p| {
                 let k = ((p[2] - base) / spacing).floor();
-                let i = ((p[0] as f64 - origin[0]) / cell).floor();
-                let j = ((p[1] as f64 - origin[1]) / cell).floor();
-                let inside = k >= 0.0
-                    && (k as usize) < bands
-                    && i >= 0.0
-                    && j >= 0.0
-                    && (i as usize) < nx
-                    && (j as usize) < ny;
-                inside.then(|| {
-                    let key = ((k as u64 * ny as u64) + j as u64) * nx as u64 + i as u64;
-                    (key, *p)
-                })
+                let cell = frame.index_of(f64::from(p[0]), f64::from(p[1]))?;
+                (k >= 0.0 && (k as usize) < bands).then(|| (k as u64 * cells + cell as u64, *p))
             })
             .collect();
         keyed.sort_unstable_by_key(|(k, _)| *k);
         BandIndex {
-            origin,
-            cell,
-            nx,
-            ny,
+            frame,
             keys: keyed.iter().map(|(k, _)| *k).collect(),
             points: keyed.into_iter().map(|(_, p)| p).collect(),
         }
@@ -58,17 +41,17 @@ impl BandIndex {
     /// Calls `f` on every point of band `band` in the cells overlapping the
     /// square of half-side `r` around `q`.
     pub fn for_each_near(&self, band: usize, q: [f64; 2], r: f64, mut f: impl FnMut(&[f32; 3])) {
-        let lo_i = ((q[0] - r - self.origin[0]) / self.cell).floor().max(0.0) as usize;
-        let lo_j = ((q[1] - r - self.origin[1]) / self.cell).floor().max(0.0) as usize;
-        let hi_i = ((q[0] + r - self.origin[0]) / self.cell).floor();
-        let hi_j = ((q[1] + r - self.origin[1]) / self.cell).floor();
-        if hi_i < 0.0 || hi_j < 0.0 {
+        let f0 = &self.frame;
+        let (lo_i, lo_j) = f0.key(q[0] - r, q[1] - r);
+        let (hi_i, hi_j) = f0.key(q[0] + r, q[1] + r);
+        if hi_i < 0 || hi_j < 0 {
             return;
         }
-        let hi_i = (hi_i as usize).min(self.nx.saturating_sub(1));
-        let hi_j = (hi_j as usize).min(self.ny.saturating_sub(1));
+        let (lo_i, lo_j) = (lo_i.max(0) as usize, lo_j.max(0) as usize);
+        let hi_i = (hi_i as usize).min(f0.nx.saturating_sub(1));
+        let hi_j = (hi_j as usize).min(f0.ny.saturating_sub(1));
         for j in lo_j..=hi_j {
-            let row = (band as u64 * self.ny as u64 + j as u64) * self.nx as u64;
+            let row = band as u64 * f0.len() as u64 + (j * f0.nx) as u64;
             let (a, b) = (row + lo_i as u64, row + hi_i as u64);
             let start = self.keys.partition_point(|&k| k < a);
             let end = self.keys.partition_point(|&k| k <= b);
@@ -89,7 +72,13 @@ mod tests {
             [8.5, 1.5, 0.5],
             [2.2, 0.9, 0.2],
         ];
-        let idx = BandIndex::new(&pts, 0.0, 1.0, 2, [0.0, 0.0], 1.0, [10, 10]);
+        let idx = BandIndex::new(
+            &pts,
+            0.0,
+            1.0,
+            2,
+            GridFrame::covering([0.0; 2], [9.5; 2], 1.0, 0),
+        );
         let mut got = Vec::new();
         idx.for_each_near(0, [1.5, 1.5], 1.0, |p| got.push(*p));
         got.sort_by(|a, b| a[0].total_cmp(&b[0]));

@@ -13,6 +13,7 @@ use super::detection::{
 use super::ground::GroundGrid;
 use super::params::{DetectParams, DetectParamsError};
 use super::wall::{face_below, open_below, wall_normal};
+use crate::geom::grid::GridFrame;
 use crate::skeleton::{Skeleton, medial_axis};
 use crate::slice::{Sliced, cluster_structures, slice_building};
 
@@ -135,20 +136,14 @@ fn analyse(
 
     let delta = params.delta_m();
     let grid = &sliced.grid;
-    let size = [
-        (grid.nx as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
-        (grid.ny as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
-    ];
+    let frame = GridFrame {
+        origin: grid.origin,
+        cell: INDEX_CELL,
+        nx: (grid.nx as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
+        ny: (grid.ny as f64 * grid.cell / INDEX_CELL).ceil() as usize + 1,
+    };
     let base = levels.first().map_or(0.0, |l| l.band[0]);
-    let index = BandIndex::new(
-        points,
-        base,
-        params.slice.spacing_m(),
-        levels.len(),
-        grid.origin,
-        INDEX_CELL,
-        size,
-    );
+    let index = BandIndex::new(points, base, params.slice.spacing_m(), levels.len(), frame);
 
     let per_level: Vec<(SliceReport, Vec<BoundaryPoint>)> = levels
         .par_iter()

@@ -111,6 +111,7 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::grid::GridFrame;
 
     fn wall(density: f32, z_to: f32) -> Vec<[f32; 3]> {
         // a wall on x = 10 from y = 0..10, points every 1/density metres
@@ -144,13 +145,25 @@ mod tests {
     #[test]
     fn dense_wall_is_covered_gap_is_not() {
         let pts = wall(5.0, 1.0);
-        let idx = BandIndex::new(&pts, 0.0, 1.0, 2, [0.0, 0.0], 1.0, [20, 20]);
+        let idx = BandIndex::new(
+            &pts,
+            0.0,
+            1.0,
+            2,
+            GridFrame::covering([0.0; 2], [19.5; 2], 1.0, 0),
+        );
         assert!(strip_coverage(&idx, &strip(0)).share > 0.9);
         assert_eq!(strip_coverage(&idx, &strip(1)).share, 0.0);
         let off = strip_coverage(&idx, &strip(0)).wall_offset.unwrap();
         assert!((off + 0.3).abs() < 1e-3, "{off}");
         // one stray point covers little
-        let idx = BandIndex::new(&[[10.0, 5.0, 0.5]], 0.0, 1.0, 2, [0.0, 0.0], 1.0, [20, 20]);
+        let idx = BandIndex::new(
+            &[[10.0, 5.0, 0.5]],
+            0.0,
+            1.0,
+            2,
+            GridFrame::covering([0.0; 2], [19.5; 2], 1.0, 0),
+        );
         assert!(strip_coverage(&idx, &strip(0)).share < 0.3);
     }
 }

@@ -76,14 +76,7 @@ pub fn detect_scene(
     let ids = split(&pts, &used, split_params)?;
     let given: Option<Vec<(u32, geo::MultiPolygon<f64>)>> =
         footprints.map(|f| f.iter().map(|f| (f.id, f.polygon.clone())).collect());
-    let labels = aerial.label.as_deref().unwrap_or_default();
-    let ground: Vec<[f32; 3]> = aerial
-        .xyz
-        .iter()
-        .zip(labels)
-        .filter(|(_, l)| **l == class::GROUND)
-        .map(|(p, _)| *p)
-        .collect();
+    let ground = aerial.xyz_of_class(class::GROUND);
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
     let detection = detect_all_on(&pts, &ids, given.as_deref(), terrain.as_ref(), params)?;
     Ok((detection, used))

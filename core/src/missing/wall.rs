@@ -120,6 +120,12 @@ pub fn face_below(index: &BandIndex, s: &Strip) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::grid::GridFrame;
+
+    /// 20 × 20 one-metre cells from (-5, -5).
+    fn frame() -> GridFrame {
+        GridFrame::covering([-5.0; 2], [14.5; 2], 1.0, 0)
+    }
     use geo::polygon;
 
     #[test]
@@ -128,14 +134,14 @@ mod tests {
         let pts: Vec<[f32; 3]> = (0..40)
             .flat_map(|i| (0..4).map(move |k| [i as f32 * 0.1, 0.0, 0.25 * k as f32]))
             .collect();
-        let idx = BandIndex::new(&pts, 0.0, 1.0, 1, [-5.0, -5.0], 1.0, [20, 20]);
+        let idx = BandIndex::new(&pts, 0.0, 1.0, 1, frame());
         let s = std::f64::consts::FRAC_1_SQRT_2;
         let n = wall_normal(&idx, 0, [2.0, 0.2], [s, -s], 1.5).unwrap();
         assert!(n[1] < -0.99, "{n:?}");
         // a corner (two walls) is not a line
         let mut corner = pts.clone();
         corner.extend((0..40).map(|j| [0.0, -(j as f32) * 0.1, 0.5]));
-        let idx = BandIndex::new(&corner, 0.0, 1.0, 1, [-5.0, -5.0], 1.0, [20, 20]);
+        let idx = BandIndex::new(&corner, 0.0, 1.0, 1, frame());
         assert!(wall_normal(&idx, 0, [0.2, 0.2], [s, s], 1.5).is_none());
         // ground seen under a 10 × 10 outline near its edge, at y = 8..10
         let ground: Vec<[f32; 3]> = (0..100)
@@ -156,7 +162,7 @@ mod tests {
         // in from the outline's line, past the wall's end, in band 1
         let mut pts: Vec<[f32; 3]> = (0..40).map(|i| [i as f32 * 0.1, 0.0, 0.5]).collect();
         pts.push([6.0, 1.5, 1.5]);
-        let idx = BandIndex::new(&pts, 0.0, 1.0, 3, [-5.0, -5.0], 1.0, [20, 20]);
+        let idx = BandIndex::new(&pts, 0.0, 1.0, 3, frame());
         let strip = |band: usize, q: [f64; 2]| Strip {
             q,
             dir: [0.0, -1.0],

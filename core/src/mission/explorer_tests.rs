@@ -1,17 +1,6 @@
 use super::*;
+use crate::geom::fixtures::flat_ground;
 use crate::mission::protocol::PlannerStatus;
-
-/// Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
-fn strip() -> (Vec<[f32; 3]>, Vec<u8>) {
-    let mut xyz = Vec::new();
-    for i in 0..160 {
-        for j in 0..40 {
-            xyz.push([i as f32 * 0.25, j as f32 * 0.25, 0.0]);
-        }
-    }
-    let labels = vec![class::GROUND; xyz.len()];
-    (xyz, labels)
-}
 
 /// A 4 m square region of building 7 centred at (31, 5).
 fn region() -> Region {
@@ -69,7 +58,8 @@ fn planner_status(
 /// An explorer with the cloud, the missing points and the vehicle at (2, 5).
 fn ready(block_retries: u32) -> ExplorerMachine {
     let mut e = ExplorerMachine::new(config(block_retries)).expect("valid config");
-    let (xyz, labels) = strip();
+    // Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
     e.handle(ExplorerEvent::Cloud { xyz, labels });
     e.handle(ExplorerEvent::Missing(missing()));
     e.handle(ExplorerEvent::Position([2.0, 5.0, 0.0]));

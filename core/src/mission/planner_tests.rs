@@ -1,16 +1,5 @@
 use super::*;
-
-/// Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
-pub(crate) fn strip() -> (Vec<[f32; 3]>, Vec<u8>) {
-    let mut xyz = Vec::new();
-    for i in 0..160 {
-        for j in 0..40 {
-            xyz.push([i as f32 * 0.25, j as f32 * 0.25, 0.0]);
-        }
-    }
-    let labels = vec![crate::cloud::class::GROUND; xyz.len()];
-    (xyz, labels)
-}
+use crate::geom::fixtures::flat_ground;
 
 fn region_at(x: f64, y: f64) -> Region {
     Region {
@@ -36,7 +25,8 @@ fn planner(block_retries: u32) -> Planner {
 /// Feeds `p` the strip, the position (1, 5), no points (stamp 1) and one
 /// region at (22, 5) (stamp `regions_stamp`), then ticks.
 fn region_only(p: &mut Planner, regions_stamp: u64) -> Vec<PlannerCommand> {
-    let (xyz, labels) = strip();
+    // Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
     p.handle(PlannerEvent::Cloud { xyz, labels });
     p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
     p.handle(PlannerEvent::Points {
@@ -63,7 +53,8 @@ fn two_points() -> Vec<TargetPoint> {
 /// A planner fed with the strip, two points and one region, at (1, 5).
 fn ready(block_retries: u32, stamp: u64) -> (Planner, Vec<PlannerCommand>) {
     let mut p = planner(block_retries);
-    let (xyz, labels) = strip();
+    // Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
     p.handle(PlannerEvent::Cloud { xyz, labels });
     p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
     let points = two_points();
@@ -245,7 +236,8 @@ fn a_restarted_planner_goes_on_where_it_was() {
     let mut restored = saved.clone();
     restored.round = 4;
     p.handle(PlannerEvent::Restore(restored));
-    let (xyz, labels) = strip();
+    // Flat open ground, 40 m × 10 m, one ground point every 0.25 m.
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
     p.handle(PlannerEvent::Cloud { xyz, labels });
     p.handle(PlannerEvent::Position(goal));
     let points = two_points();

@@ -5,10 +5,11 @@ use geo::{Contains, Coord, MultiPolygon};
 use super::error::Skip;
 use super::normals::neighbourhoods;
 use super::params::ReconstructParams;
-use super::partition::{Grid, regions, trace};
+use super::partition::{regions, trace};
 use super::planes::{NO_PLANE, RoofPlane, grow_planes};
 use super::solid::{Shell, build_shell, outline, split_crossings};
 use super::walls::{Support, WallFit, snap_ridges, snap_walls};
+use crate::geom::grid::GridFrame;
 use crate::missing::GroundGrid;
 
 /// One building's LoD2 model (local frame of the cloud it came from).
@@ -65,8 +66,8 @@ pub(crate) fn reconstruct_building(
     let bounds = bounds(inp.footprint).ok_or(Skip::EmptyFootprint)?;
     let cell = params.cell_m;
     let pad = 2.0 * cell;
-    let grid = Grid {
-        lo: [bounds[0] - pad, bounds[1] - pad],
+    let grid = GridFrame {
+        origin: [bounds[0] - pad, bounds[1] - pad],
         cell,
         nx: ((bounds[2] - bounds[0] + 2.0 * pad) / cell).ceil() as usize,
         ny: ((bounds[3] - bounds[1] + 2.0 * pad) / cell).ceil() as usize,
@@ -74,7 +75,7 @@ pub(crate) fn reconstruct_building(
     let ncell = grid.nx * grid.ny;
     let mask: Vec<bool> = (0..ncell)
         .map(|c| {
-            let q = grid.centre(c % grid.nx, c / grid.nx);
+            let q = grid.centre(c);
             inp.footprint.contains(&Coord { x: q[0], y: q[1] })
         })
         .collect();
@@ -164,7 +165,7 @@ fn roof_labels(
     xyz: &[[f32; 3]],
     label: &[u32],
     planes: &[RoofPlane],
-    grid: &Grid,
+    grid: &GridFrame,
     mask: &[bool],
 ) -> Vec<u32> {
     let mut votes: Vec<(usize, u32)> = xyz
@@ -172,7 +173,7 @@ fn roof_labels(
         .zip(label)
         .filter(|(_, l)| **l != NO_PLANE)
         .filter_map(|(p, &l)| {
-            let c = grid.cell_of(f64::from(p[0]), f64::from(p[1]))?;
+            let c = grid.index_of(f64::from(p[0]), f64::from(p[1]))?;
             mask[c].then_some((c, l))
         })
         .collect();
@@ -181,7 +182,7 @@ fn roof_labels(
     let mut k = 0;
     while k < votes.len() {
         let c = votes[k].0;
-        let q = grid.centre(c % grid.nx, c / grid.nx);
+        let q = grid.centre(c);
         let mut here: Vec<(u32, usize, f64)> = Vec::new();
         while k < votes.len() && votes[k].0 == c {
             let l = votes[k].1;
@@ -230,7 +231,7 @@ fn roof_labels(
 /// cell's roof region.
 #[derive(Clone, Copy)]
 struct Cells<'a> {
-    grid: &'a Grid,
+    grid: &'a GridFrame,
     mask: &'a [bool],
     region: &'a [u32],
 }
@@ -254,7 +255,7 @@ fn base_height(
     };
     let mut base = f64::MAX;
     for c in (0..mask.len()).filter(|&c| mask[c]) {
-        let q = grid.centre(c % grid.nx, c / grid.nx);
+        let q = grid.centre(c);
         if let Some(z) = ground.at(q[0], q[1]) {
             base = base.min(f64::from(z));
         }
@@ -270,7 +271,7 @@ fn base_height(
         .filter(|(_, n)| n[2] > 0.9)
         .filter_map(|(p, _)| {
             let (x, y, z) = (f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
-            let c = grid.cell_of(x, y)?;
+            let c = grid.index_of(x, y)?;
             let r = region[c];
             let roof = planes.get((r as usize).checked_sub(1)?)?.z_at(x, y);
             let g = f64::from(ground.at(x, y)?);

@@ -16,6 +16,7 @@ use crate::metrics::triangle_grid::TriangleGrid;
 use crate::metrics::{GroundHeight, GtSamples, SurfaceKind};
 use crate::metrics::{MeshBackend, MeshDistance};
 use crate::scene::Scene;
+use crate::scene::vec3::{cross, norm, sub};
 
 /// Distances farther than this (m) count as this far (a model far off).
 const FAR: f64 = 50.0;
@@ -79,14 +80,8 @@ pub struct ModelEvaluation {
 /// Points on triangle `t` at about one per `spacing`² (a deterministic
 /// low-discrepancy sequence folded into the triangle).
 fn sample_triangle(t: &[[f64; 3]; 3], spacing: f64, out: &mut Vec<[f64; 3]>) {
-    let e1 = [0, 1, 2].map(|k| t[1][k] - t[0][k]);
-    let e2 = [0, 1, 2].map(|k| t[2][k] - t[0][k]);
-    let c = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    let area = 0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    let (e1, e2) = (sub(t[1], t[0]), sub(t[2], t[0]));
+    let area = 0.5 * norm(cross(e1, e2));
     let n = (area / (spacing * spacing)).round().max(1.0) as usize;
     // R2 sequence (plastic number).
     let (a1, a2) = (0.754_877_666_246_692_8, 0.569_840_290_998_053_3);

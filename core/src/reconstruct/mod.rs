@@ -81,13 +81,7 @@ pub fn reconstruct_cloud(
     if building.is_empty() {
         return Err(ReconstructError::NoBuildingPoints);
     }
-    let ground: Vec<[f32; 3]> = match &cloud.label {
-        Some(l) => (0..cloud.len())
-            .filter(|&i| l[i] == class::GROUND)
-            .map(|i| cloud.xyz[i])
-            .collect(),
-        None => Vec::new(),
-    };
+    let ground = cloud.xyz_of_class(class::GROUND);
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
     let derived;
     let fps: &[Footprint] = match footprints {

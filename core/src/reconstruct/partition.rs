@@ -6,37 +6,7 @@
 /// A traced boundary: its grid vertices and the regions on its left and right.
 type Traced = (Vec<(isize, isize)>, u32, u32);
 
-/// A square raster: cell (i, j) spans `lo + [i, i + 1] × cell` in x and
-/// `lo + [j, j + 1] × cell` in y.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Grid {
-    /// Lower-left corner, local frame.
-    pub lo: [f64; 2],
-    /// Cell size, m.
-    pub cell: f64,
-    /// Cells along x.
-    pub nx: usize,
-    /// Cells along y.
-    pub ny: usize,
-}
-
-impl Grid {
-    /// Centre of cell (i, j).
-    pub fn centre(&self, i: usize, j: usize) -> [f64; 2] {
-        [
-            self.lo[0] + (i as f64 + 0.5) * self.cell,
-            self.lo[1] + (j as f64 + 0.5) * self.cell,
-        ]
-    }
-
-    /// The cell holding (x, y), if any.
-    pub fn cell_of(&self, x: f64, y: f64) -> Option<usize> {
-        let i = ((x - self.lo[0]) / self.cell).floor();
-        let j = ((y - self.lo[1]) / self.cell).floor();
-        (i >= 0.0 && j >= 0.0 && (i as usize) < self.nx && (j as usize) < self.ny)
-            .then(|| j as usize * self.nx + i as usize)
-    }
-}
+use crate::geom::grid::GridFrame;
 
 /// One boundary between two regions: its vertices in order, the region on
 /// its left and on its right (0 = outside).
@@ -65,7 +35,11 @@ pub(crate) struct Partition {
 /// neighbour, then removes diagonal-only contacts, and returns the
 /// connected components as regions 1..=n with the input label of each
 /// (index r - 1). `labels`: 0 outside, other values any plane code.
-pub(crate) fn regions(grid: &Grid, labels: &mut [u32], min_cells: usize) -> (Vec<u32>, Vec<u32>) {
+pub(crate) fn regions(
+    grid: &GridFrame,
+    labels: &mut [u32],
+    min_cells: usize,
+) -> (Vec<u32>, Vec<u32>) {
     for _ in 0..4 {
         let (comp, sizes, code) = components(grid, labels);
         let mut changed = false;
@@ -87,7 +61,7 @@ pub(crate) fn regions(grid: &Grid, labels: &mut [u32], min_cells: usize) -> (Vec
                 if comp[idx] != c as u32 {
                     continue;
                 }
-                for nb in neighbours4(grid, idx) {
+                for nb in grid.neighbours(idx) {
                     let l = labels[nb];
                     if l != 0 && comp[nb] != c as u32 {
                         match votes.iter_mut().find(|v| v.0 == l) {
@@ -124,20 +98,8 @@ pub(crate) fn regions(grid: &Grid, labels: &mut [u32], min_cells: usize) -> (Vec
     (region, region_code)
 }
 
-fn neighbours4(grid: &Grid, idx: usize) -> impl Iterator<Item = usize> {
-    let (i, j, nx, ny) = (idx % grid.nx, idx / grid.nx, grid.nx, grid.ny);
-    [
-        (i > 0).then(|| idx - 1),
-        (i + 1 < nx).then(|| idx + 1),
-        (j > 0).then(|| idx - nx),
-        (j + 1 < ny).then(|| idx + nx),
-    ]
-    .into_iter()
-    .flatten()
-}
-
 /// 4-connected components of equal labels: component per cell, sizes, label.
-fn components(grid: &Grid, labels: &[u32]) -> (Vec<u32>, Vec<usize>, Vec<u32>) {
+fn components(grid: &GridFrame, labels: &[u32]) -> (Vec<u32>, Vec<usize>, Vec<u32>) {
     let mut comp = vec![u32::MAX; labels.len()];
     let (mut sizes, mut code) = (Vec::new(), Vec::new());
     let mut stack = Vec::new();
@@ -152,7 +114,7 @@ fn components(grid: &Grid, labels: &[u32]) -> (Vec<u32>, Vec<usize>, Vec<u32>) {
         let mut size = 0;
         while let Some(idx) = stack.pop() {
             size += 1;
-            for nb in neighbours4(grid, idx) {
+            for nb in grid.neighbours(idx) {
                 if comp[nb] == u32::MAX && labels[nb] == l {
                     comp[nb] = c;
                     stack.push(nb);
@@ -168,7 +130,7 @@ fn components(grid: &Grid, labels: &[u32]) -> (Vec<u32>, Vec<usize>, Vec<u32>) {
 /// Where a label meets itself only across a corner (a b / b a), one cell
 /// takes its diagonal's label, so every region is a set of cells joined by
 /// edges and its boundary a set of simple rings.
-fn remove_diagonals(grid: &Grid, labels: &mut [u32]) {
+fn remove_diagonals(grid: &GridFrame, labels: &mut [u32]) {
     for _ in 0..16 {
         let mut changed = false;
         for j in 0..grid.ny.saturating_sub(1) {
@@ -194,7 +156,7 @@ fn remove_diagonals(grid: &Grid, labels: &mut [u32]) {
 /// Traces the boundaries of `region` (per cell, 0 outside; cells beyond
 /// the grid are outside) into chains and simplifies each by Douglas–Peucker
 /// with tolerance `tol` (m), chain ends fixed.
-pub(crate) fn trace(grid: &Grid, region: &[u32], regions: u32, tol: f64) -> Partition {
+pub(crate) fn trace(grid: &GridFrame, region: &[u32], regions: u32, tol: f64) -> Partition {
     let (nx, ny) = (grid.nx as isize, grid.ny as isize);
     let lab = |i: isize, j: isize| -> u32 {
         if i < 0 || j < 0 || i >= nx || j >= ny {
@@ -276,12 +238,7 @@ pub(crate) fn trace(grid: &Grid, region: &[u32], regions: u32, tol: f64) -> Part
             }
         }
     }
-    let pos = |(i, j): (isize, isize)| {
-        [
-            grid.lo[0] + i as f64 * grid.cell,
-            grid.lo[1] + j as f64 * grid.cell,
-        ]
-    };
+    let pos = |(i, j): (isize, isize)| grid.corner(i as f64, j as f64);
     let mut index = std::collections::HashMap::new();
     let mut verts = Vec::new();
     let mut chains = Vec::with_capacity(raw.len());
@@ -446,9 +403,9 @@ impl Partition {
 mod tests {
     use super::*;
 
-    fn grid(nx: usize, ny: usize) -> Grid {
-        Grid {
-            lo: [0.0, 0.0],
+    fn grid(nx: usize, ny: usize) -> GridFrame {
+        GridFrame {
+            origin: [0.0, 0.0],
             cell: 1.0,
             nx,
             ny,

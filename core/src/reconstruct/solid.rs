@@ -361,14 +361,15 @@ pub(crate) fn outline(p: &Partition) -> MultiPolygon<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::partition::{Grid, regions, trace};
+    use super::super::partition::{regions, trace};
     use super::*;
+    use crate::geom::grid::GridFrame;
 
     /// The traced partition of a 10 × 8 m block on a 1 m grid (one empty
     /// cell around it), cell (i, j) labelled by `label`, and each region's label.
     fn partition(label: impl Fn(usize, usize) -> u32) -> (Partition, Vec<u32>) {
-        let g = Grid {
-            lo: [0.0, 0.0],
+        let g = GridFrame {
+            origin: [0.0, 0.0],
             cell: 1.0,
             nx: 12,
             ny: 10,

@@ -41,7 +41,9 @@ impl Raster {
 
     /// Whether cell (i, j) is occupied (false off the grid).
     pub fn get(&self, i: isize, j: isize) -> bool {
-        self.frame.index(i, j).is_some_and(|k| self.occupied[k])
+        self.frame
+            .index(i as i64, j as i64)
+            .is_some_and(|k| self.occupied[k])
     }
 
     /// Number of occupied cells.

@@ -30,3 +30,19 @@ pub struct TargetSet {
     /// Region targets.
     pub regions: Vec<Region>,
 }
+
+impl TargetSet {
+    /// How many point targets and regions building `building` has.
+    pub fn counts_of(&self, building: u32) -> (usize, usize) {
+        (
+            self.points
+                .iter()
+                .filter(|t| t.building == building)
+                .count(),
+            self.regions
+                .iter()
+                .filter(|r| r.building == building)
+                .count(),
+        )
+    }
+}

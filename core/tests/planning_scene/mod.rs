@@ -7,6 +7,7 @@
 use std::sync::OnceLock;
 
 use skyground_core::cloud::class;
+use skyground_core::graph::{GraphParams, GroundGraph};
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{GtSamples, SurfaceKind, sample_building_surfaces};
 use skyground_core::missing::GroundGrid;
@@ -39,6 +40,12 @@ pub fn world() -> &'static World {
             scene,
         }
     })
+}
+
+/// The ground graph of the shared world's prior, from [`start`], default parameters.
+pub fn graph() -> GroundGraph {
+    let w = world();
+    GroundGraph::build(&w.xyz, &w.labels, start(w), &GraphParams::default()).unwrap()
 }
 
 /// A scene's caster and simulated aerial prior split by its true labels.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use serde::Deserialize;
-use serde_json::{Value, json};
+use serde_json::json;
 use skyground_core::cloud::{Cloud, write_cloud};
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{
@@ -86,37 +86,32 @@ pub fn survey_of(
     let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
     let scan_s = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let (gt, report, mut summary) = measured(&scene, &cloud, &p);
+    let (mut s, report) = measured(scene, cloud, &p);
     let metric_s = t2.elapsed().as_secs_f64();
-    let area = upward_area(&scene);
+    let area = upward_area(&s.scene);
     let more = json!({
         "scene": scene_spec,
-        "triangles": scene.triangles.len(),
+        "triangles": s.scene.triangles.len(),
         // Over the xy area of the surfaces an airborne scanner faces (ground,
         // roofs), not the bounding box: city models can be sparse patches.
-        "density_pts_per_m2": if area > 0.0 { cloud.len() as f64 / area } else { 0.0 },
+        "density_pts_per_m2": if area > 0.0 { s.cloud.len() as f64 / area } else { 0.0 },
         "nominal_density_pts_per_m2": p.survey.nominal_density(),
         "per_building": report.buildings,
         "seconds": {"survey": scan_s, "metrics": metric_s},
     });
-    if let (Some(s), serde_json::Value::Object(m)) = (summary.as_object_mut(), more) {
-        s.extend(m);
+    if let (Some(shared), serde_json::Value::Object(m)) = (s.summary.as_object_mut(), more) {
+        shared.extend(m);
     }
-    Ok(Survey {
-        scene,
-        cloud,
-        gt,
-        tau: p.tau_m,
-        summary,
-    })
+    Ok(s)
 }
 
-/// Ground truth of `scene`, the completeness of `cloud` against it, and
-/// the summary's shared part (scene size, GT, completeness, where the gaps are).
-fn measured(scene: &Scene, cloud: &Cloud, p: &Params) -> (GtSamples, CompletenessReport, Value) {
-    let gt = sample_building_surfaces(scene, p.gt_spacing_m);
-    let report = completeness_of_cloud(&gt, cloud, p.tau_m);
-    let gaps = gap_profile(scene, &gt, &cloud.xyz, p.tau_m);
+/// The survey of `scene` that gave `cloud`: its ground truth, the summary's
+/// shared part (scene size, GT, completeness, where the gaps are), and the
+/// completeness report.
+fn measured(scene: Scene, cloud: Cloud, p: &Params) -> (Survey, CompletenessReport) {
+    let gt = sample_building_surfaces(&scene, p.gt_spacing_m);
+    let report = completeness_of_cloud(&gt, &cloud, p.tau_m);
+    let gaps = gap_profile(&scene, &gt, &cloud.xyz, p.tau_m);
     let summary = json!({
         "origin": scene.origin,
         "buildings": scene.building_count(),
@@ -129,7 +124,14 @@ fn measured(scene: &Scene, cloud: &Cloud, p: &Params) -> (GtSamples, Completenes
         "mean_gt_distance_m": report.mean_gt_distance,
         "where_the_gaps_are": gaps,
     });
-    (gt, report, summary)
+    let s = Survey {
+        scene,
+        cloud,
+        gt,
+        tau: p.tau_m,
+        summary,
+    };
+    (s, report)
 }
 
 /// config/aerial.yaml, then `params_file`.
@@ -150,16 +152,9 @@ pub fn survey_of_real(
     cloud: skyground_core::cloud::Cloud,
     prior_name: &str,
 ) -> Result<Survey, RuntimeError> {
-    let p = params(None)?;
-    let (gt, _, mut summary) = measured(&scene, &cloud, &p);
-    summary["prior"] = json!(prior_name);
-    Ok(Survey {
-        scene,
-        cloud,
-        gt,
-        tau: p.tau_m,
-        summary,
-    })
+    let (mut s, _) = measured(scene, cloud, &params(None)?);
+    s.summary["prior"] = json!(prior_name);
+    Ok(s)
 }
 
 /// Runs the survey simulation and writes its outputs.

@@ -11,6 +11,7 @@ use skyground_core::classify::{
 use skyground_core::cloud::{read_cloud, write_cloud};
 use skyground_core::ground::CsfParams;
 
+use super::err;
 use crate::node::scene_classifier::load_model;
 use crate::runtime::{RuntimeError, params::ParamSet};
 
@@ -33,9 +34,8 @@ pub struct ClassifyArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
-    #[arg(long, value_parser = super::info::parse_unit)]
-    pub units: Option<skyground_core::crs::LinearUnit>,
+    #[command(flatten)]
+    pub units: super::units::UnitsArg,
 }
 
 /// Options of `skyground train`.
@@ -77,10 +77,6 @@ struct NodeParams {
     csf: CsfParams,
 }
 
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
-}
-
 fn csf_params(file: Option<&std::path::Path>) -> Result<CsfParams, RuntimeError> {
     let mut params = ParamSet::default();
     params.merge_yaml(
@@ -109,10 +105,7 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     )?;
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
     let t0 = Instant::now();
-    let mut cloud = read_cloud(&a.input).map_err(err)?;
-    if let Some(u) = &a.units {
-        cloud.set_unit(u.clone());
-    }
+    let mut cloud = a.units.read(&a.input)?;
     let read_s = t0.elapsed().as_secs_f64();
     let classified = classifier
         .classify_cloud(&cloud)

@@ -8,7 +8,7 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
-use skyground_core::cloud::{Cloud, class, read_cloud, write_cloud};
+use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints_in};
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
@@ -18,6 +18,7 @@ use skyground_core::plot::detection_picture_in;
 use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
+use super::err;
 use crate::convert::detection::strategy_name;
 use crate::node::scene_classifier::load_model;
 use crate::runtime::{RuntimeError, params::ParamSet};
@@ -47,9 +48,8 @@ pub struct DetectArgs {
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
-    #[arg(long, value_parser = super::info::parse_unit)]
-    pub units: Option<skyground_core::crs::LinearUnit>,
+    #[command(flatten)]
+    pub units: super::units::UnitsArg,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -66,10 +66,6 @@ struct DetectorParams {
 struct GeneratorParams {
     #[serde(default)]
     targets: TargetParams,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 /// A node's params section as `T`, from its config/ defaults and an optional file
@@ -128,10 +124,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     )?;
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let t0 = Instant::now();
-    let mut cloud: Cloud = read_cloud(&a.input).map_err(err)?;
-    if let Some(u) = &a.units {
-        cloud.set_unit(u.clone());
-    }
+    let mut cloud: Cloud = a.units.read(&a.input)?;
     let labelled = cloud
         .label
         .as_ref()
@@ -181,13 +174,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     targets.points = kept;
     let targets_s = t2.elapsed().as_secs_f64();
 
-    let bpts: Vec<[f32; 3]> = cloud
-        .xyz
-        .iter()
-        .zip(labels)
-        .filter(|(_, l)| **l == class::BUILDING)
-        .map(|(p, _)| *p)
-        .collect();
+    let bpts = cloud.xyz_of_class(class::BUILDING);
     let mut missing = Cloud::from_xyz(detection.missing_xyz());
     missing.building = Some(
         detection

@@ -7,6 +7,7 @@ use skyground_core::cloud::read_cloud;
 use skyground_core::metrics::{Evaluation, evaluate, sample_building_surfaces};
 use skyground_core::scene::load_scene;
 
+use super::err;
 use crate::runtime::RuntimeError;
 
 /// Options of `skyground eval`.
@@ -36,10 +37,6 @@ pub struct EvalArgs {
     /// Print the evaluation as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 /// The evaluation as Markdown: the summary table, then per building.

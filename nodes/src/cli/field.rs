@@ -95,7 +95,7 @@ pub fn write_mission(
     length_m: f64,
     targets: &TargetSet,
 ) -> Result<Vec<PathBuf>, RuntimeError> {
-    use skyground_core::field::{BuildingFigures, path_geojson, target_counts};
+    use skyground_core::field::{BuildingFigures, path_geojson};
     let rows: Vec<BuildingFigures> = buildings
         .iter()
         .map(|b| BuildingFigures {
@@ -107,8 +107,8 @@ pub fn write_mission(
             missing_points: 0,
             r_missing: 0.0,
             strategy: None,
-            target_points: target_counts(targets, b.building).0,
-            target_regions: target_counts(targets, b.building).1,
+            target_points: targets.counts_of(b.building).0,
+            target_regions: targets.counts_of(b.building).1,
             before: b.before_after.0,
             after: b.before_after.1,
         })

@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 use skyground_core::cloud::info::{DENSITY_CELL_M, cloud_info};
-use skyground_core::cloud::read_cloud;
-use skyground_core::crs::{Crs, JsonCrs, LinearUnit, cityjson_crs, geojson_crs};
+use skyground_core::crs::{Crs, JsonCrs, cityjson_crs, geojson_crs};
 use skyground_core::footprint::load_footprints;
 use skyground_core::scene::load_scene;
 
+use super::err;
 use crate::runtime::RuntimeError;
 
 /// Options of `skyground info`.
@@ -18,21 +18,11 @@ use crate::runtime::RuntimeError;
 pub struct InfoArgs {
     /// A cloud (LAS, LAZ, PLY), a scene (CityJSON, OBJ) or footprints (GeoJSON).
     pub file: PathBuf,
-    /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
-    #[arg(long, value_parser = parse_unit)]
-    pub units: Option<LinearUnit>,
+    #[command(flatten)]
+    pub units: super::units::UnitsArg,
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Parses `--units` (m, ft, ftUS and their long names).
-pub fn parse_unit(text: &str) -> Result<LinearUnit, String> {
-    LinearUnit::parse(text).ok_or_else(|| format!("unknown unit `{text}` (m, ft, ftUS)"))
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 const UNKNOWN: &str = "unknown CRS, metres assumed";
@@ -85,10 +75,7 @@ pub fn run(a: &InfoArgs) -> Result<Value, RuntimeError> {
 }
 
 fn cloud(a: &InfoArgs) -> Result<Value, RuntimeError> {
-    let mut c = read_cloud(&a.file).map_err(err)?;
-    if let Some(u) = &a.units {
-        c.set_unit(u.clone());
-    }
+    let c = a.units.read(&a.file)?;
     let info = cloud_info(&c).ok_or_else(|| err(format!("{}: no points", a.file.display())))?;
     // The reader keeps every point's echo columns (PLY has none).
     let returns = c

@@ -19,6 +19,7 @@ pub mod profile;
 pub mod reconstruct;
 pub mod record;
 pub mod sink;
+pub mod units;
 
 use std::time::{Duration, Instant};
 
@@ -26,6 +27,11 @@ use ros2_client::QosProfile;
 
 use crate::runtime::{NodeRuntime, NodeSpec, RuntimeError, qos};
 use crate::tap::{TopicInfo, discover};
+
+/// A library error as a subcommand's error (its message is the user's).
+pub fn err(e: impl std::fmt::Display) -> RuntimeError {
+    RuntimeError::Node(e.to_string())
+}
 
 /// A node spec for a CLI tool (no params file).
 pub const fn tool_spec(name: &'static str) -> NodeSpec {

@@ -12,6 +12,7 @@ use skyground_core::route::{RouteParams, plan};
 use skyground_core::targets::TargetSet;
 
 use super::detect::section;
+use super::err;
 use crate::runtime::RuntimeError;
 
 /// Options of `skyground plan`.
@@ -43,10 +44,6 @@ struct PlannerParams {
 #[derive(Debug, Deserialize)]
 struct TargetsFile {
     targets: TargetSet,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 /// Builds the graph and the route; writes DIR/route.json.

@@ -14,6 +14,7 @@ use skyground_core::reconstruct::{
 };
 use skyground_core::scene::Scene;
 
+use super::err;
 use crate::runtime::RuntimeError;
 
 /// Options of `skyground reconstruct`.
@@ -44,10 +45,6 @@ pub struct ReconstructArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-}
-
-fn err(e: impl std::fmt::Display) -> RuntimeError {
-    RuntimeError::Node(e.to_string())
 }
 
 fn metres(v: Option<f64>) -> String {

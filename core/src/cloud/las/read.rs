@@ -60,7 +60,8 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
     }
     cloud.origin = origin.unwrap_or_default();
     cloud.crs = crs_of(&header)?;
-    scale_to_metres(&mut cloud);
+    // Points and origin were read in the file's unit.
+    cloud.rescale(cloud.to_metre());
     Ok(cloud)
 }
 
@@ -76,23 +77,6 @@ fn crs_of(header: &Header) -> Result<Option<Crs>, LasError> {
         })
         .collect();
     Ok(Crs::from_las_records(records)?)
-}
-
-/// Points and origin were read in the file's unit: scale them to metres.
-fn scale_to_metres(cloud: &mut Cloud) {
-    let f = cloud.to_metre();
-    if f == [1.0; 3] {
-        return;
-    }
-    for p in &mut cloud.xyz {
-        for k in 0..3 {
-            // Offsets from a nearby origin: f32 keeps sub-millimetre precision.
-            p[k] = (f64::from(p[k]) * f[k]) as f32;
-        }
-    }
-    for (o, f) in cloud.origin.iter_mut().zip(f) {
-        *o *= f;
-    }
 }
 
 /// The origin from the header, or `None` when its bounds are unusable.

@@ -27,9 +27,9 @@
 //!   smoothed away from the buildings. Most city models (3DBAG, municipal
 //!   LoD2) ship buildings only: this is the ground the vehicle drives on.
 
-mod boundaries;
+pub(crate) mod boundaries;
 mod error;
-mod model;
+pub(crate) mod model;
 mod source;
 mod terrain;
 mod write;

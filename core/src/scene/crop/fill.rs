@@ -9,6 +9,7 @@
 //! by 1 / (1 + d²)² with d the distance to each box).
 
 use super::Window;
+use crate::geom::grid::GridFrame;
 use crate::scene::MeshPart;
 use crate::scene::cityjson::blend_bases;
 
@@ -31,49 +32,40 @@ pub struct Base {
 /// Ground triangles (xy-bucketed) answering "how high is the ground here".
 pub struct GroundLookup<'a> {
     triangles: &'a [[[f64; 3]; 3]],
-    origin: [f64; 2],
-    nx: usize,
-    ny: usize,
+    frame: GridFrame,
     buckets: Vec<Vec<usize>>,
 }
 
 impl<'a> GroundLookup<'a> {
     /// Buckets `triangles` over `extent`.
     pub fn new(triangles: &'a [[[f64; 3]; 3]], extent: &Window) -> Self {
-        let [w, h] = extent.size();
-        let nx = (w / BUCKET).floor() as usize + 1;
-        let ny = (h / BUCKET).floor() as usize + 1;
-        let mut buckets = vec![Vec::new(); nx * ny];
-        let origin = extent.min;
-        let key =
-            |v: f64, o: f64, n: usize| (((v - o) / BUCKET).floor().max(0.0) as usize).min(n - 1);
+        let frame = GridFrame::covering(extent.min, extent.max, BUCKET, 0);
+        let mut buckets = vec![Vec::new(); frame.len()];
         for (k, t) in triangles.iter().enumerate() {
             let (lo, hi) = xy_box(t);
-            for j in key(lo[1], origin[1], ny)..=key(hi[1], origin[1], ny) {
-                for i in key(lo[0], origin[0], nx)..=key(hi[0], origin[0], nx) {
-                    buckets[j * nx + i].push(k);
+            let (i0, j0) = frame.clamped_cell(lo[0], lo[1]);
+            let (i1, j1) = frame.clamped_cell(hi[0], hi[1]);
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    buckets[j * frame.nx + i].push(k);
                 }
             }
         }
         Self {
             triangles,
-            origin,
-            nx,
-            ny,
+            frame,
             buckets,
         }
     }
 
     /// The highest ground at `(x, y)`, `None` where there is none.
     pub fn height(&self, x: f64, y: f64) -> Option<f64> {
-        let i = ((x - self.origin[0]) / BUCKET).floor();
-        let j = ((y - self.origin[1]) / BUCKET).floor();
-        if !(i >= 0.0 && j >= 0.0) {
+        let (i, j) = self.frame.key(x, y);
+        if i < 0 || j < 0 {
             return None;
         }
         // Points on the extent's far edge fall one bucket past the last.
-        let (i, j) = ((i as usize).min(self.nx - 1), (j as usize).min(self.ny - 1));
-        let bucket = self.buckets.get(j * self.nx + i)?;
+        let bucket = self.buckets.get(self.frame.clamped_index(x, y))?;
         bucket
             .iter()
             .filter_map(|&k| height_in(&self.triangles[k], x, y))

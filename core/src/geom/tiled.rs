@@ -1,59 +1,11 @@
-//! A 2D square-cell frame over xy: cell keys and their flat indices.
+//! A [`GridFrame`]'s cells stored in square tiles only where wanted: memory
+//! grows with the area that matters, not with the bounding box.
 
-/// Square cells of side `cell` covering `[x0, x0 + nx·cell) × [y0, y0 + ny·cell)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GridFrame {
-    /// Lower-left corner x, metres.
-    pub x0: f32,
-    /// Lower-left corner y, metres.
-    pub y0: f32,
-    /// Cell side, metres.
-    pub cell: f32,
-    /// Cells along x.
-    pub nx: usize,
-    /// Cells along y.
-    pub ny: usize,
-}
-
-impl GridFrame {
-    /// The frame of cells `cell` wide covering `lo..=hi`, with `pad` cells of margin on each side.
-    pub fn covering(lo: [f32; 2], hi: [f32; 2], cell: f32, pad: usize) -> Self {
-        let p = pad as f32 * cell;
-        let nx = (((hi[0] - lo[0] + 2.0 * p) / cell).floor() as usize) + 1;
-        let ny = (((hi[1] - lo[1] + 2.0 * p) / cell).floor() as usize) + 1;
-        Self {
-            x0: lo[0] - p,
-            y0: lo[1] - p,
-            cell,
-            nx,
-            ny,
-        }
-    }
-
-    /// Number of cells.
-    pub fn len(&self) -> usize {
-        self.nx * self.ny
-    }
-
-    /// Signed cell coordinates of `xy` (may lie outside the frame).
-    pub fn key(&self, x: f32, y: f32) -> (i64, i64) {
-        (
-            ((x - self.x0) / self.cell).floor() as i64,
-            ((y - self.y0) / self.cell).floor() as i64,
-        )
-    }
-
-    /// Flat index of cell `(i, j)`, `None` outside the frame.
-    pub fn index(&self, i: i64, j: i64) -> Option<usize> {
-        let inside = i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny;
-        inside.then(|| j as usize * self.nx + i as usize)
-    }
-}
+use super::grid::GridFrame;
 
 /// The cells of a [`GridFrame`] stored in square tiles only where wanted
-/// (where there is ground, and a ring of tiles around it): memory grows with
-/// the area that matters, not with the bounding box. Stored cells have flat
-/// indices `0..len()`; cells in tiles not stored have none.
+/// (where there is ground, and a ring of tiles around it). Stored cells have
+/// flat indices `0..len()`; cells in tiles not stored have none.
 #[derive(Debug, Clone)]
 pub struct TiledFrame {
     /// The whole grid (the bounding box).
@@ -117,6 +69,11 @@ impl TiledFrame {
         self.tile_of.len() * self.tile * self.tile
     }
 
+    /// Whether no cell is stored.
+    pub fn is_empty(&self) -> bool {
+        self.tile_of.is_empty()
+    }
+
     /// Storage index of cell `(i, j)`; `None` outside the frame or in a tile not stored.
     pub fn index(&self, i: i64, j: i64) -> Option<usize> {
         self.frame.index(i, j)?;
@@ -125,8 +82,8 @@ impl TiledFrame {
         (s != u32::MAX).then(|| (s as usize * t + j % t) * t + i % t)
     }
 
-    /// Storage index of the cell holding `xy`.
-    pub fn index_of(&self, x: f32, y: f32) -> Option<usize> {
+    /// Storage index of the cell holding world `(x, y)`.
+    pub fn index_of(&self, x: f64, y: f64) -> Option<usize> {
         let (i, j) = self.frame.key(x, y);
         self.index(i, j)
     }
@@ -141,14 +98,10 @@ impl TiledFrame {
         ((ti * t + r % t) as i64, (tj * t + r / t) as i64)
     }
 
-    /// Centre (xy) of the cell stored at `k`.
-    pub fn centre(&self, k: usize) -> [f32; 2] {
+    /// World xy of the centre of the cell stored at `k`.
+    pub fn centre(&self, k: usize) -> [f64; 2] {
         let (i, j) = self.cell(k);
-        let f = &self.frame;
-        [
-            f.x0 + (i as f32 + 0.5) * f.cell,
-            f.y0 + (j as f32 + 0.5) * f.cell,
-        ]
+        self.frame.corner(i as f64 + 0.5, j as f64 + 0.5)
     }
 }
 
