@@ -1,0 +1,217 @@
+//! Closest-hit traversal of a packet of rays that share one origin (a
+//! spinning sensor's block of columns).
+//!
+//! The packet walks the tree once: each node is fetched, ordered and stacked
+//! once for all its active rays, and its child boxes are tested four rays at
+//! a time (the boxes relative to the shared origin are computed once per
+//! node, a triangle's relative vertices once per leaf visit). Each ray keeps
+//! its own closest distance, and every box and triangle test is the same
+//! arithmetic as the single-ray path, so the hits are the same.
+
+use super::lanes::F4;
+use super::traverse::FAR_SCALE;
+use super::{Bvh, Node, WIDTH};
+use crate::lidar::triangle::{PreparedRay, intersect_rel_any, relative};
+
+/// Most rays in one packet (bits of the active mask).
+pub(crate) const PACKET: usize = 64;
+/// Groups of four rays in a full packet.
+const QUADS: usize = PACKET / 4;
+/// Stack entries kept inline (see `traverse::STACK`).
+const STACK: usize = 32;
+
+/// A packet's rays laid out for four-wide box tests.
+struct Lanes {
+    /// `inv[axis][ray]`; padding rays hold 1.
+    inv: [[f32; PACKET]; 3],
+    /// Each ray's closest hit so far (its range before the first hit);
+    /// padding rays hold −∞, so they enter no box.
+    best_t: [f32; PACKET],
+}
+
+impl Lanes {
+    /// The rays of `mask` whose closest hit is farther than `t`.
+    #[inline(always)]
+    fn farther_than(&self, t: f32, mask: u64) -> u64 {
+        let tv = F4::splat(t);
+        let mut out = 0u64;
+        for q in 0..QUADS {
+            if (mask >> (4 * q)) & 0xF != 0 {
+                let b = F4::load(quad(&self.best_t, q));
+                out |= u64::from(tv.lt(b).mask()) << (4 * q);
+            }
+        }
+        out & mask
+    }
+}
+
+/// Lanes `4q .. 4q + 4` of `a`.
+#[inline(always)]
+fn quad(a: &[f32; PACKET], q: usize) -> &[f32; 4] {
+    let s = &a[4 * q..4 * q + 4];
+    // A slice of four f32 always converts; the fallback is never taken.
+    s.try_into().unwrap_or(&[0.0; 4])
+}
+
+/// For each child of `n`: the rays of `mask` that enter its box before their
+/// closest hit so far, and the smallest entry distance among the rays
+/// tested.
+#[inline(always)]
+fn enter(n: &Node, org: [f32; 3], l: &Lanes, mask: u64) -> ([u64; WIDTH], [f32; WIDTH]) {
+    let mut hits = [0u64; WIDTH];
+    let mut near = [f32::INFINITY; WIDTH];
+    let zero = F4::splat(0.0);
+    let far_scale = F4::splat(FAR_SCALE);
+    let inf = F4::splat(f32::INFINITY);
+    for c in 0..WIDTH {
+        let b = &n.bounds;
+        // Empty slots have inverted boxes; the sign-free test below would
+        // enter them.
+        if !(b[0][0][c] <= b[0][1][c]) {
+            continue;
+        }
+        // Same rounding as the single-ray test: (bound - origin) · (1 / d).
+        let lo = [0, 1, 2].map(|k| F4::splat(b[k][0][c] - org[k]));
+        let hi = [0, 1, 2].map(|k| F4::splat(b[k][1][c] - org[k]));
+        let mut tmin = inf;
+        let mut bits = 0u64;
+        for q in 0..QUADS {
+            let active = ((mask >> (4 * q)) & 0xF) as u32;
+            if active == 0 {
+                continue;
+            }
+            let slab = |k: usize| {
+                let inv = F4::load(quad(&l.inv[k], q));
+                let (a, b) = (lo[k].mul(inv), hi[k].mul(inv));
+                (a.min(b), a.max(b))
+            };
+            let (n0, f0) = slab(0);
+            let (n1, f1) = slab(1);
+            let (n2, f2) = slab(2);
+            let t0 = n0.max(n1).max(n2.max(zero));
+            let t1 = f0
+                .min(f1)
+                .min(f2)
+                .mul(far_scale)
+                .min(F4::load(quad(&l.best_t, q)));
+            let inside = t0.le(t1);
+            bits |= u64::from(inside.mask() & active) << (4 * q);
+            // Inactive rays may lower the bound: it only has to be ≤ the
+            // active rays' entries.
+            tmin = tmin.min(inside.select(t0, inf));
+        }
+        hits[c] = bits;
+        near[c] = tmin
+            .to_array()
+            .into_iter()
+            .fold(f32::INFINITY, |m, x| if x < m { x } else { m });
+    }
+    (hits, near)
+}
+
+impl Bvh {
+    /// The closest hit in `(0, t_max[i])` of each ray `rays[i]`, all from
+    /// `org`, written to `out[i]` as `(t, leaf-order triangle index)`.
+    /// At most [`PACKET`] rays; rays with `t_max ≤ 0` hit nothing.
+    pub fn closest_packet(
+        &self,
+        org: [f32; 3],
+        rays: &[PreparedRay],
+        t_max: &[f32],
+        out: &mut [Option<(f32, usize)>],
+    ) {
+        let n = rays.len().min(PACKET).min(t_max.len()).min(out.len());
+        out.iter_mut().for_each(|o| *o = None);
+        if self.nodes.is_empty() || n == 0 {
+            return;
+        }
+        let mut l = Lanes {
+            inv: [[1.0; PACKET]; 3],
+            best_t: [f32::NEG_INFINITY; PACKET],
+        };
+        let mut mask = 0u64;
+        for i in 0..n {
+            for k in 0..3 {
+                l.inv[k][i] = rays[i].inv[k];
+            }
+            if t_max[i] > 0.0 {
+                l.best_t[i] = t_max[i];
+                mask |= 1 << i;
+            }
+        }
+        let mut best = [usize::MAX; PACKET];
+        let mut stack = [(0u32, 0u64, 0f32); STACK];
+        let mut spill: Vec<(u32, u64, f32)> = Vec::new();
+        let mut sp = 0usize;
+        let mut node = 0usize;
+        while mask != 0 {
+            let nd = &self.nodes[node];
+            let (hits, near) = enter(nd, org, &l, mask);
+            // Leaves first: they may shorten the rays' closest distances.
+            for c in 0..WIDTH {
+                if nd.leaves & (1 << c) == 0 || hits[c] == 0 {
+                    continue;
+                }
+                let start = nd.child[c] as usize;
+                let end = start + nd.count[c] as usize;
+                for (k, tri) in self.tris[start..end].iter().enumerate() {
+                    let rel = relative(tri, org);
+                    let mut m = hits[c];
+                    while m != 0 {
+                        let i = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        if let Some(th) = intersect_rel_any(&rays[i], &rel, l.best_t[i]) {
+                            l.best_t[i] = th;
+                            best[i] = start + k;
+                        }
+                    }
+                }
+            }
+            // Inner children entered by some ray, far to near.
+            let mut kids = [(0u32, 0u64, f32::INFINITY); WIDTH];
+            let mut k = 0;
+            for c in 0..WIDTH {
+                if nd.leaves & (1 << c) == 0 && hits[c] != 0 {
+                    kids[k] = (nd.child[c], hits[c], near[c]);
+                    k += 1;
+                }
+            }
+            let kids = &mut kids[..k];
+            for i in 1..kids.len() {
+                let mut j = i;
+                while j > 0 && kids[j - 1].2 < kids[j].2 {
+                    kids.swap(j - 1, j);
+                    j -= 1;
+                }
+            }
+            for &entry in kids.iter() {
+                match stack.get_mut(sp) {
+                    Some(slot) => *slot = entry,
+                    None => spill.push(entry),
+                }
+                sp += 1;
+            }
+            // Pop the nearest entry that still has rays whose closest hit
+            // lies beyond it.
+            mask = 0;
+            while sp > 0 {
+                sp -= 1;
+                let (nx, m, t) = match stack.get(sp) {
+                    Some(&entry) => entry,
+                    None => spill.pop().unwrap_or((0, 0, f32::INFINITY)),
+                };
+                let m = l.farther_than(t, m);
+                if m != 0 {
+                    node = nx as usize;
+                    mask = m;
+                    break;
+                }
+            }
+        }
+        for i in 0..n {
+            if best[i] != usize::MAX {
+                out[i] = Some((l.best_t[i], best[i]));
+            }
+        }
+    }
+}
