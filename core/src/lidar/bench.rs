@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::caster::{Caster, CasterError};
 use super::pose::Pose;
 use super::ray::{Hit, Ray};
-use super::spinning::{LidarConfig, revolution_rays};
+use super::spinning::{LidarConfig, cast_revolution, revolution_rays};
 use crate::scene::{ObjectKind, Scene};
 
 /// Throughput of spinning-LiDAR ray casting on one scene: the packet path
@@ -48,11 +48,16 @@ pub fn bench_rays(scene: &Scene, seconds: f64) -> Result<BenchFigures, CasterErr
     let caster = Caster::new(scene)?;
     let build_s = start.elapsed().as_secs_f64();
     let config = LidarConfig::default();
-    let rays: Vec<Ray> = street_poses(&caster, 8)
+    let poses = street_poses(&caster, 8);
+    let rays: Vec<Ray> = poses
         .iter()
         .flat_map(|p| revolution_rays(&config, p))
         .collect();
-    let packets = caster.cast_many(&rays);
+    let revolution = config.columns() * config.beams as usize;
+    let packets: Vec<Option<Hit>> = rays
+        .chunks(revolution)
+        .flat_map(|r| cast_revolution(&caster, &config, r))
+        .collect();
     let single = caster.cast_many_single(&rays);
     let hits = packets.iter().flatten().count();
     let mismatches = packets
@@ -67,10 +72,18 @@ pub fn bench_rays(scene: &Scene, seconds: f64) -> Result<BenchFigures, CasterErr
     let budget = (seconds / 4.0).max(0.01);
     let count = |h: Vec<Option<Hit>>| h.iter().flatten().count();
     Ok(BenchFigures {
-        rays_per_s_single: throughput(rays.len(), budget, || {
-            count(caster.cast_many_serial(&rays))
+        rays_per_s_single: single_thread(|| {
+            throughput(rays.len(), budget, || {
+                rays.chunks(revolution)
+                    .map(|r| count(cast_revolution(&caster, &config, r)))
+                    .sum()
+            })
         }),
-        rays_per_s: throughput(rays.len(), budget, || count(caster.cast_many(&rays))),
+        rays_per_s: throughput(rays.len(), budget, || {
+            rays.chunks(revolution)
+                .map(|r| count(cast_revolution(&caster, &config, r)))
+                .sum()
+        }),
         ray_by_ray_per_s_single: throughput(rays.len(), budget, || {
             rays.iter().filter_map(|r| caster.cast_ray(r)).count()
         }),
@@ -84,6 +97,14 @@ pub fn bench_rays(scene: &Scene, seconds: f64) -> Result<BenchFigures, CasterErr
         triangles: caster.triangle_count(),
         build_s,
     })
+}
+
+/// Runs `f` on a one-thread rayon pool (on the current one if none can be made).
+fn single_thread(f: impl FnOnce() -> f64 + Send) -> f64 {
+    match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+        Ok(pool) => pool.install(f),
+        Err(_) => f(),
+    }
 }
 
 /// Rays per second of `pass` (casting `rays` rays) repeated for `budget` seconds.
@@ -190,11 +211,48 @@ mod tests {
                 (passes * rays.len()) as f64 / (thread_cpu_s() - cpu0) / 1e6
             };
             let by_ray = cpu_rate(&|| rays.iter().filter_map(|r| caster.cast_ray(r)).count());
-            let packets = cpu_rate(&|| caster.cast_many_serial(&rays).iter().flatten().count());
             println!(
-                "{n}: shape {:?}, {hits} hits, {nodes:.1} nodes/ray, {tris:.1} tris/ray, {by_ray:.2} M rays/s ray by ray, {packets:.2} M rays/s packets",
+                "{n}: shape {:?}, {hits} hits, {nodes:.1} nodes/ray, {tris:.1} tris/ray, {by_ray:.2} M rays/s ray by ray",
                 caster.bvh_shape(),
             );
+            let config = LidarConfig::default();
+            let revolution = config.columns() * config.beams as usize;
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+            for (bc, bb) in [(4, 16), (8, 8), (16, 4), (32, 2), (64, 1)] {
+                use crate::lidar::bvh::stats::{PACKET_NODES, PACKET_TRIS, QUADS};
+                for c in [&PACKET_NODES, &QUADS, &PACKET_TRIS] {
+                    c.with(|c| c.set(0));
+                }
+                let per = |c: &'static std::thread::LocalKey<std::cell::Cell<u64>>| {
+                    c.with(|c| c.get()) as f64 / rays.len() as f64
+                };
+                let counts = pool.install(|| {
+                    for c in [&PACKET_NODES, &QUADS, &PACKET_TRIS] {
+                        c.with(|c| c.set(0));
+                    }
+                    for r in rays.chunks(revolution) {
+                        crate::lidar::spinning::cast_blocks(&caster, &config, r, bc, bb);
+                    }
+                    [per(&PACKET_NODES), per(&QUADS), per(&PACKET_TRIS)]
+                });
+                println!(
+                    "  {bc}x{bb}: per ray {:.3} packet nodes, {:.2} quad tests, {:.2} tris",
+                    counts[0], counts[1], counts[2]
+                );
+                let rate = pool.install(|| {
+                    cpu_rate(&|| {
+                        rays.chunks(revolution)
+                            .map(|r| {
+                                crate::lidar::spinning::cast_blocks(&caster, &config, r, bc, bb)
+                                    .iter()
+                                    .flatten()
+                                    .count()
+                            })
+                            .sum()
+                    })
+                });
+                println!("  packets {bc} columns x {bb} beams: {rate:.2} M rays/s");
+            }
         }
     }
 }

@@ -8,7 +8,7 @@ use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::return_intensity;
 use super::noise::{Stream, combine};
 use super::pose::{Pose, rotate};
-use super::ray::{Ray, dot};
+use super::ray::{Hit, Ray, dot};
 use crate::cloud::Cloud;
 
 /// Spinning LiDAR parameters; every field has a default (a Velodyne VLP-16
@@ -193,8 +193,8 @@ pub fn scan(
     let rays = revolution_rays(config, pose);
     let seed = combine(config.seed, rng_seed);
     let sigma = f64::from(config.range_noise_sigma);
-    let fire = |(i, ray): (usize, &Ray)| -> Option<Return> {
-        let hit = caster.cast_ray(ray)?;
+    let fire = |(i, (ray, hit)): (usize, (&Ray, Option<Hit>))| -> Option<Return> {
+        let hit = hit?;
         let mut rng = Stream::new(seed, i as u64);
         if config.dropout > 0.0 && rng.uniform() < f64::from(config.dropout) {
             return None;
@@ -217,8 +217,10 @@ pub fn scan(
             building: object.building,
         })
     };
+    let hits = cast_revolution(caster, config, &rays);
     let returns: Vec<Option<Return>> = rays
         .par_iter()
+        .zip(hits)
         .enumerate()
         .with_min_len(512)
         .map(fire)
@@ -258,4 +260,57 @@ pub fn revolution_rays(config: &LidarConfig, pose: &Pose) -> Vec<Ray> {
         }
     }
     rays
+}
+
+/// Columns of one packet block: 16 columns × 4 beams = 64 rays, 3.2° × 6°
+/// of a VLP-16 revolution, the most compact block of its range image.
+const BLOCK_COLUMNS: usize = 32;
+/// Beams of one packet block.
+const BLOCK_BEAMS: usize = 2;
+
+/// Casts one revolution's rays (`rays` as [`revolution_rays`] makes them for
+/// `config`) in coherent packets of [`BLOCK_COLUMNS`] × [`BLOCK_BEAMS`]
+/// rays; result `i` belongs to `rays[i]`, the same hit as
+/// [`Caster::cast_ray`] gives.
+pub fn cast_revolution(caster: &Caster, config: &LidarConfig, rays: &[Ray]) -> Vec<Option<Hit>> {
+    cast_blocks(caster, config, rays, BLOCK_COLUMNS, BLOCK_BEAMS)
+}
+
+/// [`cast_revolution`] with blocks of `block_columns` × `block_beams` rays.
+pub(crate) fn cast_blocks(
+    caster: &Caster,
+    config: &LidarConfig,
+    rays: &[Ray],
+    block_columns: usize,
+    block_beams: usize,
+) -> Vec<Option<Hit>> {
+    let beams = config.beams as usize;
+    if rays.len() != config.columns() * beams {
+        return caster.cast_many(rays);
+    }
+    let order = packet_order(config.columns(), beams, block_columns, block_beams);
+    let ordered: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
+    let found = caster.cast_many(&ordered);
+    let mut out = vec![None; rays.len()];
+    for (&i, hit) in order.iter().zip(found) {
+        out[i] = hit;
+    }
+    out
+}
+
+/// The ray indices of a `columns` × `beams` revolution (column-major) block
+/// by block; within a block, beam by beam, so four consecutive rays are
+/// neighbouring columns of one beam.
+fn packet_order(columns: usize, beams: usize, block_columns: usize, block_beams: usize) -> Vec<usize> {
+    let mut order = Vec::with_capacity(columns * beams);
+    for c0 in (0..columns).step_by(block_columns.max(1)) {
+        for b0 in (0..beams).step_by(block_beams.max(1)) {
+            for b in b0..(b0 + block_beams).min(beams) {
+                for c in c0..(c0 + block_columns).min(columns) {
+                    order.push(c * beams + b);
+                }
+            }
+        }
+    }
+    order
 }

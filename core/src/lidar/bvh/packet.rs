@@ -27,6 +27,11 @@ struct Lanes {
     /// Each ray's closest hit so far (its range before the first hit);
     /// padding rays hold −∞, so they enter no box.
     best_t: [f32; PACKET],
+    /// Smallest and largest `inv` per axis over the packet's rays.
+    inv_lo: [f32; 3],
+    inv_hi: [f32; 3],
+    /// Largest `best_t` of the active rays (an upper bound).
+    best_hi: f32,
 }
 
 impl Lanes {
@@ -53,6 +58,32 @@ fn quad(a: &[f32; PACKET], q: usize) -> &[f32; 4] {
     s.try_into().unwrap_or(&[0.0; 4])
 }
 
+/// The children of `n` that some ray of the packet may enter: interval
+/// arithmetic over the packet's ranges of `1 / d` (rounding is monotonic, so
+/// the bounds hold for every ray's own products and no entered box is
+/// culled).
+#[inline(always)]
+fn frustum(n: &Node, org: [f32; 3], l: &Lanes) -> u32 {
+    let b = &n.bounds;
+    let slab = |k: usize| {
+        let o = F4::splat(org[k]);
+        let (lo, hi) = (F4::load(&b[k][0]).sub(o), F4::load(&b[k][1]).sub(o));
+        let (a, z) = (F4::splat(l.inv_lo[k]), F4::splat(l.inv_hi[k]));
+        let (p, q, r, s) = (lo.mul(a), lo.mul(z), hi.mul(a), hi.mul(z));
+        (p.min(q).min(r.min(s)), p.max(q).max(r.max(s)))
+    };
+    let (n0, f0) = slab(0);
+    let (n1, f1) = slab(1);
+    let (n2, f2) = slab(2);
+    let t0 = n0.max(n1).max(n2.max(F4::splat(0.0)));
+    let t1 = f0
+        .min(f1)
+        .min(f2)
+        .mul(F4::splat(FAR_SCALE))
+        .min(F4::splat(l.best_hi));
+    t0.le_mask(t1)
+}
+
 /// For each child of `n`: the rays of `mask` that enter its box before their
 /// closest hit so far, and the smallest entry distance among the rays
 /// tested.
@@ -63,13 +94,14 @@ fn enter(n: &Node, org: [f32; 3], l: &Lanes, mask: u64) -> ([u64; WIDTH], [f32; 
     let zero = F4::splat(0.0);
     let far_scale = F4::splat(FAR_SCALE);
     let inf = F4::splat(f32::INFINITY);
-    for c in 0..WIDTH {
-        let b = &n.bounds;
-        // Empty slots have inverted boxes; the sign-free test below would
-        // enter them.
-        if !(b[0][0][c] <= b[0][1][c]) {
-            continue;
-        }
+    let b = &n.bounds;
+    // Empty slots have inverted boxes, which the sign-free test below
+    // would enter.
+    let valid = F4::load(&b[0][0]).le_mask(F4::load(&b[0][1]));
+    let mut todo = frustum(n, org, l) & valid;
+    while todo != 0 {
+        let c = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
         // Same rounding as the single-ray test: (bound - origin) · (1 / d).
         let lo = [0, 1, 2].map(|k| F4::splat(b[k][0][c] - org[k]));
         let hi = [0, 1, 2].map(|k| F4::splat(b[k][1][c] - org[k]));
@@ -80,6 +112,8 @@ fn enter(n: &Node, org: [f32; 3], l: &Lanes, mask: u64) -> ([u64; WIDTH], [f32; 
             if active == 0 {
                 continue;
             }
+            #[cfg(test)]
+            super::stats::QUADS.with(|c| c.set(c.get() + 1));
             let slab = |k: usize| {
                 let inv = F4::load(quad(&l.inv[k], q));
                 let (a, b) = (lo[k].mul(inv), hi[k].mul(inv));
@@ -128,14 +162,21 @@ impl Bvh {
         let mut l = Lanes {
             inv: [[1.0; PACKET]; 3],
             best_t: [f32::NEG_INFINITY; PACKET],
+            inv_lo: [f32::INFINITY; 3],
+            inv_hi: [f32::NEG_INFINITY; 3],
+            best_hi: f32::NEG_INFINITY,
         };
         let mut mask = 0u64;
         for i in 0..n {
-            for k in 0..3 {
-                l.inv[k][i] = rays[i].inv[k];
-            }
             if t_max[i] > 0.0 {
+                for k in 0..3 {
+                    let inv = rays[i].inv[k];
+                    l.inv[k][i] = inv;
+                    l.inv_lo[k] = l.inv_lo[k].min(inv);
+                    l.inv_hi[k] = l.inv_hi[k].max(inv);
+                }
                 l.best_t[i] = t_max[i];
+                l.best_hi = l.best_hi.max(t_max[i]);
                 mask |= 1 << i;
             }
         }
@@ -146,8 +187,11 @@ impl Bvh {
         let mut node = 0usize;
         while mask != 0 {
             let nd = &self.nodes[node];
+            #[cfg(test)]
+            super::stats::PACKET_NODES.with(|c| c.set(c.get() + 1));
             let (hits, near) = enter(nd, org, &l, mask);
             // Leaves first: they may shorten the rays' closest distances.
+            let mut shortened = false;
             for c in 0..WIDTH {
                 if nd.leaves & (1 << c) == 0 || hits[c] == 0 {
                     continue;
@@ -160,12 +204,18 @@ impl Bvh {
                     while m != 0 {
                         let i = m.trailing_zeros() as usize;
                         m &= m - 1;
+                        #[cfg(test)]
+                        super::stats::PACKET_TRIS.with(|c| c.set(c.get() + 1));
                         if let Some(th) = intersect_rel_any(&rays[i], &rel, l.best_t[i]) {
                             l.best_t[i] = th;
                             best[i] = start + k;
+                            shortened = true;
                         }
                     }
                 }
+            }
+            if shortened {
+                l.best_hi = l.best_t.iter().fold(f32::NEG_INFINITY, |m, &t| m.max(t));
             }
             // Inner children entered by some ray, far to near.
             let mut kids = [(0u32, 0u64, f32::INFINITY); WIDTH];

@@ -166,5 +166,8 @@ pub(crate) mod stats {
     thread_local! {
         pub static NODES: Cell<u64> = const { Cell::new(0) };
         pub static TRIS: Cell<u64> = const { Cell::new(0) };
+        pub static PACKET_NODES: Cell<u64> = const { Cell::new(0) };
+        pub static QUADS: Cell<u64> = const { Cell::new(0) };
+        pub static PACKET_TRIS: Cell<u64> = const { Cell::new(0) };
     }
 }
