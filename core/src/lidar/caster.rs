@@ -257,7 +257,7 @@ impl Caster {
         out.par_chunks_mut(PACKET)
             .zip(rays.par_chunks(PACKET))
             .with_min_len(16)
-            .for_each(|(out, rays)| self.cast_block(rays, out));
+            .for_each(|(out, rays)| self.cast_packet(rays, out));
         out
     }
 
@@ -265,7 +265,7 @@ impl Caster {
     pub fn cast_many_serial(&self, rays: &[Ray]) -> Vec<Option<Hit>> {
         let mut out = vec![None; rays.len()];
         for (out, rays) in out.chunks_mut(PACKET).zip(rays.chunks(PACKET)) {
-            self.cast_block(rays, out);
+            self.cast_packet(rays, out);
         }
         out
     }
@@ -279,9 +279,9 @@ impl Caster {
             .collect()
     }
 
-    /// Casts at most [`PACKET`] rays into `out`, each run of equal origins
-    /// as one packet.
-    fn cast_block(&self, rays: &[Ray], out: &mut [Option<Hit>]) {
+    /// Casts at most [`PACKET`] rays into `out` (result `i` for `rays[i]`),
+    /// each run of equal origins as one packet.
+    pub(crate) fn cast_packet(&self, rays: &[Ray], out: &mut [Option<Hit>]) {
         let Index::Bvh(bvh) = &self.index else {
             for (o, r) in out.iter_mut().zip(rays) {
                 *o = self.cast_ray(r);

@@ -3,6 +3,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::bvh::PACKET;
 use super::caster::Caster;
 use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::return_intensity;
@@ -276,7 +277,8 @@ pub fn cast_revolution(caster: &Caster, config: &LidarConfig, rays: &[Ray]) -> V
     cast_blocks(caster, config, rays, BLOCK_COLUMNS, BLOCK_BEAMS)
 }
 
-/// [`cast_revolution`] with blocks of `block_columns` × `block_beams` rays.
+/// [`cast_revolution`] with blocks of `block_columns` × `block_beams` rays
+/// (at most [`PACKET`] in all).
 pub(crate) fn cast_blocks(
     caster: &Caster,
     config: &LidarConfig,
@@ -288,29 +290,34 @@ pub(crate) fn cast_blocks(
     if rays.len() != config.columns() * beams {
         return caster.cast_many(rays);
     }
-    let order = packet_order(config.columns(), beams, block_columns, block_beams);
-    let ordered: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
-    let found = caster.cast_many(&ordered);
+    let block_columns = block_columns.clamp(1, PACKET);
+    let block_beams = block_beams.clamp(1, PACKET / block_columns);
     let mut out = vec![None; rays.len()];
-    for (&i, hit) in order.iter().zip(found) {
-        out[i] = hit;
-    }
-    out
-}
-
-/// The ray indices of a `columns` × `beams` revolution (column-major) block
-/// by block; within a block, beam by beam, so four consecutive rays are
-/// neighbouring columns of one beam.
-fn packet_order(columns: usize, beams: usize, block_columns: usize, block_beams: usize) -> Vec<usize> {
-    let mut order = Vec::with_capacity(columns * beams);
-    for c0 in (0..columns).step_by(block_columns.max(1)) {
-        for b0 in (0..beams).step_by(block_beams.max(1)) {
-            for b in b0..(b0 + block_beams).min(beams) {
-                for c in c0..(c0 + block_columns).min(columns) {
-                    order.push(c * beams + b);
+    // A run of whole columns is contiguous in both slices: each task takes
+    // one and casts it block by block.
+    let span = block_columns * beams;
+    out.par_chunks_mut(span)
+        .zip(rays.par_chunks(span))
+        .for_each(|(out, rays)| {
+            let columns = rays.len() / beams;
+            let mut packet = [Ray::new([0.0; 3], [0.0; 3], 0.0); PACKET];
+            let mut found = [None; PACKET];
+            let mut index = [0usize; PACKET];
+            for b0 in (0..beams).step_by(block_beams) {
+                // Beam by beam, so neighbouring rays are neighbouring columns.
+                let mut n = 0;
+                for b in b0..(b0 + block_beams).min(beams) {
+                    for c in 0..columns {
+                        index[n] = c * beams + b;
+                        packet[n] = rays[index[n]];
+                        n += 1;
+                    }
+                }
+                caster.cast_packet(&packet[..n], &mut found[..n]);
+                for (&i, hit) in index[..n].iter().zip(&found[..n]) {
+                    out[i] = *hit;
                 }
             }
-        }
-    }
-    order
+        });
+    out
 }
