@@ -265,3 +265,137 @@ impl Bvh {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use crate::lidar::spinning::{LidarConfig, cast_revolution, revolution_rays};
+    use crate::lidar::synthetic::{SyntheticBuilder, boxes_on_plane};
+    use crate::lidar::{Caster, Hit, Pose, Ray};
+    use crate::scene::ObjectKind;
+
+    /// Packet results against ray-by-ray ones: the same misses, the same
+    /// distances (1e-6 m) and, unless two triangles tie, the same triangle.
+    fn assert_same(caster: &Caster, rays: &[Ray], packets: &[Option<Hit>]) {
+        assert_eq!(packets.len(), rays.len());
+        for (i, (r, p)) in rays.iter().zip(packets).enumerate() {
+            let single = caster.cast_ray(r);
+            match (single, p) {
+                (None, None) => {}
+                (Some(s), Some(p)) => {
+                    assert!((s.t - p.t).abs() <= 1e-6, "ray {i}: {} vs {}", s.t, p.t);
+                    assert!(s.triangle == p.triangle || s.t == p.t, "ray {i}: triangles");
+                }
+                _ => panic!("ray {i} {r:?}: single {single:?}, packet {p:?}"),
+            }
+        }
+    }
+
+    /// Unit direction at azimuth `az` and elevation `el` (radians).
+    fn dir(az: f32, el: f32) -> [f32; 3] {
+        [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
+    }
+
+    #[test]
+    fn column_straddling_shared_edges_hits_like_single_rays() {
+        // A wall at y = 5 tessellated in 0.5 m cells: many triangles in
+        // many leaves, edges at x = 0, 0.5, 1, …
+        let mut b = SyntheticBuilder::new();
+        let wall = b.object("wall", ObjectKind::Building);
+        b.add_box(wall, [-20.0, 5.0, -10.0], [20.0, 5.5, 10.0], 0.5);
+        let caster = Caster::new(&b.finish()).unwrap();
+        // Columns aimed at the vertical edge x = 1 (and a hair either side),
+        // 64 beams each over ±60°: every ray must hit the closed wall.
+        let org = [0.0, 0.0, 0.3];
+        let edge = (5.0f32).atan2(1.0);
+        let mut rays = Vec::new();
+        for daz in [-1e-6f32, 0.0, 1e-6] {
+            for k in 0..64 {
+                let el = (-60.0 + 120.0 * k as f32 / 63.0).to_radians();
+                rays.push(Ray::new(org, dir(edge + daz, el), 50.0));
+            }
+        }
+        let packets = caster.cast_many(&rays);
+        assert!(packets.iter().all(Option::is_some), "a ray leaked");
+        for (r, h) in rays.iter().zip(&packets) {
+            // The wall's near face, y = 5: t = 5 / d_y.
+            let t = h.map_or(0.0, |h| h.t);
+            assert!((t - 5.0 / r.dir[1]).abs() < 1e-3, "{t} along {:?}", r.dir);
+        }
+        assert_same(&caster, &rays, &packets);
+    }
+
+    #[test]
+    fn revolution_matches_single_rays_for_any_block_fit() {
+        let scene = boxes_on_plane(
+            60.0,
+            &[
+                ([5.0, -4.0, 0.0], [12.0, 4.0, 9.0]),
+                ([-20.0, 10.0, 0.0], [-8.0, 30.0, 15.0]),
+                ([-3.0, -25.0, 0.0], [3.0, -18.0, 4.0]),
+            ],
+        );
+        let caster = Caster::new(&scene).unwrap();
+        // VLP-16 (blocks fit exactly), and 5 beams every 0.7° (they do not).
+        let odd = LidarConfig {
+            beams: 5,
+            azimuth_step_deg: 0.7,
+            ..LidarConfig::default()
+        };
+        for config in [LidarConfig::default(), odd] {
+            let pose = Pose::new([1.0, 2.0, 1.8], 0.4);
+            let rays = revolution_rays(&config, &pose);
+            let packets = cast_revolution(&caster, &config, &rays);
+            let hits = packets.iter().flatten().count();
+            // Below the horizon every beam meets the ground or a box.
+            assert!(hits > rays.len() / 2, "{hits} of {}", rays.len());
+            assert_same(&caster, &rays, &packets);
+        }
+    }
+
+    /// A random triangle soup in [-10, 10]³.
+    fn soup() -> impl Strategy<Value = Vec<[[f32; 3]; 3]>> {
+        prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-10.0f32..10.0)), 1..120)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Fans of rays from one origin (packets) hit what they hit one by
+        /// one, on random scenes, origins, spreads and ranges.
+        #[test]
+        fn packets_match_single_rays(
+            tris in soup(),
+            boxes in prop::collection::vec((prop::array::uniform3(-8.0f32..8.0), prop::array::uniform3(0.1f32..4.0)), 0..4),
+            org in prop::array::uniform3(-12.0f32..12.0),
+            az0 in -3.2f32..3.2,
+            el0 in -1.5f32..1.5,
+            spread in 0.0f32..3.2,
+            n in 1usize..200,
+            ranges in prop::collection::vec(0.0f32..40.0, 1..8),
+        ) {
+            let mut b = SyntheticBuilder::new();
+            let o = b.object("soup", ObjectKind::Building);
+            for t in tris {
+                b.triangle(o, t);
+            }
+            for (lo, size) in boxes {
+                b.add_box(o, lo, std::array::from_fn(|k| lo[k] + size[k]), 1.0);
+            }
+            let caster = Caster::new(&b.finish()).unwrap();
+            let side = (n as f32).sqrt().ceil() as usize;
+            let rays: Vec<Ray> = (0..n)
+                .map(|i| {
+                    let (u, v) = ((i % side) as f32 / side as f32, (i / side) as f32 / side as f32);
+                    let d = dir(az0 + spread * (u - 0.5), el0 + 0.5 * spread * (v - 0.5));
+                    // Some rays with no direction: they hit nothing either way.
+                    let d = if i % 37 == 36 { [0.0; 3] } else { d };
+                    Ray::new(org, d, ranges[i % ranges.len()])
+                })
+                .collect();
+            let packets = caster.cast_many(&rays);
+            assert_same(&caster, &rays, &packets);
+        }
+    }
+}
