@@ -87,9 +87,7 @@ pub fn bench_rays(scene: &Scene, seconds: f64) -> Result<BenchFigures, CasterErr
         ray_by_ray_per_s_single: throughput(rays.len(), budget, || {
             rays.iter().filter_map(|r| caster.cast_ray(r)).count()
         }),
-        ray_by_ray_per_s: throughput(rays.len(), budget, || {
-            count(caster.cast_many_single(&rays))
-        }),
+        ray_by_ray_per_s: throughput(rays.len(), budget, || count(caster.cast_many_single(&rays))),
         threads: rayon::current_num_threads(),
         rays: rays.len(),
         hits,
@@ -217,7 +215,10 @@ mod tests {
             );
             let config = LidarConfig::default();
             let revolution = config.columns() * config.beams as usize;
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
             for (bc, bb) in [(4, 16), (8, 8), (16, 4), (32, 2), (64, 1)] {
                 use crate::lidar::bvh::stats::{PACKET_NODES, PACKET_TRIS, QUADS};
                 for c in [&PACKET_NODES, &QUADS, &PACKET_TRIS] {

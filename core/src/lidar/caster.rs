@@ -300,6 +300,14 @@ impl Caster {
                 .count()
                 .max(1);
             let run = &rays[start..start + len];
+            if len < 4 {
+                // Too few to share a walk: ray by ray is cheaper.
+                for (o, r) in out[start..start + len].iter_mut().zip(run) {
+                    *o = self.cast_ray(r);
+                }
+                start += len;
+                continue;
+            }
             for (k, r) in run.iter().enumerate() {
                 // A ray that cannot hit anything gets range 0: the packet skips it.
                 (prepared[k], t_max[k]) = match prepare(r) {

@@ -70,19 +70,6 @@ pub(crate) fn intersect_any(ray: &PreparedRay, tri: &[[f32; 3]; 3], t_max: f32) 
     }
 }
 
-/// [`intersect_rel`] with the ray's permutation looked up at run time.
-#[inline(always)]
-pub(crate) fn intersect_rel_any(ray: &PreparedRay, rel: &[[f32; 3]; 3], t_max: f32) -> Option<f32> {
-    match ray.perm {
-        0 => intersect_rel::<1, 2, 0>(ray, rel, t_max),
-        1 => intersect_rel::<2, 1, 0>(ray, rel, t_max),
-        2 => intersect_rel::<2, 0, 1>(ray, rel, t_max),
-        3 => intersect_rel::<0, 2, 1>(ray, rel, t_max),
-        4 => intersect_rel::<0, 1, 2>(ray, rel, t_max),
-        _ => intersect_rel::<1, 0, 2>(ray, rel, t_max),
-    }
-}
-
 /// Distance `t` in `(0, t_max)` at which the ray hits triangle `tri`, or
 /// `None`; `(KX, KY, KZ)` must be the ray's permutation.
 #[inline(always)]

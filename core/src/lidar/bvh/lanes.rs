@@ -9,8 +9,7 @@ mod imp {
     // touches memory except `_mm_storeu_ps`, whose target is a local array.
     use std::arch::x86_64::{
         __m128, _mm_and_ps, _mm_andnot_ps, _mm_cmple_ps, _mm_cmplt_ps, _mm_max_ps, _mm_min_ps,
-        _mm_movemask_ps, _mm_mul_ps, _mm_or_ps, _mm_set_ps, _mm_set1_ps, _mm_storeu_ps,
-        _mm_sub_ps,
+        _mm_movemask_ps, _mm_mul_ps, _mm_or_ps, _mm_set_ps, _mm_set1_ps, _mm_storeu_ps, _mm_sub_ps,
     };
 
     /// Four lanes in one SSE register.
@@ -144,7 +143,11 @@ mod imp {
         #[inline(always)]
         pub fn select(self, a: Self, b: Self) -> Self {
             Self(std::array::from_fn(|i| {
-                if self.0[i].to_bits() != 0 { a.0[i] } else { b.0[i] }
+                if self.0[i].to_bits() != 0 {
+                    a.0[i]
+                } else {
+                    b.0[i]
+                }
             }))
         }
         #[inline(always)]

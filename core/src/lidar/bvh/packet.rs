@@ -8,10 +8,11 @@
 //! its own closest distance, and every box and triangle test is the same
 //! arithmetic as the single-ray path, so the hits are the same.
 
+use super::build::MAX_LEAF;
 use super::lanes::F4;
 use super::traverse::FAR_SCALE;
 use super::{Bvh, Node, WIDTH};
-use crate::lidar::triangle::{PreparedRay, intersect_rel_any, relative};
+use crate::lidar::triangle::{PreparedRay, intersect_rel, relative};
 
 /// Most rays in one packet (bits of the active mask).
 pub(crate) const PACKET: usize = 64;
@@ -48,6 +49,43 @@ impl Lanes {
         }
         out & mask
     }
+}
+
+/// Triangles whose relative vertices are kept at once (the build's
+/// largest leaf).
+const LEAF: usize = MAX_LEAF;
+
+/// The closest of the triangles `rel` (relative to the ray's origin) that
+/// `ray` hits within `t_max`: `(t, index into rel)`. Dispatches on the ray's
+/// permutation once for the whole leaf.
+#[inline(always)]
+fn closest_in(ray: &PreparedRay, rel: &[[[f32; 3]; 3]], t_max: f32) -> Option<(f32, usize)> {
+    match ray.perm {
+        0 => closest_in_perm::<1, 2, 0>(ray, rel, t_max),
+        1 => closest_in_perm::<2, 1, 0>(ray, rel, t_max),
+        2 => closest_in_perm::<2, 0, 1>(ray, rel, t_max),
+        3 => closest_in_perm::<0, 2, 1>(ray, rel, t_max),
+        4 => closest_in_perm::<0, 1, 2>(ray, rel, t_max),
+        _ => closest_in_perm::<1, 0, 2>(ray, rel, t_max),
+    }
+}
+
+/// [`closest_in`] for rays of permutation `(KX, KY, KZ)`.
+#[inline(always)]
+fn closest_in_perm<const KX: usize, const KY: usize, const KZ: usize>(
+    ray: &PreparedRay,
+    rel: &[[[f32; 3]; 3]],
+    t_max: f32,
+) -> Option<(f32, usize)> {
+    let mut best = None;
+    let mut t_max = t_max;
+    for (k, r) in rel.iter().enumerate() {
+        if let Some(t) = intersect_rel::<KX, KY, KZ>(ray, r, t_max) {
+            t_max = t;
+            best = Some((t, k));
+        }
+    }
+    best
 }
 
 /// Lanes `4q .. 4q + 4` of `a`.
@@ -192,23 +230,28 @@ impl Bvh {
             let (hits, near) = enter(nd, org, &l, mask);
             // Leaves first: they may shorten the rays' closest distances.
             let mut shortened = false;
-            for c in 0..WIDTH {
-                if nd.leaves & (1 << c) == 0 || hits[c] == 0 {
+            for (c, &entered) in hits.iter().enumerate() {
+                if nd.leaves & (1 << c) == 0 || entered == 0 {
                     continue;
                 }
                 let start = nd.child[c] as usize;
                 let end = start + nd.count[c] as usize;
-                for (k, tri) in self.tris[start..end].iter().enumerate() {
-                    let rel = relative(tri, org);
-                    let mut m = hits[c];
+                // The leaf's vertices relative to the shared origin, once.
+                for (g, group) in self.tris[start..end].chunks(LEAF).enumerate() {
+                    let mut rel = [[[0.0f32; 3]; 3]; LEAF];
+                    for (r, tri) in rel.iter_mut().zip(group) {
+                        *r = relative(tri, org);
+                    }
+                    let rel = &rel[..group.len()];
+                    let mut m = entered;
                     while m != 0 {
                         let i = m.trailing_zeros() as usize;
                         m &= m - 1;
                         #[cfg(test)]
-                        super::stats::PACKET_TRIS.with(|c| c.set(c.get() + 1));
-                        if let Some(th) = intersect_rel_any(&rays[i], &rel, l.best_t[i]) {
+                        super::stats::PACKET_TRIS.with(|c| c.set(c.get() + rel.len() as u64));
+                        if let Some((th, k)) = closest_in(&rays[i], rel, l.best_t[i]) {
                             l.best_t[i] = th;
-                            best[i] = start + k;
+                            best[i] = start + g * LEAF + k;
                             shortened = true;
                         }
                     }
@@ -356,7 +399,10 @@ mod tests {
 
     /// A random triangle soup in [-10, 10]³.
     fn soup() -> impl Strategy<Value = Vec<[[f32; 3]; 3]>> {
-        prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-10.0f32..10.0)), 1..120)
+        prop::collection::vec(
+            prop::array::uniform3(prop::array::uniform3(-10.0f32..10.0)),
+            1..120,
+        )
     }
 
     proptest! {
