@@ -8,7 +8,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
 use skyground_core::lidar::bench::street_poses;
-use skyground_core::lidar::spinning::revolution_rays;
+use skyground_core::lidar::spinning::{cast_revolution, revolution_rays};
 use skyground_core::lidar::synthetic::dense_scene;
 use skyground_core::lidar::{
     AirborneConfig, CastBackend, Caster, LidarConfig, Ray, airborne_scan, bench_rays, scan,
@@ -18,14 +18,17 @@ use skyground_core::scene::{REFERENCE_SEED, Scene, reference_scene};
 fn print_figures(name: &str, scene: &Scene) {
     match bench_rays(scene, 4.0) {
         Ok(f) => println!(
-            "{name}: {} triangles, build {:.3} s, {:.2} M rays/s on 1 thread, {:.2} M rays/s on {} threads, {} of {} rays hit",
+            "{name}: {} triangles, build {:.3} s; packets {:.2} M rays/s on 1 thread, {:.2} M rays/s on {} threads; ray by ray {:.2} / {:.2} M rays/s; {} of {} rays hit, {} differ",
             f.triangles,
             f.build_s,
             f.rays_per_s_single / 1e6,
             f.rays_per_s / 1e6,
             f.threads,
+            f.ray_by_ray_per_s_single / 1e6,
+            f.ray_by_ray_per_s / 1e6,
             f.hits,
-            f.rays
+            f.rays,
+            f.mismatches
         ),
         Err(e) => eprintln!("{name}: {e}"),
     }
@@ -44,8 +47,16 @@ fn cast_group(c: &mut Criterion, name: &str, caster: &Caster) {
     g.bench_function("one_thread", |b| {
         b.iter(|| rays.iter().filter_map(|r| caster.cast_ray(r)).count())
     });
-    g.bench_function("cast_many", |b| {
-        b.iter(|| caster.cast_many(black_box(&rays)).len())
+    g.bench_function("ray_by_ray_pool", |b| {
+        b.iter(|| caster.cast_many_single(black_box(&rays)).len())
+    });
+    let revolution = config.columns() * config.beams as usize;
+    g.bench_function("packets", |b| {
+        b.iter(|| {
+            rays.chunks(revolution)
+                .map(|r| cast_revolution(caster, &config, black_box(r)).len())
+                .sum::<usize>()
+        })
     });
     g.finish();
 }

@@ -7,23 +7,34 @@ use serde::Serialize;
 
 use super::caster::{Caster, CasterError};
 use super::pose::Pose;
-use super::ray::Ray;
-use super::spinning::{LidarConfig, revolution_rays};
+use super::ray::{Hit, Ray};
+use super::spinning::{LidarConfig, cast_revolution, revolution_rays};
 use crate::scene::{ObjectKind, Scene};
 
-/// Throughput of spinning-LiDAR ray casting on one scene.
+/// Throughput of spinning-LiDAR ray casting on one scene: the packet path
+/// ([`Caster::cast_many`]) and the ray-by-ray path ([`Caster::cast_ray`])
+/// measured in the same run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BenchFigures {
-    /// Rays per second on all threads of the current rayon pool.
+    /// Rays per second on all threads of the current rayon pool (packets).
     pub rays_per_s: f64,
-    /// Rays per second on one thread.
+    /// Rays per second on one thread (packets).
     pub rays_per_s_single: f64,
+    /// Rays per second on all threads, ray by ray (the path before packets).
+    pub ray_by_ray_per_s: f64,
+    /// Rays per second on one thread, ray by ray.
+    pub ray_by_ray_per_s_single: f64,
     /// Threads of the rayon pool.
     pub threads: usize,
     /// Rays in one pass (VLP-16 revolutions from street-level poses).
     pub rays: usize,
     /// Rays of one pass that hit something.
     pub hits: usize,
+    /// Rays whose packet hit differs from the ray-by-ray one (a hit against
+    /// none, or distances more than 1e-6 m apart). Seen only where two
+    /// objects' faces coincide: the distances are then one f32 step apart
+    /// (4e-6 m at 40 m) and the order of the tests picks the face.
+    pub mismatches: usize,
     /// Triangles indexed.
     pub triangles: usize,
     /// BVH build time, seconds.
@@ -31,34 +42,69 @@ pub struct BenchFigures {
 }
 
 /// Builds a caster over `scene`, then casts VLP-16 revolutions from up to 8
-/// street-level poses ([`street_poses`]) for about `seconds` in total: half
-/// on one thread, half on the rayon pool.
+/// street-level poses ([`street_poses`]) for about `seconds` in total: a
+/// quarter each for packets and ray by ray, on one thread and on the rayon
+/// pool.
 pub fn bench_rays(scene: &Scene, seconds: f64) -> Result<BenchFigures, CasterError> {
     let start = Instant::now();
     let caster = Caster::new(scene)?;
     let build_s = start.elapsed().as_secs_f64();
     let config = LidarConfig::default();
-    let rays: Vec<Ray> = street_poses(&caster, 8)
+    let poses = street_poses(&caster, 8);
+    let rays: Vec<Ray> = poses
         .iter()
         .flat_map(|p| revolution_rays(&config, p))
         .collect();
-    let hits = caster.cast_many(&rays).iter().flatten().count();
-    let budget = (seconds / 2.0).max(0.01);
-    let single = throughput(rays.len(), budget, || {
-        rays.iter().filter_map(|r| caster.cast_ray(r)).count()
-    });
-    let multi = throughput(rays.len(), budget, || {
-        caster.cast_many(&rays).iter().flatten().count()
-    });
+    let revolution = config.columns() * config.beams as usize;
+    let packets: Vec<Option<Hit>> = rays
+        .chunks(revolution)
+        .flat_map(|r| cast_revolution(&caster, &config, r))
+        .collect();
+    let single = caster.cast_many_single(&rays);
+    let hits = packets.iter().flatten().count();
+    let mismatches = packets
+        .iter()
+        .zip(&single)
+        .filter(|(a, b)| match (a, b) {
+            (Some(a), Some(b)) => (a.t - b.t).abs() > 1e-6,
+            (None, None) => false,
+            _ => true,
+        })
+        .count();
+    let budget = (seconds / 4.0).max(0.01);
+    let count = |h: Vec<Option<Hit>>| h.iter().flatten().count();
     Ok(BenchFigures {
-        rays_per_s: multi,
-        rays_per_s_single: single,
+        rays_per_s_single: single_thread(|| {
+            throughput(rays.len(), budget, || {
+                rays.chunks(revolution)
+                    .map(|r| count(cast_revolution(&caster, &config, r)))
+                    .sum()
+            })
+        }),
+        rays_per_s: throughput(rays.len(), budget, || {
+            rays.chunks(revolution)
+                .map(|r| count(cast_revolution(&caster, &config, r)))
+                .sum()
+        }),
+        ray_by_ray_per_s_single: throughput(rays.len(), budget, || {
+            rays.iter().filter_map(|r| caster.cast_ray(r)).count()
+        }),
+        ray_by_ray_per_s: throughput(rays.len(), budget, || count(caster.cast_many_single(&rays))),
         threads: rayon::current_num_threads(),
         rays: rays.len(),
         hits,
+        mismatches,
         triangles: caster.triangle_count(),
         build_s,
     })
+}
+
+/// Runs `f` on a one-thread rayon pool (on the current one if none can be made).
+fn single_thread(f: impl FnOnce() -> f64 + Send) -> f64 {
+    match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+        Ok(pool) => pool.install(f),
+        Err(_) => f(),
+    }
 }
 
 /// Rays per second of `pass` (casting `rays` rays) repeated for `budget` seconds.
@@ -155,18 +201,61 @@ mod tests {
             let hits = rays.iter().filter_map(|r| caster.cast_ray(r)).count();
             let nodes = NODES.with(|c| c.get()) as f64 / rays.len() as f64;
             let tris = TRIS.with(|c| c.get()) as f64 / rays.len() as f64;
-            let cpu0 = thread_cpu_s();
-            let mut passes = 0;
-            while thread_cpu_s() - cpu0 < budget {
-                std::hint::black_box(rays.iter().filter_map(|r| caster.cast_ray(r)).count());
-                passes += 1;
-            }
-            let dt = thread_cpu_s() - cpu0;
+            let cpu_rate = |pass: &dyn Fn() -> usize| {
+                let cpu0 = thread_cpu_s();
+                let mut passes = 0;
+                while thread_cpu_s() - cpu0 < budget {
+                    std::hint::black_box(pass());
+                    passes += 1;
+                }
+                (passes * rays.len()) as f64 / (thread_cpu_s() - cpu0) / 1e6
+            };
+            let by_ray = cpu_rate(&|| rays.iter().filter_map(|r| caster.cast_ray(r)).count());
             println!(
-                "{n}: shape {:?}, {hits} hits, {nodes:.1} nodes/ray, {tris:.1} tris/ray, {:.2} M rays/s",
+                "{n}: shape {:?}, {hits} hits, {nodes:.1} nodes/ray, {tris:.1} tris/ray, {by_ray:.2} M rays/s ray by ray",
                 caster.bvh_shape(),
-                (passes * rays.len()) as f64 / dt / 1e6
             );
+            let config = LidarConfig::default();
+            let revolution = config.columns() * config.beams as usize;
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            for (bc, bb) in [(4, 16), (8, 8), (16, 4), (32, 2), (64, 1)] {
+                use crate::lidar::bvh::stats::{PACKET_NODES, PACKET_TRIS, QUADS};
+                for c in [&PACKET_NODES, &QUADS, &PACKET_TRIS] {
+                    c.with(|c| c.set(0));
+                }
+                let per = |c: &'static std::thread::LocalKey<std::cell::Cell<u64>>| {
+                    c.with(|c| c.get()) as f64 / rays.len() as f64
+                };
+                let counts = pool.install(|| {
+                    for c in [&PACKET_NODES, &QUADS, &PACKET_TRIS] {
+                        c.with(|c| c.set(0));
+                    }
+                    for r in rays.chunks(revolution) {
+                        crate::lidar::spinning::cast_blocks(&caster, &config, r, bc, bb);
+                    }
+                    [per(&PACKET_NODES), per(&QUADS), per(&PACKET_TRIS)]
+                });
+                println!(
+                    "  {bc}x{bb}: per ray {:.3} packet nodes, {:.2} quad tests, {:.2} tris",
+                    counts[0], counts[1], counts[2]
+                );
+                let rate = pool.install(|| {
+                    cpu_rate(&|| {
+                        rays.chunks(revolution)
+                            .map(|r| {
+                                crate::lidar::spinning::cast_blocks(&caster, &config, r, bc, bb)
+                                    .iter()
+                                    .flatten()
+                                    .count()
+                            })
+                            .sum()
+                    })
+                });
+                println!("  packets {bc} columns x {bb} beams: {rate:.2} M rays/s");
+            }
         }
     }
 }

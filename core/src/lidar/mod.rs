@@ -6,7 +6,9 @@
 //!   `bvh`, `triangle`); [`CastBackend::Parry`] casts through parry3d's
 //!   `TriMesh` instead (`parry_mesh`).
 //! - [`spinning`]: a multi-beam spinning LiDAR on a ground vehicle
-//!   (VLP-16 defaults) → [`ScanPoints`].
+//!   (VLP-16 defaults) → [`ScanPoints`]; a revolution is cast in packets of
+//!   32 columns × 2 beams that walk the BVH together (`bvh::packet`), with
+//!   the same hits as ray by ray.
 //! - [`airborne`]: an airborne laser scanner flying parallel strips →
 //!   [`Cloud`](crate::cloud::Cloud).
 //! - [`synthetic`]: boxes on a plane and a dense city-like scene for tests

@@ -3,12 +3,13 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::bvh::PACKET;
 use super::caster::Caster;
 use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::return_intensity;
 use super::noise::{Stream, combine};
 use super::pose::{Pose, rotate};
-use super::ray::{Ray, dot};
+use super::ray::{Hit, Ray, dot};
 use crate::cloud::Cloud;
 
 /// Spinning LiDAR parameters; every field has a default (a Velodyne VLP-16
@@ -193,8 +194,8 @@ pub fn scan(
     let rays = revolution_rays(config, pose);
     let seed = combine(config.seed, rng_seed);
     let sigma = f64::from(config.range_noise_sigma);
-    let fire = |(i, ray): (usize, &Ray)| -> Option<Return> {
-        let hit = caster.cast_ray(ray)?;
+    let fire = |(i, (ray, hit)): (usize, (&Ray, Option<Hit>))| -> Option<Return> {
+        let hit = hit?;
         let mut rng = Stream::new(seed, i as u64);
         if config.dropout > 0.0 && rng.uniform() < f64::from(config.dropout) {
             return None;
@@ -217,8 +218,10 @@ pub fn scan(
             building: object.building,
         })
     };
+    let hits = cast_revolution(caster, config, &rays);
     let returns: Vec<Option<Return>> = rays
         .par_iter()
+        .zip(hits)
         .enumerate()
         .with_min_len(512)
         .map(fire)
@@ -258,4 +261,63 @@ pub fn revolution_rays(config: &LidarConfig, pose: &Pose) -> Vec<Ray> {
         }
     }
     rays
+}
+
+/// Columns of one packet block: 16 columns × 4 beams = 64 rays, 3.2° × 6°
+/// of a VLP-16 revolution, the most compact block of its range image.
+const BLOCK_COLUMNS: usize = 32;
+/// Beams of one packet block.
+const BLOCK_BEAMS: usize = 2;
+
+/// Casts one revolution's rays (`rays` as [`revolution_rays`] makes them for
+/// `config`) in coherent packets of [`BLOCK_COLUMNS`] × [`BLOCK_BEAMS`]
+/// rays; result `i` belongs to `rays[i]`, the same hit as
+/// [`Caster::cast_ray`] gives.
+pub fn cast_revolution(caster: &Caster, config: &LidarConfig, rays: &[Ray]) -> Vec<Option<Hit>> {
+    cast_blocks(caster, config, rays, BLOCK_COLUMNS, BLOCK_BEAMS)
+}
+
+/// [`cast_revolution`] with blocks of `block_columns` × `block_beams` rays
+/// (at most [`PACKET`] in all).
+pub(crate) fn cast_blocks(
+    caster: &Caster,
+    config: &LidarConfig,
+    rays: &[Ray],
+    block_columns: usize,
+    block_beams: usize,
+) -> Vec<Option<Hit>> {
+    let beams = config.beams as usize;
+    if rays.len() != config.columns() * beams {
+        return caster.cast_many(rays);
+    }
+    let block_columns = block_columns.clamp(1, PACKET);
+    let block_beams = block_beams.clamp(1, PACKET / block_columns);
+    let mut out = vec![None; rays.len()];
+    // A run of whole columns is contiguous in both slices: each task takes
+    // one and casts it block by block.
+    let span = block_columns * beams;
+    out.par_chunks_mut(span)
+        .zip(rays.par_chunks(span))
+        .for_each(|(out, rays)| {
+            let columns = rays.len() / beams;
+            let mut packet = [Ray::new([0.0; 3], [0.0; 3], 0.0); PACKET];
+            let mut found = [None; PACKET];
+            let mut index = [0usize; PACKET];
+            for b0 in (0..beams).step_by(block_beams) {
+                // Beam by beam, so neighbouring rays are neighbouring columns.
+                let mut n = 0;
+                for b in b0..(b0 + block_beams).min(beams) {
+                    for c in 0..columns {
+                        index[n] = c * beams + b;
+                        packet[n] = rays[index[n]];
+                        n += 1;
+                    }
+                }
+                caster.cast_packet(&packet[..n], &mut found[..n]);
+                for (&i, hit) in index[..n].iter().zip(&found[..n]) {
+                    out[i] = *hit;
+                }
+            }
+        });
+    out
 }

@@ -6,7 +6,7 @@
 //! closed mesh), which a plain Möller–Trumbore test does not guarantee.
 
 /// A ray prepared once for many box and triangle tests.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct PreparedRay {
     /// Origin.
     pub org: [f32; 3],
@@ -15,8 +15,10 @@ pub(crate) struct PreparedRay {
     pub inv: [f32; 3],
     /// 1 where `dir` is negative: which box bound is the near one.
     pub sign: [usize; 3],
-    /// Axis permutation `(kx, ky, kz)`, `kz` the dominant axis of `dir`, as
-    /// an index into [`PERMUTATIONS`].
+    /// Axis permutation `(kx, ky, kz)`, `kz` the dominant axis of `dir`:
+    /// `2 kz + 1` when `(kx, ky)` are swapped (`dir[kz] < 0`), else `2 kz`;
+    /// traversal code is instantiated once per permutation so vertex
+    /// components are read at fixed offsets.
     pub perm: usize,
     /// Shear constants `(-dx/dz, -dy/dz, 1/dz)` in the permuted frame.
     shear: [f32; 3],
@@ -35,7 +37,8 @@ impl PreparedRay {
         };
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
-        if dir[kz] < 0.0 {
+        let swapped = dir[kz] < 0.0;
+        if swapped {
             std::mem::swap(&mut kx, &mut ky);
         }
         let dz = dir[kz];
@@ -49,26 +52,11 @@ impl PreparedRay {
                 }
             }),
             sign: dir.map(|d| usize::from(d.is_sign_negative())),
-            perm: PERMUTATIONS
-                .iter()
-                .position(|p| *p == [kx, ky, kz])
-                .unwrap_or(0),
+            perm: 2 * kz + usize::from(swapped),
             shear: [dir[kx] / dz, dir[ky] / dz, 1.0 / dz],
         }
     }
 }
-
-/// The six axis permutations `(kx, ky, kz)` a ray can use; traversal code
-/// is instantiated once per permutation so vertex components are read at
-/// fixed offsets.
-pub(crate) const PERMUTATIONS: [[usize; 3]; 6] = [
-    [1, 2, 0],
-    [2, 1, 0],
-    [2, 0, 1],
-    [0, 2, 1],
-    [0, 1, 2],
-    [1, 0, 2],
-];
 
 /// [`intersect`] with the ray's permutation looked up at run time.
 pub(crate) fn intersect_any(ray: &PreparedRay, tri: &[[f32; 3]; 3], t_max: f32) -> Option<f32> {
@@ -90,12 +78,26 @@ pub(crate) fn intersect<const KX: usize, const KY: usize, const KZ: usize>(
     tri: &[[f32; 3]; 3],
     t_max: f32,
 ) -> Option<f32> {
+    intersect_rel::<KX, KY, KZ>(ray, &relative(tri, ray.org), t_max)
+}
+
+/// The vertices of `tri` relative to `org` (shared by every ray from `org`).
+#[inline(always)]
+pub(crate) fn relative(tri: &[[f32; 3]; 3], org: [f32; 3]) -> [[f32; 3]; 3] {
+    tri.map(|v| [v[0] - org[0], v[1] - org[1], v[2] - org[2]])
+}
+
+/// [`intersect`] with the vertices already made relative to the ray's origin
+/// ([`relative`]), so rays sharing an origin share that step.
+#[inline(always)]
+pub(crate) fn intersect_rel<const KX: usize, const KY: usize, const KZ: usize>(
+    ray: &PreparedRay,
+    rel: &[[f32; 3]; 3],
+    t_max: f32,
+) -> Option<f32> {
     let (kx, ky, kz) = (KX, KY, KZ);
     let [sx, sy, sz] = ray.shear;
-    let o = ray.org;
-    let a = [tri[0][0] - o[0], tri[0][1] - o[1], tri[0][2] - o[2]];
-    let b = [tri[1][0] - o[0], tri[1][1] - o[1], tri[1][2] - o[2]];
-    let c = [tri[2][0] - o[0], tri[2][1] - o[1], tri[2][2] - o[2]];
+    let [a, b, c] = *rel;
     let (az, bz, cz) = (a[kz], b[kz], c[kz]);
     let (ax, ay) = (a[kx] - sx * az, a[ky] - sy * az);
     let (bx, by) = (b[kx] - sx * bz, b[ky] - sy * bz);

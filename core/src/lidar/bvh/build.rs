@@ -11,7 +11,7 @@ use super::Bvh;
 /// Centroid bins per axis.
 const BINS: usize = 16;
 /// Largest leaf (node slots store counts as `u8`).
-const MAX_LEAF: usize = 8;
+pub(super) const MAX_LEAF: usize = 8;
 /// Depth after which nodes are split at the median.
 const MAX_DEPTH: u32 = 64;
 /// Smallest subtree built on its own rayon task.

@@ -2,6 +2,7 @@
 //!
 //! - [`build`]: binned SAH construction (parallel over subtrees).
 //! - [`traverse`]: closest-hit traversal, near child first, early exit.
+//! - [`packet`]: the same for up to 64 rays sharing an origin, in one walk.
 //!
 //! - `wide`: the binary tree collapsed into 4-wide nodes.
 //!
@@ -13,8 +14,10 @@
 
 mod build;
 mod lanes;
+mod packet;
 mod traverse;
 mod wide;
+pub(crate) use packet::PACKET;
 #[cfg(test)]
 pub(crate) use traverse::stats;
 

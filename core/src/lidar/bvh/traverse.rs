@@ -6,7 +6,7 @@ use crate::lidar::triangle::{PreparedRay, intersect, intersect_any};
 
 /// Far-plane factor making the slab test conservative under rounding
 /// (1 + 2γ₃, Ize 2013): a ray grazing a box face is never wrongly culled.
-const FAR_SCALE: f32 = 1.0 + 4.0 * f32::EPSILON;
+pub(super) const FAR_SCALE: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// Stack entries kept inline; deeper stacks (only pathological trees: each
 /// level pushes at most `WIDTH - 1` entries and real trees are ~15 levels
@@ -166,5 +166,8 @@ pub(crate) mod stats {
     thread_local! {
         pub static NODES: Cell<u64> = const { Cell::new(0) };
         pub static TRIS: Cell<u64> = const { Cell::new(0) };
+        pub static PACKET_NODES: Cell<u64> = const { Cell::new(0) };
+        pub static QUADS: Cell<u64> = const { Cell::new(0) };
+        pub static PACKET_TRIS: Cell<u64> = const { Cell::new(0) };
     }
 }
