@@ -58,16 +58,25 @@ impl PreparedRay {
     }
 }
 
+/// Calls `f::<KX, KY, KZ>(args)` with the axis permutation a
+/// [`PreparedRay`]'s `perm` stands for (the one table of them).
+macro_rules! by_perm {
+    ($perm:expr, $f:ident($($arg:expr),*)) => {
+        match $perm {
+            0 => $f::<1, 2, 0>($($arg),*),
+            1 => $f::<2, 1, 0>($($arg),*),
+            2 => $f::<2, 0, 1>($($arg),*),
+            3 => $f::<0, 2, 1>($($arg),*),
+            4 => $f::<0, 1, 2>($($arg),*),
+            _ => $f::<1, 0, 2>($($arg),*),
+        }
+    };
+}
+pub(crate) use by_perm;
+
 /// [`intersect`] with the ray's permutation looked up at run time.
 pub(crate) fn intersect_any(ray: &PreparedRay, tri: &[[f32; 3]; 3], t_max: f32) -> Option<f32> {
-    match ray.perm {
-        0 => intersect::<1, 2, 0>(ray, tri, t_max),
-        1 => intersect::<2, 1, 0>(ray, tri, t_max),
-        2 => intersect::<2, 0, 1>(ray, tri, t_max),
-        3 => intersect::<0, 2, 1>(ray, tri, t_max),
-        4 => intersect::<0, 1, 2>(ray, tri, t_max),
-        _ => intersect::<1, 0, 2>(ray, tri, t_max),
-    }
+    by_perm!(ray.perm, intersect(ray, tri, t_max))
 }
 
 /// Distance `t` in `(0, t_max)` at which the ray hits triangle `tri`, or

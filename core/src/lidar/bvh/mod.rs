@@ -24,6 +24,19 @@ pub(crate) use traverse::stats;
 /// Children per node.
 pub(crate) const WIDTH: usize = 4;
 
+/// Sorts a node's (at most [`WIDTH`]) entered children far to near, so that
+/// popping the stack visits the nearest first (insertion sort: four items).
+#[inline(always)]
+pub(crate) fn far_first<T>(kids: &mut [T], dist: impl Fn(&T) -> f32) {
+    for i in 1..kids.len() {
+        let mut j = i;
+        while j > 0 && dist(&kids[j - 1]) < dist(&kids[j]) {
+            kids.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
 /// One node: the boxes of its (up to) four children and where they lead.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]

@@ -11,8 +11,8 @@
 use super::build::MAX_LEAF;
 use super::lanes::F4;
 use super::traverse::FAR_SCALE;
-use super::{Bvh, Node, WIDTH};
-use crate::lidar::triangle::{PreparedRay, intersect_rel, relative};
+use super::{Bvh, Node, WIDTH, far_first};
+use crate::lidar::triangle::{PreparedRay, by_perm, intersect_rel, relative};
 
 /// Most rays in one packet (bits of the active mask).
 pub(crate) const PACKET: usize = 64;
@@ -60,14 +60,7 @@ const LEAF: usize = MAX_LEAF;
 /// permutation once for the whole leaf.
 #[inline(always)]
 fn closest_in(ray: &PreparedRay, rel: &[[[f32; 3]; 3]], t_max: f32) -> Option<(f32, usize)> {
-    match ray.perm {
-        0 => closest_in_perm::<1, 2, 0>(ray, rel, t_max),
-        1 => closest_in_perm::<2, 1, 0>(ray, rel, t_max),
-        2 => closest_in_perm::<2, 0, 1>(ray, rel, t_max),
-        3 => closest_in_perm::<0, 2, 1>(ray, rel, t_max),
-        4 => closest_in_perm::<0, 1, 2>(ray, rel, t_max),
-        _ => closest_in_perm::<1, 0, 2>(ray, rel, t_max),
-    }
+    by_perm!(ray.perm, closest_in_perm(ray, rel, t_max))
 }
 
 /// [`closest_in`] for rays of permutation `(KX, KY, KZ)`.
@@ -270,13 +263,7 @@ impl Bvh {
                 }
             }
             let kids = &mut kids[..k];
-            for i in 1..kids.len() {
-                let mut j = i;
-                while j > 0 && kids[j - 1].2 < kids[j].2 {
-                    kids.swap(j - 1, j);
-                    j -= 1;
-                }
-            }
+            far_first(kids, |c| c.2);
             for &entry in kids.iter() {
                 match stack.get_mut(sp) {
                     Some(slot) => *slot = entry,

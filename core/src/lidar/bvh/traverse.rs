@@ -1,7 +1,7 @@
 //! Closest-hit traversal of the 4-wide hierarchy.
 
 use super::lanes::F4;
-use super::{Bvh, Node, WIDTH};
+use super::{Bvh, Node, WIDTH, far_first};
 use crate::lidar::triangle::{PreparedRay, intersect, intersect_any};
 
 /// Far-plane factor making the slab test conservative under rounding
@@ -103,13 +103,7 @@ impl Bvh {
                     }
                 }
                 let kids = &mut kids[..k];
-                for i in 1..kids.len() {
-                    let mut j = i;
-                    while j > 0 && kids[j - 1].1 < kids[j].1 {
-                        kids.swap(j - 1, j);
-                        j -= 1;
-                    }
-                }
+                far_first(kids, |c| c.1);
                 let (&nearest, farther) = match kids.split_last() {
                     Some(split) => split,
                     None => (&(0, 0.0), &[][..]),
