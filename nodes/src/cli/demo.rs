@@ -405,7 +405,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             }
             _ = rt.shutdown.wait() => break,
             r = resampled_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
-                let new = arrived_points(w.resampled.as_ref(), &decoded.cloud);
+                let new = arrived_points(w.resampled.as_ref(), &decoded.cloud, prior.cloud.origin);
                 if new.len() == decoded.cloud.len() {
                     after_so_far = before_so_far.clone();
                 }
@@ -738,15 +738,16 @@ type ModelsBefore =
 
 /// The points of `now` (the whole resampled cloud so far) that `before` did
 /// not have: the explorer only appends, so `before` is a prefix unless the
-/// explorer started again (then all of `now`).
-fn arrived_points(before: Option<&Cloud>, now: &Cloud) -> Cloud {
+/// explorer started again (then all of `now`). The nodes work in the
+/// prior's frame (`origin`); a decoded message does not carry it.
+fn arrived_points(before: Option<&Cloud>, now: &Cloud, origin: [f64; 3]) -> Cloud {
     let mut c = now.clone();
     if let Some(b) = before
-        && b.origin == now.origin
         && now.xyz.get(..b.len()) == Some(&b.xyz[..])
     {
         c.xyz.drain(..b.len());
     }
+    c.origin = origin;
     // Every resampled point is a building point (building_points keeps all
     // of an unlabelled cloud).
     c.label = None;
@@ -984,17 +985,22 @@ mod tests {
     #[test]
     fn only_the_appended_points_are_new() {
         let (old, now) = (cloud(3), cloud(5));
-        let new = arrived_points(Some(&old), &now);
+        let new = arrived_points(Some(&old), &now, [7.0, 8.0, 9.0]);
         assert_eq!(new.xyz, vec![[3.0, 0.0, 0.0], [4.0, 0.0, 0.0]]);
         assert_eq!(new.label, None);
-        assert_eq!(arrived_points(None, &now).len(), 5);
+        // In the prior's frame, whatever the decoded message said.
+        assert_eq!(new.origin, [7.0, 8.0, 9.0]);
+        assert_eq!(arrived_points(None, &now, [0.0; 3]).len(), 5);
     }
 
     #[test]
     fn a_restarted_explorer_sends_all_points_again() {
         let mut now = cloud(5);
         now.xyz[1][2] = 9.0;
-        assert_eq!(arrived_points(Some(&cloud(3)), &now).len(), 5);
-        assert_eq!(arrived_points(Some(&cloud(6)), &cloud(5)).len(), 5);
+        assert_eq!(arrived_points(Some(&cloud(3)), &now, [0.0; 3]).len(), 5);
+        assert_eq!(
+            arrived_points(Some(&cloud(6)), &cloud(5), [0.0; 3]).len(),
+            5
+        );
     }
 }
