@@ -522,7 +522,6 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         prof.sample(p.name, p.child.id());
         stop(p).await;
     }
-    prof.stage("report");
     w.restarts = procs
         .iter()
         .map(|p| (p.name.to_string(), p.restarts))

@@ -104,10 +104,8 @@ impl Profile {
     /// total CPU and the sum of peak memories (an upper bound of the whole
     /// mission's peak: the processes do not all peak at once).
     pub fn to_json(&self) -> Value {
-        let mut stages = self.stages.clone();
-        stages.push((self.stage.0.clone(), self.stage.1.elapsed().as_secs_f64()));
-        let cpu: f64 = self.procs.values().map(|(f, _)| f.cpu_s).sum();
-        let rss: f64 = self.procs.values().map(|(f, _)| f.peak_rss_mib).sum();
+        let stages = self.stages_so_far();
+        let (cpu, rss) = self.totals();
         json!({
             "wall_s": self.start.elapsed().as_secs_f64(),
             "stages": stages.iter().map(|(n, s)| json!({"stage": n, "wall_s": s})).collect::<Vec<_>>(),
@@ -119,25 +117,31 @@ impl Profile {
 
     /// A table for the terminal and report.md.
     pub fn to_markdown(&self) -> String {
-        let v = self.to_json();
         let mut s = String::from("| stage | wall s |\n|---|---|\n");
-        for st in v["stages"].as_array().into_iter().flatten() {
-            s += &format!(
-                "| {} | {:.1} |\n",
-                st["stage"].as_str().unwrap_or(""),
-                st["wall_s"].as_f64().unwrap_or(0.0)
-            );
+        for (name, wall) in self.stages_so_far() {
+            s += &format!("| {name} | {wall:.1} |\n");
         }
         s += "\n| process | CPU s | peak RSS MiB |\n|---|---|---|\n";
         for (n, (f, _)) in &self.procs {
             s += &format!("| {n} | {:.1} | {:.0} |\n", f.cpu_s, f.peak_rss_mib);
         }
-        s += &format!(
-            "| all | {:.1} | {:.0} (sum of peaks) |\n",
-            v["cpu_s_total"].as_f64().unwrap_or(0.0),
-            v["peak_rss_mib_sum"].as_f64().unwrap_or(0.0)
-        );
+        let (cpu, rss) = self.totals();
+        s += &format!("| all | {cpu:.1} | {rss:.0} (sum of peaks) |\n");
         s
+    }
+
+    /// The finished stages and the current one up to now.
+    fn stages_so_far(&self) -> Vec<(String, f64)> {
+        let mut stages = self.stages.clone();
+        stages.push((self.stage.0.clone(), self.stage.1.elapsed().as_secs_f64()));
+        stages
+    }
+
+    /// CPU seconds and peak memories (MiB) summed over the processes.
+    fn totals(&self) -> (f64, f64) {
+        let cpu = self.procs.values().map(|(f, _)| f.cpu_s).sum();
+        let rss = self.procs.values().map(|(f, _)| f.peak_rss_mib).sum();
+        (cpu, rss)
     }
 }
 
