@@ -23,7 +23,7 @@ use skyground_core::scene::REFERENCE_SEED;
 const POINTS: usize = 1_000_000;
 
 fn benches(c: &mut Criterion) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
     let model = Model::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let full = simulated_cloud(REFERENCE_SEED, &AirborneConfig::default()).unwrap();
     let n = full.xyz.len();
@@ -119,7 +119,7 @@ fn real_million(c: &mut Criterion) {
         }
     }
     all.intensity = None;
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
     let model = Model::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let classifier =
         SceneClassifier::new(CsfParams::default(), model).unwrap_or_else(|e| panic!("{e}"));

@@ -32,7 +32,7 @@ fn echo_input(c: &TrainingCloud) -> Option<Echoes<'_>> {
 }
 
 fn shipped_model() -> Model {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
     Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -117,12 +117,31 @@ fn a_small_training_run_generalises_to_another_city() {
     );
     assert!(r.class(BUILDING).unwrap().f1 > 0.9);
     assert!(r.class(VEGETATION).unwrap().f1 > 0.75);
-    // Round trip through the model file.
-    let path = std::env::temp_dir().join(format!("skyground_model_{}.json", std::process::id()));
-    model.save(&path).unwrap();
-    let back = Model::load(&path).unwrap();
-    std::fs::remove_file(&path).ok();
-    assert_eq!(back, model);
+    // Round trip through the model file, plain and gzipped.
+    let dir = std::env::temp_dir();
+    let id = std::process::id();
+    let plain = dir.join(format!("skyground_model_{id}.json"));
+    let gz = dir.join(format!("skyground_model_{id}.json.gz"));
+    model.save(&plain).unwrap();
+    model.save(&gz).unwrap();
+    let (plain_bytes, gz_bytes) = (std::fs::read(&plain).unwrap(), std::fs::read(&gz).unwrap());
+    assert_eq!(&gz_bytes[..2], &[0x1f, 0x8b], "a .gz model is gzip");
+    assert!(
+        gz_bytes.len() * 2 < plain_bytes.len(),
+        "gzip shrinks the model"
+    );
+    assert_eq!(Model::load(&plain).unwrap(), model);
+    assert_eq!(Model::load(&gz).unwrap(), model);
+    // The format is read from the bytes, not the name.
+    assert_eq!(Model::from_slice(&gz_bytes).unwrap(), model);
+    assert_eq!(Model::from_slice(&plain_bytes).unwrap(), model);
+    // A cut-off gzip file is a clear error.
+    assert!(matches!(
+        Model::from_slice(&gz_bytes[..gz_bytes.len() / 2]),
+        Err(ClassifyError::File { .. })
+    ));
+    std::fs::remove_file(&plain).ok();
+    std::fs::remove_file(&gz).ok();
 }
 
 #[test]

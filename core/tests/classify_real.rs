@@ -40,7 +40,7 @@ struct Scored {
 }
 
 fn shipped() -> Model {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
     Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 

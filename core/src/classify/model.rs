@@ -1,8 +1,12 @@
 //! A trained classifier as one file: the feature definition and the forest.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Write};
+use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
+
+use flate2::Compression;
+use flate2::read::GzDecoder;
+use flate2::write::GzEncoder;
 
 use serde::{Deserialize, Serialize};
 
@@ -75,37 +79,74 @@ impl Model {
         Ok(())
     }
 
-    /// Writes the model as JSON.
+    /// Writes the model as JSON, gzipped when `path` ends in `.gz`.
     pub fn save(&self, path: &Path) -> Result<(), ClassifyError> {
         let err = |m: String| ClassifyError::File {
             path: path.display().to_string(),
             message: m,
         };
         let f = File::create(path).map_err(|e| err(e.to_string()))?;
-        let mut w = BufWriter::new(f);
-        serde_json::to_writer(&mut w, self).map_err(|e| err(e.to_string()))?;
-        w.flush().map_err(|e| err(e.to_string()))
+        let w = BufWriter::new(f);
+        if path.extension().is_some_and(|e| e == "gz") {
+            let mut gz = GzEncoder::new(w, Compression::best());
+            serde_json::to_writer(&mut gz, self).map_err(|e| err(e.to_string()))?;
+            gz.finish()
+                .and_then(|mut w| w.flush())
+                .map_err(|e| err(e.to_string()))
+        } else {
+            let mut w = w;
+            serde_json::to_writer(&mut w, self).map_err(|e| err(e.to_string()))?;
+            w.flush().map_err(|e| err(e.to_string()))
+        }
     }
 
-    /// Reads and checks a model from the bytes of a file written by [`Self::save`].
+    /// Reads and checks a model from the bytes of a file written by
+    /// [`Self::save`] (plain or gzipped JSON).
     pub fn from_slice(bytes: &[u8]) -> Result<Self, ClassifyError> {
-        let m: Self = serde_json::from_slice(bytes).map_err(|e| ClassifyError::File {
-            path: "(built-in model)".into(),
+        Self::from_reader(bytes, "(built-in model)")
+    }
+
+    /// Reads and checks a model written by [`Self::save`] (plain or gzipped JSON).
+    pub fn load(path: &Path) -> Result<Self, ClassifyError> {
+        let f = File::open(path).map_err(|e| ClassifyError::File {
+            path: path.display().to_string(),
             message: e.to_string(),
         })?;
-        m.check()?;
-        Ok(m)
+        Self::from_reader(BufReader::new(f), &path.display().to_string())
     }
 
-    /// Reads and checks a model written by [`Self::save`].
-    pub fn load(path: &Path) -> Result<Self, ClassifyError> {
+    /// Parses JSON, or gzipped JSON (told apart by gzip's magic bytes, so a
+    /// renamed file still loads).
+    fn from_reader(mut r: impl Read, name: &str) -> Result<Self, ClassifyError> {
         let err = |m: String| ClassifyError::File {
-            path: path.display().to_string(),
+            path: name.to_string(),
             message: m,
         };
-        let f = File::open(path).map_err(|e| err(e.to_string()))?;
-        let m: Self = serde_json::from_reader(BufReader::new(f)).map_err(|e| err(e.to_string()))?;
+        let mut magic = [0u8; 2];
+        let n = read_up_to(&mut r, &mut magic).map_err(|e| err(e.to_string()))?;
+        let r = std::io::Cursor::new(magic[..n].to_vec()).chain(r);
+        let m: Self = if magic[..n] == GZIP_MAGIC {
+            serde_json::from_reader(GzDecoder::new(r))
+        } else {
+            serde_json::from_reader(r)
+        }
+        .map_err(|e| err(e.to_string()))?;
         m.check()?;
         Ok(m)
     }
+}
+
+/// The first two bytes of every gzip stream (RFC 1952).
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+
+/// Fills `buf` as far as the reader allows; the count read.
+fn read_up_to(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut n = 0;
+    while n < buf.len() {
+        match r.read(&mut buf[n..])? {
+            0 => break,
+            k => n += k,
+        }
+    }
+    Ok(n)
 }

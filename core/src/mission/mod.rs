@@ -7,8 +7,10 @@
 //! - `inspect`: cloud_inspector's /cloud_stats status;
 //! - `ground`: the one ground graph planner and explorer share, blocked spots included;
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
-//! - `explorer`: when a region starts and ends, when scans count.
+//! - `explorer`: when a region starts and ends, when scans count;
+//! - `detector`: when detection re-runs on the merged cloud.
 
+pub mod detector;
 pub mod explorer;
 pub mod ground;
 pub mod inspect;

@@ -25,7 +25,7 @@ pub struct ClassifyArgs {
     /// Where to write the classified cloud (.las/.laz/.ply).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// A model file (default: the shipped config/classifier_model.json).
+    /// A model file (default: the shipped config/classifier_model.json.gz).
     #[arg(long)]
     pub model: Option<PathBuf>,
     /// A params file overriding config/scene_classifier.yaml (its `csf` section).
@@ -42,7 +42,7 @@ pub struct ClassifyArgs {
 #[derive(Debug, Clone, clap::Args)]
 pub struct TrainArgs {
     /// Where to write the model.
-    #[arg(long, default_value = "config/classifier_model.json")]
+    #[arg(long, default_value = "config/classifier_model.json.gz")]
     pub out: PathBuf,
     /// Labelled clouds to learn from (LAS/LAZ/PLY with the producer's
     /// classes: 2 ground, 3/4/5 vegetation, 6 building; others ignored).

@@ -209,6 +209,10 @@ const TOPICS: &[&str] = &[
     "/tf_static:tf2_msgs/msg/TFMessage",
 ];
 
+/// vehicle_sim's one scan in 50 (its `throttle_every`), recorded instead of
+/// /registered_scan in simulated missions.
+const SCANS_THROTTLED: &str = "/registered_scan_throttle:sensor_msgs/msg/PointCloud2";
+
 /// What the demo learns from the topics as the mission runs.
 #[derive(Default)]
 struct Watch {
@@ -337,10 +341,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         "-o".to_string(),
         bag.display().to_string(),
     ];
-    record_args.extend(TOPICS.iter().map(|t| (*t).to_string()));
     // Every topic is in the bag; the LiDAR's at one scan in 50 (one per 5
     // simulated seconds): all of them made a 16 GB bag of the reference run.
-    record_args.extend(["--every".to_string(), "/registered_scan=50".to_string()]);
+    // vehicle_sim sends those on their own topic, so the recorder is not
+    // sent the other 49; a real robot's scans are thinned by the recorder.
+    record_args.extend(TOPICS.iter().map(|t| (*t).to_string()));
+    if a.field.field {
+        record_args.extend(["--every".to_string(), "/registered_scan=50".to_string()]);
+    } else {
+        record_args.retain(|t| !t.starts_with("/registered_scan:"));
+        record_args.push(SCANS_THROTTLED.to_string());
+    }
     let mut detector_params = vec![];
     if let Some(f) = &a.footprints {
         detector_params.push(format!("footprints:={}", f.display()));

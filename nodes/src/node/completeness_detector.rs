@@ -11,6 +11,7 @@ use skyground_core::cloud::Cloud;
 use skyground_core::footprint::{DeriveParams, Footprint, SplitParams, load_footprints};
 use skyground_core::missing::{DetectParams, detect_scene};
 use skyground_core::mission::PlannerStatus;
+use skyground_core::mission::detector::{DetectorEvent, DetectorGate};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
@@ -69,10 +70,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         None => futures::future::Either::Right(futures::stream::pending()),
     };
     futures::pin_mut!(planner_s);
-    // The planner round whose route is done, and the one detection last ran
-    // after: a resampled cloud re-runs detection once per finished route.
-    let mut route_done: Option<u32> = None;
-    let mut detected_after: Option<u32> = None;
+    let mut gate = DetectorGate::new(planner_sub.is_some());
     let missing_pub = CloudPublisher::new(rt, "/missing_points", qos::latched(1), p.transport)?;
     let status_pub = rt.publisher::<DiagnosticArray>("/completeness", qos::latched(1))?;
     let marker_pub = rt.publisher::<MarkerArray>("/detection_markers", qos::latched(1))?;
@@ -87,13 +85,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut resampled: Option<Cloud> = None;
     let mut round = 0u32;
     loop {
-        let changed = tokio::select! {
+        let events: Vec<DetectorEvent> = tokio::select! {
             r = aerial_sub.next() => match r {
                 Some(Received::Cloud { msg, decoded }) => {
                     let cloud = decoded.cloud;
                     if cloud.label.is_none() {
                         rt.log.error(&format!("cloud on {} has no `label` field: run scene_classifier first", p.input_topic));
-                        false
+                        vec![]
                     } else {
                         if !p.footprints.is_empty() && setup.footprints.is_none() {
                             let origin = [0, 1, 2].map(|k| p.origin.get(k).copied().unwrap_or(0.0));
@@ -109,39 +107,38 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                             }
                         }
                         aerial = Some((cloud, msg.header));
-                        true
+                        vec![DetectorEvent::Aerial]
                     }
                 }
                 Some(Received::Bad(reason)) => {
                     rt.log.error(&format!("rejected cloud on {}: {reason}", p.input_topic));
-                    false
+                    vec![]
                 }
                 None => break,
             },
             r = async { match resampled_sub.as_mut() { Some(s) => s.next().await, None => std::future::pending().await } } => match r {
                 Some(Received::Cloud { decoded, .. }) => {
                     resampled = Some(decoded.cloud);
-                    let fresh = planner_sub.is_none() || (route_done.is_some() && route_done != detected_after);
-                    if fresh {
-                        detected_after = route_done;
-                    }
-                    aerial.is_some() && fresh
+                    vec![DetectorEvent::Resampled]
                 }
                 Some(Received::Bad(reason)) => {
                     rt.log.error(&format!("rejected cloud on {}: {reason}", p.resampled_topic));
-                    false
+                    vec![]
                 }
                 None => break,
             },
-            Some(m) = planner_s.next() => {
-                for s in statuses(&rt.log, m, PlannerStatus::from_wire) {
-                    route_done = (s.phase == "done").then_some(s.round).or(route_done);
-                }
-                false
-            }
+            Some(m) = planner_s.next() => statuses(&rt.log, m, PlannerStatus::from_wire)
+                .into_iter()
+                .filter(|s| s.phase == "done")
+                .map(|s| DetectorEvent::RouteDone(s.round))
+                .collect(),
             _ = rt.shutdown.wait() => break,
         };
-        let Some((cloud, header)) = aerial.as_ref().filter(|_| changed) else {
+        // Every event goes through the gate, so none is lost to an earlier `any`.
+        let due = events
+            .into_iter()
+            .fold(false, |due, e| gate.handle(e) | due);
+        let Some((cloud, header)) = aerial.as_ref().filter(|_| due) else {
             continue;
         };
         let t0 = std::time::Instant::now();

@@ -25,7 +25,7 @@ struct Params {
 crate::node_spec!("scene_classifier");
 
 /// The model shipped with skyground (`skyground train` makes it).
-pub const DEFAULT_MODEL: &[u8] = include_bytes!("../../../config/classifier_model.json");
+pub const DEFAULT_MODEL: &[u8] = include_bytes!("../../../config/classifier_model.json.gz");
 
 /// The model at `path`, or the shipped one for an empty path.
 pub fn load_model(path: &str) -> Result<Model, RuntimeError> {

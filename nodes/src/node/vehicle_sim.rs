@@ -1,5 +1,6 @@
 //! vehicle_sim: /way_point and paths (/local_path by default) → a simulated ground
-//! vehicle with a spinning LiDAR → /state_estimation, /registered_scan, /clock,
+//! vehicle with a spinning LiDAR → /state_estimation, /registered_scan (and one
+//! scan in `throttle_every` on /registered_scan_throttle), /clock,
 //! /vehicle_status, /tf (map → base_link) and /tf_static (base_link → sensor).
 //! Simulated time is robot time: `time_factor` times faster than wall time
 //! while the vehicle drives or turns, wall speed while it waits for orders.
@@ -47,6 +48,8 @@ struct Params {
     /// since the last one, else every `stationary_scan_period_s`.
     scan_min_move_m: f64,
     stationary_scan_period_s: f64,
+    /// Every this many scans one also goes to /registered_scan_throttle (0: none).
+    throttle_every: u64,
     vehicle: VehicleConfig,
     lidar: LidarConfig,
 }
@@ -95,6 +98,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
 
     let odom_pub = rt.publisher::<Odometry>("/state_estimation", qos::reliable(10))?;
     let scan_pub = rt.publisher::<PointCloud2>("/registered_scan", qos::sensor(5))?;
+    // A reader that keeps one scan in N (the demo's recorder) would still be
+    // sent all N by DDS; this topic, named as topic_tools' throttle names
+    // its output, carries only the ones it keeps.
+    let throttle_pub = rt.publisher::<PointCloud2>("/registered_scan_throttle", qos::sensor(5))?;
     let clock_pub = rt.publisher::<Clock>("/clock", qos::sensor(1))?;
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
     // As tf2's broadcasters: /tf reliable and volatile, /tf_static latched.
@@ -176,6 +183,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 scan(&caster, &p.lidar, &pose, scans).map_err(|e| err(format!("lidar: {e}")))?;
             let cloud = points.to_cloud(caster.origin());
             let msg = encode(&cloud, h, &EncodeOptions::default());
+            if p.throttle_every > 0 && scans.is_multiple_of(p.throttle_every) {
+                let r = throttle_pub.async_publish(msg.clone()).await;
+                rt.log.sent("/registered_scan_throttle", r);
+            }
             rt.log
                 .sent("/registered_scan", scan_pub.async_publish(msg).await);
             scans += 1;

@@ -1,0 +1,157 @@
+//! When completeness_detector runs (docs/design.md steps 2–3 and 8): once on
+//! the aerial cloud, then once per finished route on the explorer's merged
+//! cloud. The route's end (on /planner_status) and the merged cloud (on
+//! /resampled_cloud) come from two publishers, so either can arrive first;
+//! the gate runs detection when it holds both, in whichever order.
+
+/// What the detector has just received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DetectorEvent {
+    /// A (new) classified aerial cloud.
+    Aerial,
+    /// A merged cloud from the explorer.
+    Resampled,
+    /// The planner's status names this round's route as done.
+    RouteDone(u32),
+}
+
+/// Decides, event by event, whether detection runs now.
+#[derive(Debug, Clone, Default)]
+pub struct DetectorGate {
+    /// Without a planner every merged cloud re-runs detection.
+    follows_planner: bool,
+    has_aerial: bool,
+    /// A merged cloud arrived that no detection has used yet.
+    unused_cloud: bool,
+    /// The newest round whose route is done.
+    route_done: Option<u32>,
+    /// The round the last merged-cloud detection ran for.
+    detected_after: Option<u32>,
+}
+
+impl DetectorGate {
+    /// A gate; `follows_planner` when /planner_status is subscribed.
+    pub fn new(follows_planner: bool) -> Self {
+        Self {
+            follows_planner,
+            ..Self::default()
+        }
+    }
+
+    /// Takes one event; true when detection should run now.
+    pub fn handle(&mut self, e: DetectorEvent) -> bool {
+        match e {
+            DetectorEvent::Aerial => self.has_aerial = true,
+            DetectorEvent::Resampled => self.unused_cloud = true,
+            DetectorEvent::RouteDone(r) => {
+                // A restarted planner may report an older round: keep the newest.
+                if self.route_done.is_none_or(|d| r > d) {
+                    self.route_done = Some(r);
+                }
+            }
+        }
+        if !self.has_aerial {
+            return false;
+        }
+        let cloud_due = if self.follows_planner {
+            self.unused_cloud && self.route_done.is_some() && self.route_done != self.detected_after
+        } else {
+            e == DetectorEvent::Resampled
+        };
+        if cloud_due {
+            // A detection for any reason uses the newest merged cloud too.
+            self.unused_cloud = false;
+            self.detected_after = self.route_done;
+        }
+        cloud_due || e == DetectorEvent::Aerial
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::DetectorEvent::{Aerial, Resampled, RouteDone};
+    use super::*;
+
+    fn run(gate: &mut DetectorGate, events: &[DetectorEvent]) -> Vec<bool> {
+        events.iter().map(|&e| gate.handle(e)).collect()
+    }
+
+    #[test]
+    fn the_aerial_cloud_runs_detection_at_once() {
+        let mut g = DetectorGate::new(true);
+        assert_eq!(run(&mut g, &[Aerial]), [true]);
+    }
+
+    #[test]
+    fn route_end_before_cloud_runs_on_the_cloud() {
+        let mut g = DetectorGate::new(true);
+        let got = run(&mut g, &[Aerial, RouteDone(0), RouteDone(0), Resampled]);
+        assert_eq!(got, [true, false, false, true]);
+    }
+
+    #[test]
+    fn cloud_before_route_end_runs_on_the_route_end() {
+        // The race the field test met: the explorer answers the planner's
+        // "done" with its cloud before the detector has read that "done".
+        let mut g = DetectorGate::new(true);
+        let got = run(&mut g, &[Aerial, Resampled, RouteDone(0)]);
+        assert_eq!(got, [true, false, true]);
+    }
+
+    #[test]
+    fn each_round_runs_once() {
+        let mut g = DetectorGate::new(true);
+        let got = run(
+            &mut g,
+            &[
+                Aerial,
+                RouteDone(0),
+                Resampled,
+                Resampled,
+                RouteDone(0),
+                Resampled,
+                RouteDone(1),
+            ],
+        );
+        assert_eq!(got, [true, false, true, false, false, false, true]);
+    }
+
+    #[test]
+    fn a_route_end_without_a_new_cloud_waits_for_one() {
+        let mut g = DetectorGate::new(true);
+        let got = run(
+            &mut g,
+            &[Aerial, RouteDone(0), Resampled, RouteDone(1), Resampled],
+        );
+        assert_eq!(got, [true, false, true, false, true]);
+    }
+
+    #[test]
+    fn nothing_runs_before_the_aerial_cloud() {
+        let mut g = DetectorGate::new(true);
+        let got = run(
+            &mut g,
+            &[Resampled, RouteDone(0), Aerial, Resampled, RouteDone(1)],
+        );
+        // The cloud that came before the aerial one still counts for round 0,
+        // but detection on the aerial cloud comes first.
+        assert_eq!(got, [false, false, true, false, true]);
+    }
+
+    #[test]
+    fn an_older_round_from_a_restarted_planner_is_ignored() {
+        let mut g = DetectorGate::new(true);
+        let got = run(
+            &mut g,
+            &[Aerial, RouteDone(1), Resampled, RouteDone(0), Resampled],
+        );
+        assert_eq!(got, [true, false, true, false, false]);
+    }
+
+    #[test]
+    fn without_a_planner_every_cloud_runs_detection() {
+        let mut g = DetectorGate::new(false);
+        let got = run(&mut g, &[Resampled, Aerial, Resampled, Resampled]);
+        assert_eq!(got, [false, true, true, true]);
+    }
+}
