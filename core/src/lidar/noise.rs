@@ -54,6 +54,32 @@ impl Stream {
     }
 }
 
+impl Stream {
+    /// Uniform in `(-1, 1)`, single precision.
+    fn signed_f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (2.0 / (1u64 << 24) as f32) - 1.0
+    }
+
+    /// Standard normal truncated to `[-limit, limit]`, single precision, by
+    /// Marsaglia's polar method: no sine or cosine, which were a tenth of
+    /// the ground LiDAR's CPU with [`Stream::normal_truncated`].
+    pub fn normal_truncated_f32(&mut self, limit: f32) -> f32 {
+        loop {
+            let (u, v) = (self.signed_f32(), self.signed_f32());
+            let s = u * u + v * v;
+            if s >= 1.0 || s == 0.0 {
+                continue;
+            }
+            let f = (-2.0 * s.ln() / s).sqrt();
+            for z in [u * f, v * f] {
+                if z.abs() <= limit {
+                    return z;
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -68,6 +94,24 @@ mod tests {
         assert!(mean.abs() < 0.01, "mean {mean}");
         assert!((var - 1.0).abs() < 0.02, "var {var}");
         assert!(xs.iter().all(|x| x.abs() <= 4.0));
+    }
+
+    #[test]
+    fn single_precision_normal_has_unit_variance_normal_tails_and_is_bounded() {
+        let mut s = Stream::new(7, 0);
+        let n = 200_000;
+        let xs: Vec<f64> = (0..n)
+            .map(|_| f64::from(s.normal_truncated_f32(4.0)))
+            .collect();
+        let mean = xs.iter().sum::<f64>() / n as f64;
+        let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n as f64;
+        assert!(mean.abs() < 0.01, "mean {mean}");
+        assert!((var - 1.0).abs() < 0.02, "var {var}");
+        assert!(xs.iter().all(|x| x.abs() <= 4.0));
+        // A normal has 4.55 % beyond 2σ and 0.27 % beyond 3σ.
+        let beyond = |k: f64| xs.iter().filter(|x| x.abs() > k).count() as f64 / n as f64;
+        assert!((beyond(2.0) - 0.0455).abs() < 0.003, "{}", beyond(2.0));
+        assert!((beyond(3.0) - 0.0027).abs() < 0.0007, "{}", beyond(3.0));
     }
 
     #[test]

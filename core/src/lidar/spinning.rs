@@ -193,7 +193,7 @@ pub fn scan(
     let beams = config.beams as usize;
     let rays = revolution_rays(config, pose);
     let seed = combine(config.seed, rng_seed);
-    let sigma = f64::from(config.range_noise_sigma);
+    let sigma = config.range_noise_sigma;
     let fire = |(i, (ray, hit)): (usize, (&Ray, Option<Hit>))| -> Option<Return> {
         let hit = hit?;
         let mut rng = Stream::new(seed, i as u64);
@@ -201,7 +201,7 @@ pub fn scan(
             return None;
         }
         let range = if sigma > 0.0 {
-            (f64::from(hit.t) + sigma * rng.normal_truncated(4.0)) as f32
+            hit.t + sigma * rng.normal_truncated_f32(4.0)
         } else {
             hit.t
         };

@@ -88,12 +88,16 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
         if v >= -FACE_DEPTH {
             z_min = z_min.min(p[2]);
         }
-        for a in 0..nu {
+        // Only the nodes within the radius: the rows and columns a point can
+        // reach (one spare each side against rounding; the distance test decides).
+        let (a0, a1) = reach_of(u, s.radius, du, nu);
+        let (b0, b1) = reach_of(z, s.radius, dz, nz);
+        for a in a0..a1 {
             let cu = (a as f32 + 0.5) * du - u;
             if cu.abs() > s.radius {
                 continue;
             }
-            for b in 0..nz {
+            for b in b0..b1 {
                 let cz = (b as f32 + 0.5) * dz - z;
                 if cu * cu + cz * cz <= r2 {
                     covered[b * nu + a] = true;
@@ -106,6 +110,16 @@ pub fn strip_coverage(index: &BandIndex, s: &Strip) -> StripCoverage {
         wall_offset: (v_n > 0).then(|| v_sum / v_n as f64),
         face_z_min: z_min.is_finite().then_some(z_min),
     }
+}
+
+/// The node indices `[lo, hi)` (of `n`, spaced `d` from 0.5 d) within `r` of `x`.
+fn reach_of(x: f32, r: f32, d: f32, n: usize) -> (usize, usize) {
+    let lo = ((x - r) / d - 0.5).floor() - 1.0;
+    let hi = ((x + r) / d - 0.5).ceil() + 2.0;
+    (
+        lo.clamp(0.0, n as f32) as usize,
+        hi.clamp(0.0, n as f32) as usize,
+    )
 }
 
 #[cfg(test)]
@@ -165,5 +179,30 @@ mod tests {
             GridFrame::covering([0.0; 2], [19.5; 2], 1.0, 0),
         );
         assert!(strip_coverage(&idx, &strip(0)).share < 0.3);
+    }
+
+    #[test]
+    fn reach_holds_every_node_within_the_radius() {
+        // Against the full scan of nodes, over points inside and outside the strip.
+        for (d, n, r) in [
+            (0.25f32, 8usize, 0.25f32),
+            (0.1, 40, 0.25),
+            (0.5, 3, 0.3),
+            (0.05, 200, 0.12),
+        ] {
+            for k in 0..400 {
+                let x = -0.7 + k as f32 * (n as f32 * d + 1.4) / 400.0;
+                let (lo, hi) = reach_of(x, r, d, n);
+                for i in 0..n {
+                    let c = (i as f32 + 0.5) * d - x;
+                    if c.abs() <= r {
+                        assert!(
+                            (lo..hi).contains(&i),
+                            "x {x} d {d}: node {i} not in {lo}..{hi}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }

@@ -12,6 +12,7 @@ pub mod echo;
 pub mod eval;
 pub mod field;
 pub mod info;
+pub mod merged;
 pub mod plan;
 pub mod play;
 pub mod prior;
