@@ -33,7 +33,7 @@ pub struct TargetParams {
 impl Default for TargetParams {
     fn default() -> Self {
         TargetParams {
-            standoffs: vec![6.0, 10.0, 14.0],
+            standoffs: vec![6.0, 10.0, 14.0, 22.0],
             sensor_height: 1.0,
             half_fov_deg: 15.0,
             downsample: 5.0,
