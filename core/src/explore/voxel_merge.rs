@@ -15,11 +15,7 @@ pub struct VoxelMerge {
     // miss: 71 % of the explorer's CPU. A scan's points fall in few chunks,
     // so the chunk table stays small and hot. Fx, not SipHash: the keys are
     // our own indices, no untrusted input to guard against.
-    chunks: Vec<Chunk>,
-    index: FxHashMap<[i64; 3], u32>,
-    // The chunk of the previous point: a scan's consecutive points mostly
-    // share it, and the table look-up was a fifth of the explorer's CPU.
-    last: Option<([i64; 3], u32)>,
+    seen: FxHashMap<[i64; 3], Box<Chunk>>,
     points: Vec<[f32; 3]>,
 }
 
@@ -37,9 +33,7 @@ impl VoxelMerge {
         }
         Ok(Self {
             voxel: f64::from(voxel_m),
-            chunks: Vec::new(),
-            index: FxHashMap::default(),
-            last: None,
+            seen: FxHashMap::default(),
             points: Vec::new(),
         })
     }
@@ -53,20 +47,10 @@ impl VoxelMerge {
         let key: [i64; 3] = std::array::from_fn(|k| (f64::from(p[k]) / self.voxel).floor() as i64);
         let l = key.map(|c| c.rem_euclid(CHUNK) as usize);
         let bit = (l[0] * CHUNK as usize + l[1]) * CHUNK as usize + l[2];
-        let at = key.map(|c| c.div_euclid(CHUNK));
-        let slot = match self.last {
-            Some((k, i)) if k == at => i,
-            _ => {
-                let next = self.chunks.len() as u32;
-                let i = *self.index.entry(at).or_insert(next);
-                if i == next {
-                    self.chunks.push([0; (CHUNK * CHUNK * CHUNK / 64) as usize]);
-                }
-                self.last = Some((at, i));
-                i
-            }
-        };
-        let chunk = &mut self.chunks[slot as usize];
+        let chunk = self
+            .seen
+            .entry(key.map(|c| c.div_euclid(CHUNK)))
+            .or_insert_with(|| Box::new([0; (CHUNK * CHUNK * CHUNK / 64) as usize]));
         let (word, mask) = (bit / 64, 1u64 << (bit % 64));
         let new = chunk[word] & mask == 0;
         if new {

@@ -72,20 +72,20 @@ mod tests {
     use super::DetectorEvent::{Aerial, Resampled, RouteDone};
     use super::*;
 
-    fn run(gate: &mut DetectorGate, events: &[DetectorEvent]) -> Vec<bool> {
-        events.iter().map(|&e| gate.handle(e)).collect()
+    /// What a fresh gate answers to each of `events`.
+    fn gate(follows_planner: bool, events: &[DetectorEvent]) -> Vec<bool> {
+        let mut g = DetectorGate::new(follows_planner);
+        events.iter().map(|&e| g.handle(e)).collect()
     }
 
     #[test]
     fn the_aerial_cloud_runs_detection_at_once() {
-        let mut g = DetectorGate::new(true);
-        assert_eq!(run(&mut g, &[Aerial]), [true]);
+        assert_eq!(gate(true, &[Aerial]), [true]);
     }
 
     #[test]
     fn route_end_before_cloud_runs_on_the_cloud() {
-        let mut g = DetectorGate::new(true);
-        let got = run(&mut g, &[Aerial, RouteDone(0), RouteDone(0), Resampled]);
+        let got = gate(true, &[Aerial, RouteDone(0), RouteDone(0), Resampled]);
         assert_eq!(got, [true, false, false, true]);
     }
 
@@ -93,65 +93,52 @@ mod tests {
     fn cloud_before_route_end_runs_on_the_route_end() {
         // The race the field test met: the explorer answers the planner's
         // "done" with its cloud before the detector has read that "done".
-        let mut g = DetectorGate::new(true);
-        let got = run(&mut g, &[Aerial, Resampled, RouteDone(0)]);
-        assert_eq!(got, [true, false, true]);
+        assert_eq!(
+            gate(true, &[Aerial, Resampled, RouteDone(0)]),
+            [true, false, true]
+        );
     }
 
     #[test]
     fn each_round_runs_once() {
-        let mut g = DetectorGate::new(true);
-        let got = run(
-            &mut g,
-            &[
-                Aerial,
-                RouteDone(0),
-                Resampled,
-                Resampled,
-                RouteDone(0),
-                Resampled,
-                RouteDone(1),
-            ],
+        let events = [
+            Aerial,
+            RouteDone(0),
+            Resampled,
+            Resampled,
+            RouteDone(0),
+            Resampled,
+            RouteDone(1),
+        ];
+        assert_eq!(
+            gate(true, &events),
+            [true, false, true, false, false, false, true]
         );
-        assert_eq!(got, [true, false, true, false, false, false, true]);
     }
 
     #[test]
     fn a_route_end_without_a_new_cloud_waits_for_one() {
-        let mut g = DetectorGate::new(true);
-        let got = run(
-            &mut g,
-            &[Aerial, RouteDone(0), Resampled, RouteDone(1), Resampled],
-        );
-        assert_eq!(got, [true, false, true, false, true]);
+        let events = [Aerial, RouteDone(0), Resampled, RouteDone(1), Resampled];
+        assert_eq!(gate(true, &events), [true, false, true, false, true]);
     }
 
     #[test]
     fn nothing_runs_before_the_aerial_cloud() {
-        let mut g = DetectorGate::new(true);
-        let got = run(
-            &mut g,
-            &[Resampled, RouteDone(0), Aerial, Resampled, RouteDone(1)],
-        );
-        // The cloud that came before the aerial one still counts for round 0,
-        // but detection on the aerial cloud comes first.
-        assert_eq!(got, [false, false, true, false, true]);
+        // The aerial cloud's detection already uses round 0's merged cloud,
+        // so round 0 is not detected twice.
+        let events = [Resampled, RouteDone(0), Aerial, Resampled, RouteDone(1)];
+        assert_eq!(gate(true, &events), [false, false, true, false, true]);
     }
 
     #[test]
     fn an_older_round_from_a_restarted_planner_is_ignored() {
-        let mut g = DetectorGate::new(true);
-        let got = run(
-            &mut g,
-            &[Aerial, RouteDone(1), Resampled, RouteDone(0), Resampled],
-        );
-        assert_eq!(got, [true, false, true, false, false]);
+        let events = [Aerial, RouteDone(1), Resampled, RouteDone(0), Resampled];
+        assert_eq!(gate(true, &events), [true, false, true, false, false]);
     }
 
     #[test]
     fn without_a_planner_every_cloud_runs_detection() {
-        let mut g = DetectorGate::new(false);
-        let got = run(&mut g, &[Resampled, Aerial, Resampled, Resampled]);
-        assert_eq!(got, [false, true, true, true]);
+        let events = [Resampled, Aerial, Resampled, Resampled];
+        assert_eq!(gate(false, &events), [false, true, true, true]);
     }
 }
