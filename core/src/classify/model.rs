@@ -1,7 +1,7 @@
 //! A trained classifier as one file: the feature definition and the forest.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Read, Write};
+use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;
 
 use flate2::Compression;
@@ -117,15 +117,16 @@ impl Model {
 
     /// Parses JSON, or gzipped JSON (told apart by gzip's magic bytes, so a
     /// renamed file still loads).
-    fn from_reader(mut r: impl Read, name: &str) -> Result<Self, ClassifyError> {
+    fn from_reader(mut r: impl BufRead, name: &str) -> Result<Self, ClassifyError> {
         let err = |m: String| ClassifyError::File {
             path: name.to_string(),
             message: m,
         };
-        let mut magic = [0u8; 2];
-        let n = read_up_to(&mut r, &mut magic).map_err(|e| err(e.to_string()))?;
-        let r = std::io::Cursor::new(magic[..n].to_vec()).chain(r);
-        let m: Self = if magic[..n] == GZIP_MAGIC {
+        let gz = r
+            .fill_buf()
+            .map_err(|e| err(e.to_string()))?
+            .starts_with(&GZIP_MAGIC);
+        let m: Self = if gz {
             serde_json::from_reader(GzDecoder::new(r))
         } else {
             serde_json::from_reader(r)
@@ -138,15 +139,3 @@ impl Model {
 
 /// The first two bytes of every gzip stream (RFC 1952).
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
-
-/// Fills `buf` as far as the reader allows; the count read.
-fn read_up_to(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
-    let mut n = 0;
-    while n < buf.len() {
-        match r.read(&mut buf[n..])? {
-            0 => break,
-            k => n += k,
-        }
-    }
-    Ok(n)
-}

@@ -143,11 +143,6 @@ impl MeasureSoFar {
         }
     }
 
-    /// Points added so far.
-    pub fn points(&self) -> usize {
-        self.points
-    }
-
     /// The measurement of everything added so far.
     pub fn measured(&self, gt: &GtSamples) -> Measured {
         Measured {

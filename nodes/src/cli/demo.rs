@@ -754,17 +754,14 @@ type ModelsBefore =
 /// explorer started again (then all of `now`). The nodes work in the
 /// prior's frame (`origin`); a decoded message does not carry it.
 fn arrived_points(before: Option<&Cloud>, now: &Cloud, origin: [f64; 3]) -> Cloud {
-    let mut c = now.clone();
-    if let Some(b) = before
-        && now.xyz.get(..b.len()) == Some(&b.xyz[..])
-    {
-        c.xyz.drain(..b.len());
-    }
+    let kept = before
+        .filter(|b| now.xyz.get(..b.len()) == Some(&b.xyz[..]))
+        .map_or(0, Cloud::len);
+    // Positions only, copied once (not the whole 15 M-point cloud then
+    // drained): every resampled point is a building point, and
+    // building_points keeps all of an unlabelled cloud.
+    let mut c = Cloud::from_xyz(now.xyz[kept..].to_vec());
     c.origin = origin;
-    // Every resampled point is a building point (building_points keeps all
-    // of an unlabelled cloud).
-    c.label = None;
-    c.building = None;
     c
 }
 

@@ -55,8 +55,9 @@ pub struct Profile {
     start: Instant,
     stage: (String, Instant),
     stages: Vec<(String, f64)>,
-    /// Per name: the figures so far, and the pid they were last read from.
-    procs: BTreeMap<String, (ProcFigures, u32)>,
+    /// Per name: the figures so far (CPU summed over respawns), the pid
+    /// last read, and that pid's own CPU seconds at that read.
+    procs: BTreeMap<String, (ProcFigures, u32, f64)>,
 }
 
 impl Profile {
@@ -86,17 +87,17 @@ impl Profile {
         let Some((pid, f)) = pid.and_then(|p| Some((p, read_proc(p)?))) else {
             return;
         };
-        let (e, seen) = self
-            .procs
-            .entry(name.to_string())
-            .or_insert((ProcFigures::default(), pid));
-        // A respawned process starts from zero: keep what its predecessors used.
+        let (e, seen, last) =
+            self.procs
+                .entry(name.to_string())
+                .or_insert((ProcFigures::default(), pid, 0.0));
+        // A respawned process starts from zero: its predecessors' CPU stays
+        // in the total, and each read adds what this pid used since the last.
         if *seen != pid {
-            e.cpu_s += f.cpu_s;
-            *seen = pid;
-        } else {
-            e.cpu_s = e.cpu_s.max(f.cpu_s);
+            (*seen, *last) = (pid, 0.0);
         }
+        e.cpu_s += (f.cpu_s - *last).max(0.0);
+        *last = f.cpu_s;
         e.peak_rss_mib = e.peak_rss_mib.max(f.peak_rss_mib);
     }
 
@@ -109,7 +110,7 @@ impl Profile {
         json!({
             "wall_s": self.start.elapsed().as_secs_f64(),
             "stages": stages.iter().map(|(n, s)| json!({"stage": n, "wall_s": s})).collect::<Vec<_>>(),
-            "processes": self.procs.iter().map(|(n, (f, _))| json!({"process": n, "cpu_s": f.cpu_s, "peak_rss_mib": f.peak_rss_mib})).collect::<Vec<_>>(),
+            "processes": self.procs.iter().map(|(n, (f, _, _))| json!({"process": n, "cpu_s": f.cpu_s, "peak_rss_mib": f.peak_rss_mib})).collect::<Vec<_>>(),
             "cpu_s_total": cpu,
             "peak_rss_mib_sum": rss,
         })
@@ -122,7 +123,7 @@ impl Profile {
             s += &format!("| {name} | {wall:.1} |\n");
         }
         s += "\n| process | CPU s | peak RSS MiB |\n|---|---|---|\n";
-        for (n, (f, _)) in &self.procs {
+        for (n, (f, _, _)) in &self.procs {
             s += &format!("| {n} | {:.1} | {:.0} |\n", f.cpu_s, f.peak_rss_mib);
         }
         let (cpu, rss) = self.totals();
@@ -139,8 +140,8 @@ impl Profile {
 
     /// CPU seconds and peak memories (MiB) summed over the processes.
     fn totals(&self) -> (f64, f64) {
-        let cpu = self.procs.values().map(|(f, _)| f.cpu_s).sum();
-        let rss = self.procs.values().map(|(f, _)| f.peak_rss_mib).sum();
+        let cpu = self.procs.values().map(|(f, _, _)| f.cpu_s).sum();
+        let rss = self.procs.values().map(|(f, _, _)| f.peak_rss_mib).sum();
         (cpu, rss)
     }
 }
@@ -186,7 +187,7 @@ mod tests {
             peak_rss_mib: 10.0,
         };
         // An earlier pid of the same node: its 5 s stay, once.
-        p.procs.insert("n".into(), (before, u32::MAX));
+        p.procs.insert("n".into(), (before, u32::MAX, 0.0));
         p.sample("n", Some(std::process::id()));
         let once = p.procs["n"].0.cpu_s;
         p.sample("n", Some(std::process::id()));
