@@ -12,10 +12,12 @@
 //!   footprint's line, so a wall the cloud missed stays approximate;
 //! - `solid`: roof faces, vertical faces and the base as one closed shell
 //!   ([`Shell::check`] counts edge uses);
-//! - [`cityjson`], [`obj`]: writers; [`evaluate`]: distances to the truth.
+//! - [`cityjson`], [`obj`]: writers; [`evaluate`]: distances to the truth;
+//!   [`compare`]: before against after.
 
 mod building;
 pub mod cityjson;
+mod compare;
 mod error;
 pub mod evaluate;
 pub(crate) mod normals;
@@ -30,6 +32,7 @@ mod walls;
 mod tests;
 
 pub use building::Model;
+pub use compare::{BeforeAfter, PRIOR_OFF_M, compare};
 pub use error::{ReconstructError, Skip};
 pub use evaluate::{ModelEvaluation, ModelScore, evaluate_models};
 pub use params::ReconstructParams;
@@ -127,17 +130,58 @@ pub fn reconstruct_cloud(
     Ok(out)
 }
 
-/// One point per voxel of `edge` m (the first met); `edge` 0 keeps all.
+/// One point per voxel of `edge` m: the one nearest the voxel's centre
+/// (ties to the lower coordinates), so the result does not depend on the
+/// points' order; `edge` 0 keeps all.
 fn thin(xyz: &[[f32; 3]], edge: f64) -> Vec<[f32; 3]> {
     if edge <= 0.0 {
         return xyz.to_vec();
     }
-    let mut seen: FxHashMap<[i64; 3], ()> = FxHashMap::default();
-    xyz.iter()
-        .filter(|p| {
-            let key = p.map(|v| (f64::from(v) / edge).floor() as i64);
-            seen.insert(key, ()).is_none()
-        })
-        .copied()
-        .collect()
+    let mut best: FxHashMap<[i64; 3], (f64, [f32; 3])> = FxHashMap::default();
+    for p in xyz {
+        let s = p.map(|v| f64::from(v) / edge);
+        let key = s.map(|v| v.floor() as i64);
+        let d: f64 = s.iter().map(|v| (v - v.floor() - 0.5).powi(2)).sum();
+        best.entry(key)
+            .and_modify(|b| {
+                let nearer = d.total_cmp(&b.0).then_with(|| {
+                    p.iter()
+                        .zip(&b.1)
+                        .map(|(x, y)| x.total_cmp(y))
+                        .find(|o| o.is_ne())
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                });
+                if nearer.is_lt() {
+                    *b = (d, *p);
+                }
+            })
+            .or_insert((d, *p));
+    }
+    let mut kept: Vec<([i64; 3], [f32; 3])> = best.into_iter().map(|(k, v)| (k, v.1)).collect();
+    // Voxel order, so the rest of the pipeline sees the same sequence too.
+    kept.sort_unstable_by_key(|e| e.0);
+    kept.into_iter().map(|e| e.1).collect()
+}
+
+#[cfg(test)]
+mod thin_tests {
+    use super::thin;
+
+    #[test]
+    fn thinning_keeps_the_point_nearest_each_voxel_centre_whatever_the_order() {
+        let pts: Vec<[f32; 3]> = (0..500)
+            .map(|k| {
+                let t = k as f32;
+                [(t * 0.37).sin() * 3.0, (t * 0.11).cos() * 3.0, t * 0.01]
+            })
+            .collect();
+        let a = thin(&pts, 0.5);
+        let mut rev = pts.clone();
+        rev.reverse();
+        assert_eq!(a, thin(&rev, 0.5));
+        assert!(a.len() < pts.len() && !a.is_empty());
+        let two = [[0.05f32, 0.05, 0.05], [0.24, 0.26, 0.25], [0.4, 0.4, 0.4]];
+        assert_eq!(thin(&two, 0.5), vec![[0.24, 0.26, 0.25]]);
+        assert_eq!(thin(&two, 0.0).len(), 3);
+    }
 }

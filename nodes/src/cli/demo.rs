@@ -805,6 +805,8 @@ fn report(
         .map_err(|_| err("the prior's models panicked".into()))??;
     let pictured =
         super::reconstruct::write_picture(&a.out.join("models.png"), &prior.scene, &mb, &ma, 3)?;
+    let verdict =
+        skyground_core::reconstruct::compare(&mb, &ma, skyground_core::reconstruct::PRIOR_OFF_M);
     prof.stage("report: tables, pictures, GeoJSON");
     let bag_bytes = std::fs::metadata(a.out.join("mission.mcap")).map_or(0, |m| m.len());
     let wall = t0.elapsed().as_secs_f64();
@@ -845,6 +847,7 @@ fn report(
         "models_before": mb,
         "models_after": ma,
         "models_pictured": pictured,
+        "models_compared": verdict,
     });
     let title = match crop {
         Some(c) => format!(
@@ -872,6 +875,7 @@ fn report(
         "\n## Building models (LoD2) before and after\n\nMean symmetric surface distance to the true buildings (m), RMSE, 95th percentile, roof error (true roof → model roof), footprint IoU; `models_before.city.json`, `models_after.city.json`. `models.png`: buildings {pictured:?} (rows), before left, after right, model surface coloured by distance to the truth, 0 m blue → 0.5 m red (colour bar ticks 0, 0.25, 0.5 m); scale bar 10 m; north up.\n\n{}",
         super::reconstruct::table(&mb, Some(&ma))
     ));
+    md.push_str(&format!("\n{}", super::reconstruct::verdict_md(&verdict)));
     if let Some(c) = crop {
         md.push_str(&super::crop::markdown(c));
     }

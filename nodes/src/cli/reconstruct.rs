@@ -9,8 +9,8 @@ use skyground_core::footprint::load_footprints_in;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
-    ModelEvaluation, ReconstructParams, Reconstruction, cityjson, evaluate_models, obj,
-    reconstruct_cloud,
+    BeforeAfter, ModelEvaluation, ReconstructParams, Reconstruction, cityjson, evaluate_models,
+    obj, reconstruct_cloud,
 };
 use skyground_core::scene::Scene;
 
@@ -64,6 +64,24 @@ pub fn reconstruct_and_write(
     cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec, crs).map_err(err)?;
     obj::write_obj(&dir.join(format!("{name}.obj")), &rec).map_err(err)?;
     Ok(rec)
+}
+
+/// One paragraph on [`BeforeAfter`]: the buildings whose prior model was
+/// off, whether each came closer, and the noise on the rest.
+pub fn verdict_md(v: &BeforeAfter) -> String {
+    let rest = v
+        .largest_rise_elsewhere
+        .map_or("–".to_string(), |r| format!("{r:+.3} m"));
+    format!(
+        "Buildings whose model from the prior alone was off by more than {:.2} m (the walls it missed changed its shape): {:?}; closer to the truth after: {}. On the other buildings the prior's roof edges already gave the walls; their largest change is {rest}, the scanners' noise.\n",
+        v.prior_off_m,
+        v.prior_off,
+        if v.not_improved.is_empty() {
+            "every one".to_string()
+        } else {
+            format!("not {:?}", v.not_improved)
+        }
+    )
 }
 
 /// Per-building rows of one or two evaluations as a Markdown table (the
@@ -188,11 +206,17 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
             let prior = read_cloud(b).map_err(err)?;
             let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
             let pictured = write_picture(&a.out.join("models.png"), &scene, &mb, &ma, 3)?;
+            let verdict = skyground_core::reconstruct::compare(
+                &mb,
+                &ma,
+                skyground_core::reconstruct::PRIOR_OFF_M,
+            );
             let md = format!(
-                "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?}, before left, after right, coloured by distance to the truth 0 → 0.5 m.\n\n{}",
+                "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?}, before left, after right, coloured by distance to the truth 0 → 0.5 m.\n\n{}\n{}",
                 b.display(),
                 a.input.display(),
-                table(&mb, Some(&ma))
+                table(&mb, Some(&ma)),
+                verdict_md(&verdict)
             );
             std::fs::write(a.out.join("models.md"), &md)
                 .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
@@ -202,6 +226,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
             Some(serde_json::json!({
                 "model_dist_before": mb.mean, "model_dist_after": ma.mean,
                 "models_before": mb, "models_after": ma, "models_pictured": pictured,
+                "models_compared": verdict,
             }))
         }
         _ => None,
