@@ -67,3 +67,48 @@ fn zurich_busiest_250_m_window() {
         assert!((src(bhi[k], back.origin[k]) - src(chi[k], c.scene.origin[k])).abs() < 1e-3);
     }
 }
+
+#[test]
+fn zurich_1_km_window_keeps_every_building_whose_centre_it_holds() {
+    let Some(path) = real_file("zurich_subset_lod2.json") else {
+        return;
+    };
+    let scene = load_scene(path.to_str().unwrap()).unwrap();
+    let boxes = skyground_core::scene::crop::building_boxes(&scene);
+    let w = busiest_window(&scene, 1000.0).unwrap();
+    let c = crop_scene(&scene, &w).unwrap();
+    let inside = boxes
+        .iter()
+        .filter(|b| {
+            let m = b.xy.centre();
+            w.contains(m[0], m[1])
+        })
+        .count();
+    // The most buildings any 1 km window of this block holds (windows
+    // anchored at building centres, as an optimal one can be).
+    let centres: Vec<[f64; 2]> = boxes.iter().map(|b| b.xy.centre()).collect();
+    let most = centres
+        .iter()
+        .flat_map(|a| centres.iter().map(move |b| (a[0], b[1])))
+        .map(|(x0, y0)| {
+            centres
+                .iter()
+                .filter(|c| {
+                    (x0..=x0 + 1000.0).contains(&c[0]) && (y0..=y0 + 1000.0).contains(&c[1])
+                })
+                .count()
+        })
+        .max()
+        .unwrap();
+    println!(
+        "zurich, 1 km window {w:?}: {} of 49 buildings kept; the most any 1 km window holds: {most}",
+        c.buildings.len()
+    );
+    assert_eq!(
+        c.buildings.len(),
+        inside,
+        "every building centred inside is kept"
+    );
+    assert!(c.buildings.len() > 2, "{} buildings", c.buildings.len());
+    assert!(most >= c.buildings.len());
+}

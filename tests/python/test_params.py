@@ -80,3 +80,31 @@ def test_rclpy_lists_gets_and_sets_a_node_parameter(ros, spawn):
     assert status, "no /vehicle_status after 7 s of odometry without progress"
     s = status[0].status[0]
     assert s.message.startswith("blocked") and "for 2 s" in s.message, s.message
+
+
+def test_use_sim_time_set_while_running_switches_the_stamps_to_clock(ros, spawn):
+    """`ros2 param set /cloud_publisher use_sim_time true` on a running node:
+    its next clouds carry /clock's time, not the system clock's."""
+    from rosgraph_msgs.msg import Clock
+    from sensor_msgs.msg import PointCloud2
+
+    clock = ros.node.create_publisher(Clock, "/clock", qos("sensor", 10))
+    spawn("cloud_publisher", "--ros-args", "-p", "synthetic_points:=50", "-p", "count:=200", "-p", "period_s:=0.2")
+    got = []
+    ros.node.create_subscription(PointCloud2, "/aerial_cloud", got.append, qos("latched", 10))
+    assert ros.spin_until(lambda: bool(got), 30.0), "no cloud from cloud_publisher"
+    assert got[0].header.stamp.sec > 1_000_000_000, "system time before the set"
+
+    client = AsyncParameterClient(ros.node, "cloud_publisher")
+    assert client.wait_for_services(timeout_sec=30.0)
+    ok = call(ros, client.set_parameters([Parameter("use_sim_time", value=True)])).results[0]
+    assert ok.successful, ok.reason
+    assert call(ros, client.get_parameters(["use_sim_time"])).values[0].bool_value
+
+    def ticked():
+        c = Clock()
+        c.clock.sec, c.clock.nanosec = 4242, 0
+        clock.publish(c)
+        return bool(got) and got[-1].header.stamp.sec == 4242
+
+    assert ros.spin_until(ticked, 30.0), [m.header.stamp.sec for m in got[-5:]]

@@ -181,9 +181,9 @@ impl NodeRuntime {
             context,
             sim_time: None,
         };
-        if rt.params.use_sim_time() {
-            rt.follow_clock()?;
-        }
+        // Always listening, so a `use_sim_time` set at run time (as `ros2
+        // param set` does) switches the clock at once; /clock's rate is low.
+        rt.follow_clock()?;
         Ok(rt)
     }
 
@@ -223,9 +223,17 @@ impl NodeRuntime {
         Ok(set.parse(&self.name)?)
     }
 
-    /// Current time: /clock's when `use_sim_time` is set, else the system clock.
+    /// Current time: /clock's while `use_sim_time` is set (read live, so a
+    /// set through the parameter services takes effect at the next call),
+    /// else the system clock.
     pub fn now(&self) -> Time {
-        if let Some(t) = &self.sim_time {
+        // ros2-client keeps `use_sim_time` itself (its set never reaches
+        // our parameter action), so its store is the one to ask.
+        let simulated = matches!(
+            self.node.get_parameter("use_sim_time"),
+            Some(ros2_client::ParameterValue::Boolean(true))
+        );
+        if simulated && let Some(t) = &self.sim_time {
             return t.lock().map(|t| *t).unwrap_or_default();
         }
         let ns = self.node.time_now_not_simulated().to_nanos();
