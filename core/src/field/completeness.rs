@@ -16,6 +16,21 @@ pub struct BuildingFigures {
     pub building: u32,
     /// Outline, local frame (metres).
     pub outline: MultiPolygon<f64>,
+    /// What detection found for it, when a detected building matches it.
+    pub detection: Option<DetectedFigures>,
+    /// Point targets made for it.
+    pub target_points: usize,
+    /// Regions made for it.
+    pub target_regions: usize,
+    /// Measured completeness before the mission (0–1), when known.
+    pub before: Option<f64>,
+    /// Measured completeness after the mission (0–1), when known.
+    pub after: Option<f64>,
+}
+
+/// Detection's figures for one building.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DetectedFigures {
     /// Building points in the prior.
     pub points: usize,
     /// Why it was not analysed, when it was not.
@@ -28,14 +43,6 @@ pub struct BuildingFigures {
     pub r_missing: f64,
     /// Point- or region-based, when analysed.
     pub strategy: Option<Strategy>,
-    /// Point targets made for it.
-    pub target_points: usize,
-    /// Regions made for it.
-    pub target_regions: usize,
-    /// Measured completeness before the mission (0–1), when known.
-    pub before: Option<f64>,
-    /// Measured completeness after the mission (0–1), when known.
-    pub after: Option<f64>,
 }
 
 /// The figures detection gives: detected completeness is 1 − R_missing.
@@ -46,12 +53,14 @@ pub fn detection_figures(detection: &Detection, targets: &TargetSet) -> Vec<Buil
         .map(|b| BuildingFigures {
             building: b.building,
             outline: b.global_contour.clone(),
-            points: b.points,
-            skipped: b.skipped.as_ref().map(ToString::to_string),
-            boundary_points: b.boundary.len(),
-            missing_points: b.missing.len(),
-            r_missing: f64::from(b.r_missing),
-            strategy: b.skipped.is_none().then_some(b.strategy),
+            detection: Some(DetectedFigures {
+                points: b.points,
+                skipped: b.skipped.as_ref().map(ToString::to_string),
+                boundary_points: b.boundary.len(),
+                missing_points: b.missing.len(),
+                r_missing: f64::from(b.r_missing),
+                strategy: b.skipped.is_none().then_some(b.strategy),
+            }),
             target_points: targets.counts_of(b.building).0,
             target_regions: targets.counts_of(b.building).1,
             before: None,
@@ -68,8 +77,11 @@ fn strategy_name(s: Option<Strategy>) -> &'static str {
     }
 }
 
-fn detected(b: &BuildingFigures) -> Option<f64> {
-    (b.skipped.is_none() && b.boundary_points > 0).then_some(1.0 - b.r_missing)
+impl DetectedFigures {
+    /// Detected completeness, 1 − R_missing, when it was analysed.
+    pub fn completeness(&self) -> Option<f64> {
+        (self.skipped.is_none() && self.boundary_points > 0).then_some(1.0 - self.r_missing)
+    }
 }
 
 /// The buildings' outlines with their figures, in the source CRS and unit
@@ -79,17 +91,18 @@ pub fn completeness_geojson(rows: &[BuildingFigures], frame: &SourceFrame) -> Va
         .iter()
         .filter(|b| !b.outline.0.is_empty())
         .map(|b| {
+            let d = b.detection.as_ref();
             feature(
                 multipolygon(frame, &b.outline),
                 json!({
                     "building": b.building,
-                    "points": b.points,
-                    "skipped": b.skipped,
-                    "boundary_points": b.boundary_points,
-                    "missing_points": b.missing_points,
-                    "r_missing": b.r_missing,
-                    "detected_completeness": detected(b),
-                    "strategy": strategy_name(b.strategy),
+                    "points": d.map(|d| d.points),
+                    "skipped": d.and_then(|d| d.skipped.clone()),
+                    "boundary_points": d.map(|d| d.boundary_points),
+                    "missing_points": d.map(|d| d.missing_points),
+                    "r_missing": d.map(|d| d.r_missing),
+                    "detected_completeness": d.and_then(DetectedFigures::completeness),
+                    "strategy": d.map(|d| strategy_name(d.strategy)),
                     "target_points": b.target_points,
                     "target_regions": b.target_regions,
                     "completeness_before": b.before,
@@ -101,7 +114,8 @@ pub fn completeness_geojson(rows: &[BuildingFigures], frame: &SourceFrame) -> Va
     feature_collection(frame, "completeness", features)
 }
 
-/// The same figures as CSV, with each outline's centroid in the source CRS.
+/// The same figures as CSV, with each outline's centroid in the source CRS
+/// (a building no detected building matches has empty detection cells).
 pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String {
     let sym = frame.unit().symbol().to_string();
     let mut out = format!(
@@ -116,19 +130,27 @@ pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String
         let (cx, cy) = c.map_or((String::new(), String::new()), |c| {
             (format!("{:.3}", c[0]), format!("{:.3}", c[1]))
         });
-        let skipped = b
-            .skipped
-            .as_deref()
-            .map_or(String::new(), |s| format!("\"{}\"", s.replace('"', "\"\"")));
+        let detected = b.detection.as_ref().map_or_else(
+            || ",,,,,,".to_string(),
+            |d| {
+                let skipped = d
+                    .skipped
+                    .as_deref()
+                    .map_or(String::new(), |s| format!("\"{}\"", s.replace('"', "\"\"")));
+                format!(
+                    "{},{skipped},{},{},{:.4},{},{}",
+                    d.points,
+                    d.boundary_points,
+                    d.missing_points,
+                    d.r_missing,
+                    opt(d.completeness()),
+                    strategy_name(d.strategy)
+                )
+            },
+        );
         out.push_str(&format!(
-            "{},{cx},{cy},{},{skipped},{},{},{:.4},{},{},{},{},{},{}\n",
+            "{},{cx},{cy},{detected},{},{},{},{}\n",
             b.building,
-            b.points,
-            b.boundary_points,
-            b.missing_points,
-            b.r_missing,
-            opt(detected(b)),
-            strategy_name(b.strategy),
             b.target_points,
             b.target_regions,
             opt(b.before),

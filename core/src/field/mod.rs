@@ -9,7 +9,7 @@ mod route;
 mod targets;
 
 pub use completeness::{
-    BuildingFigures, completeness_csv, completeness_geojson, detection_figures,
+    BuildingFigures, DetectedFigures, completeness_csv, completeness_geojson, detection_figures,
 };
 pub use geojson::feature_collection;
 pub use route::{path_geojson, route_geojson};
@@ -166,5 +166,18 @@ mod tests {
         assert!((cx - (636_000.0 + 10.0 / FT)).abs() < 1e-2, "{cx}");
         assert_eq!(cells[8], "0.7500");
         assert_eq!(cells[9], "point_based");
+        // A building no detection matched: empty detection cells, nulls in
+        // the GeoJSON, the same number of columns.
+        let mut unmatched = rows[0].clone();
+        unmatched.detection = None;
+        unmatched.before = Some(0.5);
+        let csv = completeness_csv(std::slice::from_ref(&unmatched), &frame());
+        let cells: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        assert_eq!(cells.len(), lines[0].split(',').count());
+        assert!(cells[3..10].iter().all(|c| c.is_empty()), "{cells:?}");
+        assert_eq!(cells[12], "0.5000");
+        let fc = completeness_geojson(&[unmatched], &frame());
+        assert!(fc["features"][0]["properties"]["points"].is_null());
+        assert!(fc["features"][0]["properties"]["detected_completeness"].is_null());
     }
 }

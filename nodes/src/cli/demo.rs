@@ -26,7 +26,7 @@ use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::Odometry;
-use skyground_msgs::visualization_msgs::MarkerArray;
+use skyground_msgs::visualization_msgs::{Marker, MarkerArray};
 use tokio::process::{Child, Command};
 
 use super::aerial::survey_of;
@@ -241,6 +241,8 @@ struct Watch {
     /// The first /state_estimation stamp (the robot's clock when the mission started).
     first_stamp: Option<f64>,
     targets: TargetSet,
+    /// Every detection round and the targets made from it.
+    detections: super::detections::Detections,
     /// Nodes started again after they exited, and how often.
     restarts: std::collections::BTreeMap<String, u32>,
 }
@@ -252,13 +254,17 @@ impl Watch {
     }
 }
 
-/// The detection round and its mean completeness over the buildings detected.
-fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
-    let all: Vec<BuildingStatus> = arr
-        .status
+/// The buildings' statuses on /completeness (unreadable ones said on stderr).
+fn building_statuses(arr: &DiagnosticArray) -> Vec<BuildingStatus> {
+    arr.status
         .iter()
         .filter_map(|s| readable(BuildingStatus::from_wire(&from_status(s))))
-        .collect();
+        .collect()
+}
+
+/// The detection round and its mean completeness over the buildings detected.
+fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
+    let all = building_statuses(arr);
     let vals: Vec<f64> = all
         .iter()
         .filter(|b| b.skipped.is_none())
@@ -392,15 +398,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let planner = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;
     let vstatus = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
     let regions = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
+    let contours = rt.subscription::<MarkerArray>("/detection_markers", qos::latched(1))?;
     let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
-    let (c_s, p_s, v_s, r_s, o_s) = (
+    let (c_s, p_s, v_s, r_s, o_s, m_s) = (
         completeness.async_stream(),
         planner.async_stream(),
         vstatus.async_stream(),
         regions.async_stream(),
         odom.async_stream(),
+        contours.async_stream(),
     );
-    futures::pin_mut!(c_s, p_s, v_s, r_s, o_s);
+    futures::pin_mut!(c_s, p_s, v_s, r_s, o_s, m_s);
     let mut limit = TimeLimit::new(&a);
     let mut progress = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
@@ -438,16 +446,28 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                     Err(e) => eprintln!("  measuring /resampled_cloud failed: {e}"),
                 }
             },
-            r = targets_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
+            r = targets_sub.next() => if let Some(Received::Cloud { decoded, msg }) = r {
                 let ids = decoded.cloud.building.clone().unwrap_or_default();
                 w.targets.points = decoded.cloud.xyz.iter().enumerate().map(|(i, p)| TargetPoint { xyz: *p, building: ids.get(i).copied().unwrap_or(0) }).collect();
+                w.detections.target_points(msg.header.stamp, w.targets.points.clone());
             },
-            Some(Ok((arr, _))) = r_s.next() => { w.targets.regions = markers_to_regions(&arr).0; }
-            Some(Ok((arr, _))) = c_s.next() => if let Some((round, mean)) = mean_completeness(&arr)
-                && w.detected.last().is_none_or(|(r, _)| *r != round)
-            {
-                eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
-                w.detected.push((round, mean));
+            Some(Ok((arr, _))) = r_s.next() => {
+                w.targets.regions = markers_to_regions(&arr).0;
+                if let Some(m) = arr.markers.iter().find(|m| m.action == Marker::ADD) {
+                    w.detections.target_regions(m.header.stamp, w.targets.regions.clone());
+                }
+            }
+            Some(Ok((arr, _))) = m_s.next() => if let Some(m) = arr.markers.iter().find(|m| m.ns.starts_with("contour/")) {
+                w.detections.markers(m.header.stamp, &arr);
+            },
+            Some(Ok((arr, _))) = c_s.next() => {
+                w.detections.completeness(arr.header.stamp, building_statuses(&arr));
+                if let Some((round, mean)) = mean_completeness(&arr)
+                    && w.detected.last().is_none_or(|(r, _)| *r != round)
+                {
+                    eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
+                    w.detected.push((round, mean));
+                }
             },
             Some(Ok((arr, _))) = p_s.next() => if let Some(s) = first_status(&arr, PlannerStatus::from_wire) {
                 w.planner_round = s.round;
@@ -908,13 +928,16 @@ fn report(
         prior.cloud.origin,
         super::field::scene_crs(a.scenes.first().map_or("", String::as_str)),
     );
+    let detected = w.detections.rows(&outlines);
     let rows: Vec<super::field::MissionBuilding> = outlines
         .iter()
-        .map(|f| {
+        .zip(detected)
+        .map(|(f, detected)| {
             let row = e.buildings.iter().find(|r| r.building == f.id);
             super::field::MissionBuilding {
                 building: f.id,
                 outline: &f.polygon,
+                detected,
                 before_after: (
                     row.and_then(|r| r.coverage_before),
                     row.and_then(|r| r.coverage_after),
@@ -922,7 +945,7 @@ fn report(
             }
         })
         .collect();
-    super::field::write_mission(&a.out, &frame, &rows, &w.route, w.odometer, &w.targets)?;
+    super::field::write_mission(&a.out, &frame, &rows, &w.route, w.odometer)?;
     // Where the time went, up to here (the process figures were read as
     // each node was asked to stop).
     prof.sample("demo", Some(std::process::id()));

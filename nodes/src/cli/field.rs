@@ -80,20 +80,21 @@ pub struct MissionBuilding<'a> {
     pub building: u32,
     /// Footprint, local frame.
     pub outline: &'a geo::MultiPolygon<f64>,
+    /// Detection's figures and the targets made for it, matched by overlap.
+    pub detected: super::detections::TrueBuildingRow,
     /// Completeness before and after (walls + roofs), 0–1.
     pub before_after: (Option<f64>, Option<f64>),
 }
 
 /// The demo's field outputs: `route.geojson` (the driven path) and each
 /// building's completeness (`completeness.geojson`, `.csv`) with the measured
-/// before/after and the last round's target counts.
+/// before/after, the first detection's figures and the targets of every round.
 pub fn write_mission(
     dir: &Path,
     frame: &SourceFrame,
     buildings: &[MissionBuilding<'_>],
     path: &[[f32; 3]],
     length_m: f64,
-    targets: &TargetSet,
 ) -> Result<Vec<PathBuf>, RuntimeError> {
     use skyground_core::field::{BuildingFigures, path_geojson};
     let rows: Vec<BuildingFigures> = buildings
@@ -101,14 +102,9 @@ pub fn write_mission(
         .map(|b| BuildingFigures {
             building: b.building,
             outline: b.outline.clone(),
-            points: 0,
-            skipped: None,
-            boundary_points: 0,
-            missing_points: 0,
-            r_missing: 0.0,
-            strategy: None,
-            target_points: targets.counts_of(b.building).0,
-            target_regions: targets.counts_of(b.building).1,
+            detection: b.detected.detection.clone(),
+            target_points: b.detected.target_points,
+            target_regions: b.detected.target_regions,
             before: b.before_after.0,
             after: b.before_after.1,
         })

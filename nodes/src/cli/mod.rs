@@ -8,6 +8,7 @@ pub mod classify;
 pub mod crop;
 pub mod demo;
 pub mod detect;
+pub mod detections;
 pub mod echo;
 pub mod eval;
 pub mod field;
