@@ -13,7 +13,7 @@ use serde_json::{Value, json};
 use skyground_core::lidar::Caster;
 use skyground_core::scene::cityjson::{Attributes, annotated_model, read_city_model, scene_model};
 use skyground_core::scene::{ObjectKind, Scene, SceneError, load_scene, reference_scene};
-use skyground_core::vehicle::{Terrain, free_spot};
+use skyground_core::vehicle::{Terrain, free_spot, start_spot};
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("skyground-city-{}-{name}", std::process::id()));
@@ -168,6 +168,12 @@ fn lod22_without_terrain_stands_on_built_ground_with_a_start() {
     let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
     let start = free_spot(&caster, centre[0], centre[1], 2.0, 100.0);
     assert!(start.is_some(), "no start on the built ground");
+    // vehicle_sim's `start` param: empty is that free spot; [x, y] is taken
+    // as given; anything else is a clear error.
+    assert_eq!(start_spot(&caster, &[]).ok(), start);
+    assert_eq!(start_spot(&caster, &[3.0, 4.0]), Ok([3.0, 4.0]));
+    let bad = start_spot(&caster, &[1.0, 2.0, 3.0]).unwrap_err();
+    assert!(bad.contains("[x, y] or []"), "{bad}");
 }
 
 fn bounds_of_building(s: &Scene, b: u32) -> ([f32; 3], [f32; 3]) {

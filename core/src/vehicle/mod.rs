@@ -11,6 +11,6 @@ mod state;
 pub use clock::RobotClock;
 pub use config::VehicleConfig;
 pub use incline::{INCLINE_BASE_M, incline_deg, profile_climbable};
-pub use probe::{Terrain, free_spot, goal_inside_building};
+pub use probe::{Terrain, free_spot, goal_inside_building, start_spot};
 pub use schedule::{Every, ScanSchedule};
 pub use state::{Step, Vehicle, VehicleState};

@@ -90,6 +90,21 @@ pub fn goal_inside_building(caster: &Caster, p: [f32; 3]) -> bool {
         && hit.normal[2] > 0.0
 }
 
+/// Where the vehicle starts: `start` as `[x, y]`, or (empty) a free spot
+/// within 100 m of the scene's centre with 2 m clear all round.
+pub fn start_spot(caster: &Caster, start: &[f64]) -> Result<[f32; 2], String> {
+    match start {
+        [x, y] => Ok([*x as f32, *y as f32]),
+        [] => {
+            let (lo, hi) = caster.bounds().ok_or("the scene is empty")?;
+            let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+            free_spot(caster, centre[0], centre[1], 2.0, 100.0)
+                .ok_or_else(|| "no free spot to start from".to_string())
+        }
+        other => Err(format!("start must be [x, y] or [], not {other:?}")),
+    }
+}
+
 /// A spot near `(x, y)` where the vehicle can stand: on the terrain, outside
 /// buildings, with `clearance` metres free all around; searched on rings of
 /// growing radius (1 m steps, up to `max_radius`).

@@ -498,7 +498,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             },
             Some(Ok((o, h))) = o_s.next() => {
                 let _ = h;
-                let t = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                let t = o.header.stamp.secs();
                 if w.first_stamp.is_none() && a.field.field {
                     eprintln!("  robot found on /state_estimation after {:.1} s", t0.elapsed().as_secs_f64());
                 }

@@ -71,7 +71,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         seen_robot = true;
                         rt.log.info(&format!("robot at ({:.1}, {:.1}, {:.1})", pos[0], pos[1], pos[2]));
                     }
-                    let t = f64::from(o.header.stamp.sec) + f64::from(o.header.stamp.nanosec) * 1e-9;
+                    let t = o.header.stamp.secs();
                     // follow.* are live: a `ros2 param set` counts from this pose on.
                     if let Ok(c) = rt.current_params::<Params>() {
                         f.set_config(c.follow);

@@ -12,7 +12,7 @@ use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
 use skyground_core::mission::VehicleStatus;
 use skyground_core::scene::load_scene;
 use skyground_core::vehicle::{
-    Every, RobotClock, ScanSchedule, Step, Vehicle, VehicleConfig, free_spot,
+    Every, RobotClock, ScanSchedule, Step, Vehicle, VehicleConfig, start_spot,
 };
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -56,13 +56,6 @@ struct Params {
 
 crate::node_spec!("vehicle_sim");
 
-fn stamp(sim_s: f64) -> Time {
-    Time {
-        sec: sim_s.floor() as i32,
-        nanosec: ((sim_s - sim_s.floor()) * 1e9) as u32,
-    }
-}
-
 /// Runs the node until it is asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
@@ -73,16 +66,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let t_load = Instant::now();
     let scene = load_scene(&p.scene).map_err(|e| err(format!("scene {}: {e}", p.scene)))?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {}: {e}", p.scene)))?;
-    let (lo, hi) = caster
-        .bounds()
-        .ok_or_else(|| err("the scene is empty".into()))?;
-    let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-    let start = match p.start.as_slice() {
-        [x, y] => [*x as f32, *y as f32],
-        [] => free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
-            .ok_or_else(|| err("no free spot to start from".into()))?,
-        other => return Err(err(format!("start must be [x, y] or [], not {other:?}"))),
-    };
+    let start = start_spot(&caster, &p.start).map_err(err)?;
     let mut vehicle = Vehicle::new(p.vehicle, &caster, start[0], start[1], p.start_yaw as f32)
         .ok_or_else(|| err(format!("start {start:?} is off the terrain")))?;
     rt.log.info(&format!(
@@ -108,7 +92,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let tf_pub = rt.publisher::<TFMessage>("/tf", qos::reliable(100))?;
     let tf_static_pub = rt.publisher::<TFMessage>("/tf_static", qos::latched(1))?;
     let body = Header {
-        stamp: stamp(0.0),
+        stamp: Time::from_secs(0.0),
         frame_id: p.child_frame_id.clone(),
     };
     let mount = [0.0, 0.0, f64::from(p.vehicle.sensor_height)];
@@ -148,7 +132,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         let pause = clock.tick(step != Step::Idle, wall0.elapsed().as_secs_f64());
         let sim = clock.now();
         let h = Header {
-            stamp: stamp(sim),
+            stamp: Time::from_secs(sim),
             frame_id: p.frame_id.clone(),
         };
         if let Step::Blocked { goal, reason } = &step {
@@ -164,7 +148,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         if clock_due.due(sim) {
             rt.log.sent(
                 "/clock",
-                clock_pub.async_publish(Clock { clock: stamp(sim) }).await,
+                clock_pub
+                    .async_publish(Clock {
+                        clock: Time::from_secs(sim),
+                    })
+                    .await,
             );
         }
         if odom_due.due(sim) {
