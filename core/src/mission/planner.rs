@@ -104,8 +104,15 @@ pub struct Planner {
     retries: u32,
     restored: Option<PlannerStatus>,
     blocked: Vec<BlockedSpot>,
+    /// Where the vehicle drove this round, a position every half metre.
+    trail: Vec<[f32; 2]>,
+    /// Point stops dropped this round because the vehicle had driven past.
+    passed: usize,
     out: Vec<PlannerCommand>,
 }
+
+/// Trail positions are kept this far apart at least (m).
+const TRAIL_STEP_M: f32 = 0.5;
 
 impl Planner {
     /// A planner waiting for its inputs.
@@ -127,6 +134,8 @@ impl Planner {
             retries: 0,
             restored: None,
             blocked: Vec::new(),
+            trail: Vec::new(),
+            passed: 0,
             out: Vec::new(),
         }
     }
@@ -157,7 +166,13 @@ impl Planner {
                 self.regions = Some((regions, stamp));
                 self.need_plan = true;
             }
-            PlannerEvent::Position(p) => self.position = Some(p),
+            PlannerEvent::Position(p) => {
+                self.position = Some(p);
+                let far = |q: &[f32; 2]| (q[0] - p[0]).hypot(q[1] - p[1]) >= TRAIL_STEP_M;
+                if self.route.is_some() && self.trail.last().is_none_or(far) {
+                    self.trail.push([p[0], p[1]]);
+                }
+            }
             PlannerEvent::Restore(s) => self.restore(s),
             PlannerEvent::Vehicle(v) => self.on_vehicle(&v),
             PlannerEvent::Explorer(e) => self.on_explorer(&e),
@@ -308,6 +323,8 @@ impl Planner {
     fn new_round(&mut self, targets: TargetSet) {
         self.visited = Visited::default();
         self.retries = 0;
+        self.trail.clear();
+        self.passed = 0;
         self.round += 1;
         if let Some(s) = self.restored.take()
             && s.target_points == targets.points.len()
@@ -381,7 +398,13 @@ impl Planner {
             Some(Stop::Point(i)) => {
                 self.visited.points.push(i);
                 self.retries = 0;
-                self.start_leg(k + 1);
+                if self.drop_passed(k) > 0 {
+                    // The remaining stops get a route from here without them.
+                    self.need_plan = true;
+                    self.phase = Phase::Waiting;
+                } else {
+                    self.start_leg(k + 1);
+                }
             }
             Some(Stop::Region(i)) => {
                 self.phase = Phase::Exploring(k);
@@ -392,6 +415,43 @@ impl Planner {
             }
             None => {}
         }
+    }
+
+    /// Marks visited every point stop after `k` that the trail passed within
+    /// `route.skip_passed_m`; returns how many.
+    fn drop_passed(&mut self, k: usize) -> usize {
+        let r = self.config.route.skip_passed_m;
+        let Some(route) = self.route.as_ref() else {
+            return 0;
+        };
+        if r <= 0.0 {
+            return 0;
+        }
+        let passed: Vec<usize> = route.order[k + 1..]
+            .iter()
+            .filter_map(|s| match s {
+                Stop::Point(i) => Some(*i),
+                Stop::Region(_) => None,
+            })
+            .filter(|i| !self.visited.points.contains(i))
+            .filter(|&i| {
+                self.targets.points.get(i).is_some_and(|t| {
+                    self.trail
+                        .iter()
+                        .any(|q| (q[0] - t.xyz[0]).hypot(q[1] - t.xyz[1]) <= r)
+                })
+            })
+            .collect();
+        if !passed.is_empty() {
+            self.out.push(PlannerCommand::Info(format!(
+                "round {}: {} stop(s) dropped, driven past within {r} m: {passed:?}",
+                self.round,
+                passed.len()
+            )));
+        }
+        self.passed += passed.len();
+        self.visited.points.extend(&passed);
+        passed.len()
     }
 
     /// Something the prior did not show stands between the vehicle and a

@@ -260,3 +260,53 @@ fn a_restarted_planner_goes_on_where_it_was() {
     region_only(&mut q, 1);
     assert_eq!((q.round(), q.status().visited.points.len()), (1, 0));
 }
+
+#[test]
+fn a_stop_the_vehicle_already_drove_past_is_dropped() {
+    let run = |skip_passed_m: f32| {
+        let mut p = Planner::new(PlannerConfig {
+            graph: GraphParams::default(),
+            route: RouteParams {
+                skip_passed_m,
+                ..RouteParams::default()
+            },
+            block_retries: 2,
+        });
+        let (xyz, labels) = flat_ground(160, 40, 0.25);
+        p.handle(PlannerEvent::Cloud { xyz, labels });
+        p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+        let mut points = two_points();
+        points.push(TargetPoint {
+            xyz: [20.0, 6.0, 0.0],
+            building: 3,
+        });
+        p.handle(PlannerEvent::Points { points, stamp: 1 });
+        p.handle(PlannerEvent::Regions {
+            regions: vec![],
+            stamp: 1,
+        });
+        let out = p.handle(PlannerEvent::Tick);
+        let first = *legs(&out)[0].last().expect("pose");
+        assert!((first[0] - 10.0).abs() < 1.0, "first stop {first:?}");
+        // On its way the vehicle swung by (20.5, 5.5), 1.1 m from the stop
+        // at (20, 6), then arrived at (10, 5).
+        for x in [4.0, 8.0, 20.5, 12.0] {
+            p.handle(PlannerEvent::Position([x, 5.5, 0.0]));
+        }
+        p.handle(PlannerEvent::Position(first));
+        let out = p.handle(arrived(first));
+        let out = if legs(&out).is_empty() {
+            p.handle(PlannerEvent::Tick)
+        } else {
+            out
+        };
+        let next = *legs(&out)[0].last().expect("pose");
+        (p.status().visited.points, next)
+    };
+    let (visited, next) = run(2.0);
+    assert_eq!(visited, vec![0, 2], "the stop at (20, 6) was driven past");
+    assert!((next[0] - 35.0).abs() < 1.0, "next stop {next:?}");
+    let (visited, next) = run(0.0);
+    assert_eq!(visited, vec![0], "skip_passed_m 0 keeps every stop");
+    assert!((next[0] - 20.0).abs() < 1.0, "next stop {next:?}");
+}

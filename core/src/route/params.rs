@@ -28,6 +28,10 @@ pub struct RouteParams {
     pub tour: TourChoice,
     /// Improvement passes of 2-opt + Or-opt at most (each pass is O(n²)).
     pub max_passes: u32,
+    /// A point stop the vehicle has already driven past this close (xy, m)
+    /// is dropped: its 360° LiDAR saw from there what it would see at the
+    /// stop. 0 keeps every stop.
+    pub skip_passed_m: f32,
 }
 
 impl Default for RouteParams {
@@ -36,6 +40,7 @@ impl Default for RouteParams {
             max_snap_m: 3.0,
             tour: TourChoice::Shortest,
             max_passes: 100,
+            skip_passed_m: 2.0,
         }
     }
 }
@@ -48,6 +53,13 @@ impl RouteParams {
                 field: "max_snap_m",
                 value: f64::from(self.max_snap_m),
                 expected: "must be finite and > 0",
+            });
+        }
+        if !(self.skip_passed_m.is_finite() && self.skip_passed_m >= 0.0) {
+            return Err(RouteError::Param {
+                field: "skip_passed_m",
+                value: f64::from(self.skip_passed_m),
+                expected: "must be finite and ≥ 0",
             });
         }
         if self.max_passes > 100_000 {
