@@ -15,11 +15,9 @@ use skyground_core::scene::cityjson::{Attributes, annotated_model, read_city_mod
 use skyground_core::scene::{ObjectKind, Scene, SceneError, load_scene, reference_scene};
 use skyground_core::vehicle::{Terrain, free_spot, start_spot};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("skyground-city-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A scratch folder removed when the test ends.
+fn temp_dir() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
 }
 
 fn read_json(path: &Path) -> Value {
@@ -200,16 +198,17 @@ fn city_json_seq_and_tiles_load_as_the_whole_file() {
     };
     let whole = load_scene(path.to_str().unwrap()).unwrap();
     let doc = read_json(&path);
-    let dir = temp_dir("seq");
-    let seq = dir.join("3dbag.city.jsonl");
+    let dir = temp_dir();
+    let seq = dir.path().join("3dbag.city.jsonl");
     std::fs::write(&seq, as_seq(&doc)).unwrap();
     let from_seq = load_scene(seq.to_str().unwrap()).unwrap();
     assert_eq!(from_seq.building_count(), 2);
     assert_eq!(building_triangles(&from_seq), building_triangles(&whole));
     assert_eq!(from_seq.origin, whole.origin);
 
-    let tiles_dir = temp_dir("tiles");
-    let tiles = as_tiles(&doc, &tiles_dir);
+    let tiles_tmp = temp_dir();
+    let tiles_dir = tiles_tmp.path();
+    let tiles = as_tiles(&doc, tiles_dir);
     assert_eq!(tiles.len(), 2);
     let list = tiles
         .iter()
@@ -232,8 +231,6 @@ fn city_json_seq_and_tiles_load_as_the_whole_file() {
         e.to_string().contains("28992") && e.to_string().contains("7415"),
         "{e}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::remove_dir_all(&tiles_dir);
 }
 
 #[test]
@@ -243,8 +240,8 @@ fn files_without_buildings_say_so() {
     };
     let mut doc = read_json(&path);
     doc["CityObjects"] = json!({});
-    let dir = temp_dir("empty");
-    let empty = dir.join("empty.city.json");
+    let dir = temp_dir();
+    let empty = dir.path().join("empty.city.json");
     std::fs::write(&empty, doc.to_string()).unwrap();
     let e = load_scene(empty.to_str().unwrap()).unwrap_err().to_string();
     assert!(
@@ -255,7 +252,6 @@ fn files_without_buildings_say_so() {
     std::fs::write(&empty, doc.to_string()).unwrap();
     let e = load_scene(empty.to_str().unwrap()).unwrap_err().to_string();
     assert!(e.contains("unsupported CityJSON version `3.0`"), "{e}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `cjval` from PATH or the test command's `.tools/bin`, if installed.
@@ -306,7 +302,7 @@ fn attrs(k: f64) -> Attributes {
 
 #[test]
 fn completeness_models_are_valid_city_json_2() {
-    let dir = temp_dir("written");
+    let dir = temp_dir();
     if let Some(path) = real_file("3dbag_2buildings.city.json") {
         let model = read_city_model(std::slice::from_ref(&path)).unwrap();
         let roots = model.roots();
@@ -334,7 +330,7 @@ fn completeness_models_are_valid_city_json_2() {
             b["b3_h_maaiveld"],
             src["CityObjects"][root]["attributes"]["b3_h_maaiveld"]
         );
-        let file = dir.join("3dbag.completeness.city.json");
+        let file = dir.path().join("3dbag.completeness.city.json");
         std::fs::write(&file, out.to_string()).unwrap();
         assert_valid(&file);
         // Read back, it is the same scene.
@@ -352,7 +348,7 @@ fn completeness_models_are_valid_city_json_2() {
             .collect();
         let out = annotated_model(&model, &by_root, false);
         assert_eq!(out["CityObjects"].as_object().unwrap().len(), 49 + 161);
-        let file = dir.join("zurich.completeness.city.json");
+        let file = dir.path().join("zurich.completeness.city.json");
         std::fs::write(&file, out.to_string()).unwrap();
         assert_valid(&file);
     }
@@ -368,8 +364,7 @@ fn completeness_models_are_valid_city_json_2() {
         out["CityObjects"].as_object().unwrap().len(),
         scene.building_count()
     );
-    let file = dir.join("reference.completeness.city.json");
+    let file = dir.path().join("reference.completeness.city.json");
     std::fs::write(&file, out.to_string()).unwrap();
     assert_valid(&file);
-    let _ = std::fs::remove_dir_all(&dir);
 }

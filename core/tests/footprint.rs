@@ -370,9 +370,7 @@ fn city3d_points_fall_inside_their_footprint() {
     assert!(covered > 0.9);
 }
 
-fn temp(name: &str, content: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("skyground-fp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn temp(dir: &Path, name: &str, content: &[u8]) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, content).unwrap();
     p
@@ -480,18 +478,19 @@ fn bad_inputs_give_typed_errors_or_skips() {
     // Files: missing, unknown extension, empty, wrong JSON, name in the message.
     let missing = load_footprints(Path::new("/nonexistent/fp.geojson"), o).unwrap_err();
     assert!(matches!(missing, FootprintError::Io { .. }));
-    let csv = temp("fp.csv", b"x,y\n");
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = temp(tmp.path(), "fp.csv", b"x,y\n");
     assert!(matches!(
         load_footprints(&csv, o),
         Err(FootprintError::UnknownFormat { .. })
     ));
-    let empty = temp("empty.geojson", b"");
+    let empty = temp(tmp.path(), "empty.geojson", b"");
     let e = load_footprints(&empty, o).unwrap_err();
     assert!(
         e.to_string().contains("empty.geojson") && e.to_string().contains("empty"),
         "{e}"
     );
-    let wrong = temp("wrong.json", b"{\"type\": 5}");
+    let wrong = temp(tmp.path(), "wrong.json", b"{\"type\": 5}");
     assert!(matches!(
         load_footprints(&wrong, o),
         Err(FootprintError::Parse {

@@ -109,9 +109,7 @@ fn within(got: f64, want: f64, rel: f64) -> bool {
     (got - want).abs() <= rel * want
 }
 
-fn temp_file(name: &str, bytes: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("skyground-scenes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn temp_file(dir: &std::path::Path, name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path
@@ -535,20 +533,27 @@ fn gt_samples_write_as_ply() {
 
 #[test]
 fn load_scene_dispatches_and_names_file_and_line() {
+    let tmp = tempfile::tempdir().unwrap();
     let obj = temp_file(
+        tmp.path(),
         "two.obj",
         b"o ground\nv 0 0 0\nv 10 0 0\nv 10 10 0\nf 1 2 3\no building_1\nv 1 1 0\nv 2 1 0\nv 2 2 1\nf -3 -2 -1\n",
     );
     let s = load_scene(obj.to_str().unwrap()).unwrap();
     assert_eq!((s.objects.len(), s.building_count()), (2, 1));
 
-    let bad = temp_file("bad.obj", b"o building_1\nv 0 0 0\nv 1 0 0\nf 1 2 7\n");
+    let bad = temp_file(
+        tmp.path(),
+        "bad.obj",
+        b"o building_1\nv 0 0 0\nv 1 0 0\nf 1 2 7\n",
+    );
     let err = load_scene(bad.to_str().unwrap()).unwrap_err();
     assert!(matches!(err, SceneError::Obj { .. }));
     let msg = err.to_string();
     assert!(msg.contains("bad.obj") && msg.contains("line 4"), "{msg}");
 
     let ply = temp_file(
+        tmp.path(),
         "tri.PLY",
         b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
     );
@@ -558,6 +563,7 @@ fn load_scene_dispatches_and_names_file_and_line() {
     );
 
     let city = temp_file(
+        tmp.path(),
         "bad.city.json",
         b"{\"type\": \"CityJSON\", \"version\": \"2.0\",\n \"CityObjects\": [}",
     );
