@@ -106,8 +106,6 @@ pub struct Planner {
     blocked: Vec<BlockedSpot>,
     /// Where the vehicle drove this round, a position every half metre.
     trail: Vec<[f32; 2]>,
-    /// Point stops dropped this round because the vehicle had driven past.
-    passed: usize,
     out: Vec<PlannerCommand>,
 }
 
@@ -135,7 +133,6 @@ impl Planner {
             restored: None,
             blocked: Vec::new(),
             trail: Vec::new(),
-            passed: 0,
             out: Vec::new(),
         }
     }
@@ -324,7 +321,6 @@ impl Planner {
         self.visited = Visited::default();
         self.retries = 0;
         self.trail.clear();
-        self.passed = 0;
         self.round += 1;
         if let Some(s) = self.restored.take()
             && s.target_points == targets.points.len()
@@ -449,7 +445,6 @@ impl Planner {
                 passed.len()
             )));
         }
-        self.passed += passed.len();
         self.visited.points.extend(&passed);
         passed.len()
     }

@@ -40,6 +40,16 @@ fn region_only(p: &mut Planner, regions_stamp: u64) -> Vec<PlannerCommand> {
     p.handle(PlannerEvent::Tick)
 }
 
+/// Feeds `p` a target set of `points` and no regions, then ticks.
+fn points_only(p: &mut Planner, points: Vec<TargetPoint>, stamp: u64) -> Vec<PlannerCommand> {
+    p.handle(PlannerEvent::Points { points, stamp });
+    p.handle(PlannerEvent::Regions {
+        regions: vec![],
+        stamp,
+    });
+    p.handle(PlannerEvent::Tick)
+}
+
 /// Targets at (10, 5) on building 1 and (35, 5) on building 2.
 fn two_points() -> Vec<TargetPoint> {
     [(10.0, 1), (35.0, 2)]
@@ -175,12 +185,7 @@ fn new_targets_start_a_new_round() {
         xyz: [30.0, 8.0, 0.0],
         building: 3,
     }];
-    p.handle(PlannerEvent::Points { points, stamp: 2 });
-    p.handle(PlannerEvent::Regions {
-        regions: vec![],
-        stamp: 2,
-    });
-    let out = p.handle(PlannerEvent::Tick);
+    let out = points_only(&mut p, points, 2);
     assert_eq!(p.round(), 2);
     assert_eq!(legs(&out).len(), 1);
     assert!(p.status().visited.points.is_empty());
@@ -280,12 +285,7 @@ fn a_stop_the_vehicle_already_drove_past_is_dropped() {
             xyz: [20.0, 6.0, 0.0],
             building: 3,
         });
-        p.handle(PlannerEvent::Points { points, stamp: 1 });
-        p.handle(PlannerEvent::Regions {
-            regions: vec![],
-            stamp: 1,
-        });
-        let out = p.handle(PlannerEvent::Tick);
+        let out = points_only(&mut p, points, 1);
         let first = *legs(&out)[0].last().expect("pose");
         assert!((first[0] - 10.0).abs() < 1.0, "first stop {first:?}");
         // On its way the vehicle swung by (20.5, 5.5), 1.1 m from the stop
