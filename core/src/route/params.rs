@@ -30,7 +30,7 @@ pub struct RouteParams {
     pub max_passes: u32,
     /// A point stop the vehicle has already driven past this close (xy, m)
     /// is dropped: its 360° LiDAR saw from there what it would see at the
-    /// stop. 0 keeps every stop.
+    /// stop. 0 (the default: no gain measured) keeps every stop.
     pub skip_passed_m: f32,
 }
 
@@ -40,7 +40,7 @@ impl Default for RouteParams {
             max_snap_m: 3.0,
             tour: TourChoice::Shortest,
             max_passes: 100,
-            skip_passed_m: 2.0,
+            skip_passed_m: 0.0,
         }
     }
 }
