@@ -1,8 +1,8 @@
 //! Walls where the points put them: each boundary segment between parts of
 //! different height moves onto the vertical plane of the wall points along
-//! it (a resistant line through them: offset and direction). A segment with no wall points keeps the
-//! footprint's line, so a wall the cloud missed stays where the roof edge
-//! alone suggests. Ridges move onto the intersection of their two planes.
+//! it (a resistant line through them: offset and direction). A segment
+//! with no wall points keeps the footprint's line, so a wall the cloud
+//! missed stays where the roof edge alone suggests. Ridges move onto the intersection of their two planes.
 
 use super::params::ReconstructParams;
 use super::partition::Partition;
