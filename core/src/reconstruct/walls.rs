@@ -2,7 +2,8 @@
 //! different height moves onto the vertical plane of the wall points along
 //! it (a resistant line through them: offset and direction). A segment
 //! with no wall points keeps the footprint's line, so a wall the cloud
-//! missed stays where the roof edge alone suggests. Ridges move onto the intersection of their two planes.
+//! missed stays where the roof edge alone suggests. Ridges move onto the
+//! intersection of their two planes.
 
 use super::params::ReconstructParams;
 use super::partition::Partition;
