@@ -457,7 +457,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                     w.detections.target_regions(m.header.stamp, w.targets.regions.clone());
                 }
             }
-            Some(Ok((arr, _))) = m_s.next() => if let Some(m) = arr.markers.iter().find(|m| m.ns.starts_with("contour/")) {
+            Some(Ok((arr, _))) = m_s.next() => if let Some(m) = arr.markers.iter().find(|m| m.ns.starts_with(crate::convert::detection::CONTOUR_NS)) {
                 w.detections.markers(m.header.stamp, &arr);
             },
             Some(Ok((arr, _))) = c_s.next() => {

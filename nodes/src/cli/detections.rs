@@ -5,13 +5,14 @@
 
 use std::collections::BTreeMap;
 
-use geo::{Area, LineString, MultiPolygon, Polygon};
 use skyground_core::field::DetectedFigures;
 use skyground_core::footprint::{Footprint, match_footprints};
 use skyground_core::mission::protocol::BuildingStatus;
 use skyground_core::targets::{Region, TargetPoint};
 use skyground_msgs::builtin_interfaces::Time;
-use skyground_msgs::visualization_msgs::{Marker, MarkerArray};
+use skyground_msgs::visualization_msgs::MarkerArray;
+
+use crate::convert::detection::detection_contours;
 
 /// One detection round as the demo saw it.
 #[derive(Debug, Default)]
@@ -66,7 +67,7 @@ impl Detections {
     /// /detection_markers: each detected building's outer contour (the
     /// detector stamps them as its /completeness of the same round).
     pub fn markers(&mut self, stamp: Time, array: &MarkerArray) {
-        let contours = contours(array);
+        let contours = detection_contours(array);
         match self.rounds.values_mut().find(|r| r.stamp == Some(stamp)) {
             Some(r) => r.contours = contours,
             None => self.pending.push((stamp, contours)),
@@ -171,51 +172,13 @@ fn truth_of(detected: &[Footprint], truth: &[Footprint]) -> BTreeMap<u32, usize>
     best.into_iter().map(|(d, (_, t))| (d, t)).collect()
 }
 
-/// The largest ring of each `contour/<id>` marker family, as a footprint.
-fn contours(array: &MarkerArray) -> Vec<Footprint> {
-    let mut by_id: BTreeMap<u32, Polygon<f64>> = BTreeMap::new();
-    for m in &array.markers {
-        if m.action != Marker::ADD || m.r#type != Marker::LINE_STRIP {
-            continue;
-        }
-        let Some(id) =
-            m.ns.strip_prefix("contour/")
-                .and_then(|s| s.parse::<u32>().ok())
-        else {
-            continue;
-        };
-        let ring: Vec<(f64, f64)> = m
-            .points
-            .iter()
-            .filter(|p| p.x.is_finite() && p.y.is_finite())
-            .map(|p| (p.x, p.y))
-            .collect();
-        if ring.len() < 3 {
-            continue;
-        }
-        let poly = Polygon::new(LineString::from(ring), vec![]);
-        let larger = by_id
-            .get(&id)
-            .is_none_or(|p| poly.unsigned_area() > p.unsigned_area());
-        if larger {
-            by_id.insert(id, poly);
-        }
-    }
-    by_id
-        .into_iter()
-        .map(|(id, p)| Footprint {
-            id,
-            polygon: MultiPolygon(vec![p]),
-            name: format!("detected {id}"),
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geo::{LineString, MultiPolygon, Polygon};
     use skyground_core::missing::Strategy;
     use skyground_msgs::geometry_msgs::Point;
+    use skyground_msgs::visualization_msgs::Marker;
 
     fn square(id: u32, x: f64) -> Footprint {
         Footprint {

@@ -1,8 +1,9 @@
 //! Detection results (docs/design.md step 3) as messages: /missing_points,
 //! /completeness and the contour / skeleton markers.
 
-use geo::MultiPolygon;
+use geo::{Area, LineString, MultiPolygon, Polygon};
 use skyground_core::cloud::Cloud;
+use skyground_core::footprint::Footprint;
 use std::collections::BTreeMap;
 
 use skyground_core::missing::{BuildingDetection, Detection, MissingPoint, Strategy};
@@ -15,7 +16,43 @@ use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use super::diagnostics::{from_status, to_status};
-use super::markers::{Look, delete_all, line_list, line_strip, points, rgb};
+use super::markers::{Look, delete_all, line_list, line_strip, points, rgb, strips};
+
+/// Namespace of a building's contour markers: `contour/<building id>`.
+pub const CONTOUR_NS: &str = "contour";
+
+/// Each detected building's outer contour back from /detection_markers (its
+/// largest ring), as a footprint with the detection's building id.
+pub fn detection_contours(array: &MarkerArray) -> Vec<Footprint> {
+    let mut by_id: BTreeMap<u32, Polygon<f64>> = BTreeMap::new();
+    for (m, ring) in strips(array) {
+        let id =
+            m.ns.strip_prefix(CONTOUR_NS)
+                .and_then(|s| s.strip_prefix('/'))
+                .and_then(|s| s.parse::<u32>().ok());
+        let (Some(id), Some(ring)) = (id, ring) else {
+            continue;
+        };
+        if ring.len() < 3 {
+            continue;
+        }
+        let poly = Polygon::new(LineString::from(ring), vec![]);
+        if by_id
+            .get(&id)
+            .is_none_or(|p| poly.unsigned_area() > p.unsigned_area())
+        {
+            by_id.insert(id, poly);
+        }
+    }
+    by_id
+        .into_iter()
+        .map(|(id, p)| Footprint {
+            id,
+            polygon: MultiPolygon(vec![p]),
+            name: format!("detected {id}"),
+        })
+        .collect()
+}
 
 /// The missing points as a cloud with x, y, z and building.
 pub fn missing_cloud(d: &Detection, origin: [f64; 3]) -> Cloud {
@@ -149,7 +186,7 @@ fn building_markers(header: &Header, b: &BuildingDetection, out: &mut MarkerArra
             .iter()
             .map(|p| [p[0], p[1], f64::from(b.ground_z)])
             .collect();
-        let contour = look("contour", k, rgb(0.1, 0.1, 0.1));
+        let contour = look(CONTOUR_NS, k, rgb(0.1, 0.1, 0.1));
         out.markers.push(line_strip(contour, &pts, false, 0.2));
     }
     for (k, s) in b.structures.iter().enumerate() {

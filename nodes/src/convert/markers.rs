@@ -143,34 +143,48 @@ pub enum RegionMarkerError {
     },
 }
 
+/// The ADD LINE_STRIPs of `array`, each with its points as an xy ring
+/// (closing point dropped; `None` when a point is not finite).
+pub fn strips(array: &MarkerArray) -> impl Iterator<Item = (&Marker, Option<Vec<[f64; 2]>>)> {
+    array
+        .markers
+        .iter()
+        .filter(|m| m.action == Marker::ADD && m.r#type == Marker::LINE_STRIP)
+        .map(|m| (m, strip_ring(m)))
+}
+
+fn strip_ring(m: &Marker) -> Option<Vec<[f64; 2]>> {
+    if m.points
+        .iter()
+        .any(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+    {
+        return None;
+    }
+    let mut ring: Vec<[f64; 2]> = m.points.iter().map(|p| [p.x, p.y]).collect();
+    if ring.len() > 1 && ring.first() == ring.last() {
+        ring.pop();
+    }
+    Some(ring)
+}
+
 /// Regions back from a MarkerArray: every ADD LINE_STRIP becomes one region
 /// (closing point dropped); DELETE/DELETEALL and other types are skipped.
 /// Bad markers are returned as errors beside the good regions.
 pub fn markers_to_regions(array: &MarkerArray) -> (Vec<Region>, Vec<RegionMarkerError>) {
     let mut regions = Vec::new();
     let mut errors = Vec::new();
-    for m in &array.markers {
-        if m.action != Marker::ADD || m.r#type != Marker::LINE_STRIP {
-            continue;
-        }
+    for (m, ring) in strips(array) {
         let Ok(building) = m.ns.parse::<u32>() else {
             errors.push(RegionMarkerError::Namespace(m.ns.clone()));
             continue;
         };
-        if m.points
-            .iter()
-            .any(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
-        {
+        let Some(polygon) = ring else {
             errors.push(RegionMarkerError::NotFinite {
                 ns: m.ns.clone(),
                 id: m.id,
             });
             continue;
-        }
-        let mut polygon: Vec<[f64; 2]> = m.points.iter().map(|p| [p.x, p.y]).collect();
-        if polygon.len() > 1 && polygon.first() == polygon.last() {
-            polygon.pop();
-        }
+        };
         if polygon.len() < 3 {
             errors.push(RegionMarkerError::TooFewPoints {
                 ns: m.ns.clone(),
