@@ -13,6 +13,7 @@ pub mod density;
 pub mod explore;
 pub mod features;
 pub mod field;
+pub mod file;
 pub mod follow;
 pub mod footprint;
 pub mod forest;

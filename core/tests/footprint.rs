@@ -477,7 +477,7 @@ fn bad_inputs_give_typed_errors_or_skips() {
     assert!((fp.area() - 14.5).abs() < 1e-9, "area {}", fp.area());
     // Files: missing, unknown extension, empty, wrong JSON, name in the message.
     let missing = load_footprints(Path::new("/nonexistent/fp.geojson"), o).unwrap_err();
-    assert!(matches!(missing, FootprintError::Io { .. }));
+    assert!(matches!(missing, FootprintError::Io(_)));
     let tmp = tempfile::tempdir().unwrap();
     let csv = temp(tmp.path(), "fp.csv", b"x,y\n");
     assert!(matches!(

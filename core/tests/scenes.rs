@@ -583,7 +583,7 @@ fn load_scene_dispatches_and_names_file_and_line() {
     ));
     assert!(matches!(
         load_scene("/nonexistent/x.obj"),
-        Err(SceneError::Io { .. })
+        Err(SceneError::Io(_))
     ));
 }
 

@@ -1,12 +1,12 @@
 //! Reading and writing a cloud file, choosing the format by extension.
 
-use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::Cloud;
 use super::las::{LasError, read_las, write_las};
 use super::ply::{PlyError, parse_ply, write_ply};
+use crate::file::{self, FileError};
 
 /// Reading or writing a cloud file failed; the message starts with the path.
 #[derive(Debug, thiserror::Error)]
@@ -18,14 +18,8 @@ pub enum CloudIoError {
         path: PathBuf,
     },
     /// Opening, reading or writing the file failed.
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The file exists but holds no bytes.
     #[error("{}: file is empty", path.display())]
     Empty {
@@ -56,8 +50,8 @@ impl CloudIoError {
     /// The file the error is about.
     pub fn path(&self) -> &Path {
         match self {
+            Self::Io(e) => &e.path,
             Self::UnknownExtension { path }
-            | Self::Io { path, .. }
             | Self::Empty { path }
             | Self::Ply { path, .. }
             | Self::Las { path, .. } => path,
@@ -89,11 +83,8 @@ fn kind(path: &Path) -> Result<Kind, CloudIoError> {
 /// Reads a `.ply`, `.las` or `.laz` file (extension case-insensitive).
 pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
     let kind = kind(path)?;
-    let io = |source| CloudIoError::Io {
-        path: path.into(),
-        source,
-    };
-    let mut file = File::open(path).map_err(io)?;
+    let io = |source| FileError::new(path, source);
+    let mut file = file::open(path)?;
     let len = file.metadata().map_err(io)?.len();
     if len == 0 {
         return Err(CloudIoError::Empty { path: path.into() });
@@ -119,11 +110,8 @@ pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
 /// Writes `cloud` as binary PLY, LAS 1.4 or LAZ according to the extension.
 pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
     let kind = kind(path)?;
-    let io = |source| CloudIoError::Io {
-        path: path.into(),
-        source,
-    };
-    let file = File::create(path).map_err(io)?;
+    let io = |source| FileError::new(path, source);
+    let file = file::create(path)?;
     match kind {
         Kind::Ply => write_ply(file, cloud).map_err(|source| CloudIoError::Ply {
             path: path.into(),
@@ -136,7 +124,7 @@ pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
             };
             let mut sink =
                 write_las(BufWriter::new(file), cloud, kind == Kind::Laz).map_err(las)?;
-            sink.flush().map_err(io)
+            Ok(sink.flush().map_err(io)?)
         }
     }
 }
@@ -186,7 +174,7 @@ mod tests {
         let scratch = |name: &str| dir.join(name);
         let missing = scratch("missing.ply");
         let e = read_cloud(&missing).unwrap_err();
-        assert!(matches!(e, CloudIoError::Io { .. }), "{e:?}");
+        assert!(matches!(e, CloudIoError::Io(_)), "{e:?}");
         assert_eq!(e.path(), missing);
         assert!(
             e.to_string().starts_with(&missing.display().to_string()),

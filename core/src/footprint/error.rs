@@ -1,18 +1,14 @@
 //! Errors of the footprint readers and parameter checks.
 
+use crate::file::FileError;
 use std::path::PathBuf;
 
 /// A footprint file that could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum FootprintError {
     /// The file could not be opened or read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The OS error.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The file's content is wrong.
     #[error("{path}: {source}")]
     Parse {

@@ -6,6 +6,7 @@ use geo::{Coord, MapCoordsInPlace};
 use serde_json::Value;
 
 use crate::crs::{Crs, JsonCrs, SourceFrame, cityjson_crs, geojson_crs};
+use crate::file;
 
 use super::cityjson::parse_cityjson_footprints;
 use super::error::FootprintError;
@@ -54,10 +55,7 @@ pub fn load_footprints_in(path: &Path, frame: &SourceFrame) -> Result<Loaded, Fo
 }
 
 fn read(path: &Path) -> Result<Vec<u8>, FootprintError> {
-    std::fs::read(path).map_err(|source| FootprintError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(file::read(path)?)
 }
 
 /// The CRS a GeoJSON or CityJSON file names and the registry resolves

@@ -15,6 +15,4 @@ pub use canvas::{Canvas, PlotError};
 pub use color::{Rgb, ramp};
 pub use furniture::nice_length;
 pub use models::{ModelView, models_picture};
-pub use scene::{
-    BuildingGain, detection_picture, detection_picture_in, mission_picture, mission_picture_in,
-};
+pub use scene::{BuildingGain, detection_picture, mission_picture};

@@ -47,27 +47,11 @@ const DETECTION_LEGEND: [(Rgb, &str); 7] = [
     (REGION, "region to explore"),
 ];
 
-/// [`detection_picture_in`] with a scale bar in metres.
-pub fn detection_picture(
-    building_points: &[[f32; 3]],
-    detection: &Detection,
-    targets: Option<&TargetSet>,
-    max_px: u32,
-) -> Result<Canvas, PlotError> {
-    detection_picture_in(
-        building_points,
-        detection,
-        targets,
-        max_px,
-        &LinearUnit::Metre,
-    )
-}
-
 /// Detection of a scene from above: building points grey, contours black,
 /// skeletons blue, collected boundary points green, missing ones red,
 /// target points purple, regions orange; legend, north arrow and a scale
 /// bar in `unit` (the input's).
-pub fn detection_picture_in(
+pub fn detection_picture(
     building_points: &[[f32; 3]],
     detection: &Detection,
     targets: Option<&TargetSet>,
@@ -132,30 +116,10 @@ pub struct BuildingGain {
     pub gain: f64,
 }
 
-/// [`mission_picture_in`] with a scale bar in metres.
-pub fn mission_picture(
-    extent: ([f64; 2], [f64; 2]),
-    buildings: &[BuildingGain],
-    full_scale: f64,
-    route: &[[f32; 3]],
-    targets: &TargetSet,
-    max_px: u32,
-) -> Result<Canvas, PlotError> {
-    mission_picture_in(
-        extent,
-        buildings,
-        full_scale,
-        route,
-        targets,
-        max_px,
-        &LinearUnit::Metre,
-    )
-}
-
 /// A mission from above: buildings coloured by completeness gain (blue no
 /// gain → red `full_scale` or more), the driven route, targets and regions;
 /// legend (with the gain ramp's ends), north arrow, scale bar in `unit`.
-pub fn mission_picture_in(
+pub fn mission_picture(
     extent: ([f64; 2], [f64; 2]),
     buildings: &[BuildingGain],
     full_scale: f64,

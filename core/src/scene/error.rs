@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use super::cityjson::CityJsonError;
 use super::obj::ObjError;
 use super::ply_mesh::PlyMeshError;
+use crate::file::FileError;
 
 /// Loading a scene failed; file errors start with the path.
 #[derive(Debug, thiserror::Error)]
@@ -23,15 +24,9 @@ pub enum SceneError {
         /// The file.
         path: PathBuf,
     },
-    /// Reading the file failed.
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        #[source]
-        source: std::io::Error,
-    },
+    /// Reading or writing the file failed.
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The OBJ file is malformed.
     #[error("{}: {source}", path.display())]
     Obj {

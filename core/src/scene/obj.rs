@@ -24,6 +24,7 @@ use std::path::Path;
 use super::indexed::{IndexedObject, scene_from_indexed};
 use super::naming::{UnknownObjects, kind_from_name};
 use super::{ObjectKind, Scene, SceneError};
+use crate::file;
 
 /// Options for reading OBJ scenes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -92,10 +93,7 @@ pub enum ObjErrorKind {
 
 /// Reads an OBJ scene file.
 pub fn read_obj(path: &Path, options: &ObjOptions) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = file::read(path)?;
     parse_obj(&String::from_utf8_lossy(&bytes), options).map_err(|source| SceneError::Obj {
         path: path.to_path_buf(),
         source,

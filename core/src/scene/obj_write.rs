@@ -17,6 +17,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::{ObjectKind, Scene, SceneError, kind_from_name};
+use crate::file;
 
 /// The scene as OBJ text.
 pub fn obj_text(scene: &Scene) -> String {
@@ -75,10 +76,7 @@ pub fn obj_text(scene: &Scene) -> String {
 
 /// Writes the scene to `path` as OBJ.
 pub fn write_obj(scene: &Scene, path: &Path) -> Result<(), SceneError> {
-    std::fs::write(path, obj_text(scene)).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    Ok(file::write(path, obj_text(scene))?)
 }
 
 /// A name without whitespace or `#` (OBJ ends names and lines there).

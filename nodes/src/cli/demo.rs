@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use futures::StreamExt;
 use serde_json::json;
 use skyground_core::cloud::{Cloud, write_cloud};
-use skyground_core::crs::SourceFrame;
+use skyground_core::crs::{LinearUnit, SourceFrame};
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, MeasureSoFar, Measured, Mission, compare};
@@ -920,9 +920,17 @@ fn report(
         )
     });
     if let Some(b) = bounds {
-        mission_picture(b, &gains, 0.25, &w.route, &w.targets, 2000)
-            .and_then(|c| c.save(&a.out.join("overview.png")))
-            .map_err(|e| err(e.to_string()))?;
+        mission_picture(
+            b,
+            &gains,
+            0.25,
+            &w.route,
+            &w.targets,
+            2000,
+            &LinearUnit::Metre,
+        )
+        .and_then(|c| c.save(&a.out.join("overview.png")))
+        .map_err(|e| err(e.to_string()))?;
     }
     let frame = SourceFrame::new(
         prior.cloud.origin,

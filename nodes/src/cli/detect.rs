@@ -14,7 +14,7 @@ use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
 use skyground_core::missing::{DetectParams, detect_scene, evaluate, shift_missing};
-use skyground_core::plot::detection_picture_in;
+use skyground_core::plot::detection_picture;
 use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
@@ -197,7 +197,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         .map_or(skyground_core::crs::LinearUnit::Metre, |c| {
             c.horizontal_unit.clone()
         });
-    detection_picture_in(&bpts, &detection, Some(&targets), 2400, &unit)
+    detection_picture(&bpts, &detection, Some(&targets), 2400, &unit)
         .and_then(|c| c.save(&png))
         .map_err(err)?;
 

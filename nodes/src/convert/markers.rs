@@ -2,9 +2,12 @@
 //! (how /target_regions carries `targets::Region`).
 
 use skyground_core::targets::Region;
+use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::geometry_msgs::{Point, Vector3};
 use skyground_msgs::std_msgs::{ColorRGBA, Header};
 use skyground_msgs::visualization_msgs::{Marker, MarkerArray};
+
+use crate::runtime::Logger;
 
 /// An opaque colour from 0..=1 components.
 pub fn rgb(r: f32, g: f32, b: f32) -> ColorRGBA {
@@ -165,6 +168,34 @@ fn strip_ring(m: &Marker) -> Option<Vec<[f64; 2]>> {
         ring.pop();
     }
     Some(ring)
+}
+
+/// The regions of a received MarkerArray and its first marker's stamp (a
+/// set's DELETEALL carries the set's stamp); bad markers and unreadable
+/// messages are logged, and the latter give `None`.
+pub fn received_regions<I, E: std::fmt::Display>(
+    log: &Logger,
+    topic: &str,
+    m: Result<(MarkerArray, I), E>,
+) -> Option<(Vec<Region>, Time)> {
+    match m {
+        Ok((arr, _)) => {
+            let (regions, errors) = markers_to_regions(&arr);
+            for e in errors {
+                log.warn(&format!("{topic}: {e}"));
+            }
+            let stamp = arr
+                .markers
+                .first()
+                .map(|m| m.header.stamp)
+                .unwrap_or_default();
+            Some((regions, stamp))
+        }
+        Err(e) => {
+            log.error(&format!("{topic}: unreadable message: {e}"));
+            None
+        }
+    }
 }
 
 /// Regions back from a MarkerArray: every ADD LINE_STRIP becomes one region

@@ -26,12 +26,10 @@ use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::diagnostics::{array, statuses};
-use crate::convert::markers::markers_to_regions;
+use crate::convert::markers::received_regions;
 use crate::convert::path::{odom_position, path};
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
-use crate::transport::{
-    CloudPublisher, CloudSubscription, TransportConfig, labelled, with_buildings,
-};
+use crate::transport::{CloudPublisher, CloudSubscription, TransportConfig, with_buildings};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -98,9 +96,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     loop {
         let events: Vec<ExplorerEvent> = tokio::select! {
             _ = rt.shutdown.wait() => break,
-            r = cloud_sub.next_cloud(&rt.log) => match r {
-                Some(c) => c.and_then(|(_, d)| labelled(&rt.log, "/classified_cloud", d.cloud))
-                    .map(|(xyz, labels)| ExplorerEvent::Cloud { xyz, labels }).into_iter().collect(),
+            r = cloud_sub.next_labelled(&rt.log) => match r {
+                Some(c) => c.map(|(xyz, labels)| ExplorerEvent::Cloud { xyz, labels }).into_iter().collect(),
                 None => break,
             },
             r = missing_sub.next_cloud(&rt.log) => match r {
@@ -110,16 +107,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 }).into_iter().collect(),
                 None => break,
             },
-            Some(m) = region_s.next() => match m {
-                Ok((arr, _)) => {
-                    let (regions, errors) = markers_to_regions(&arr);
-                    for e in errors {
-                        rt.log.warn(&format!("/active_region: {e}"));
-                    }
-                    vec![ExplorerEvent::ActiveRegion(regions.into_iter().next())]
-                }
-                Err(e) => { rt.log.error(&format!("/active_region: unreadable message: {e}")); vec![] }
-            },
+            Some(m) = region_s.next() => received_regions(&rt.log, "/active_region", m)
+                .map(|(regions, _)| ExplorerEvent::ActiveRegion(regions.into_iter().next())).into_iter().collect(),
             Some(m) = scan_s.next() => match m.map(|(msg, _)| decode(&msg)) {
                 Ok(Ok(d)) => vec![ExplorerEvent::Scan { xyz: d.cloud.xyz, labels: d.cloud.label }],
                 Ok(Err(e)) => { rt.log.warn(&format!("rejected /registered_scan: {e}")); vec![] }

@@ -79,6 +79,16 @@ impl CloudSubscription {
         })
     }
 
+    /// [`Self::next_cloud`] of a classified cloud: its points and labels; a
+    /// cloud without labels is logged and given as `Some(None)`.
+    pub async fn next_labelled(
+        &mut self,
+        log: &Logger,
+    ) -> Option<Option<(Vec<[f32; 3]>, Vec<u8>)>> {
+        let cloud = self.next_cloud(log).await?;
+        Some(cloud.and_then(|(_, d)| labelled(log, &self.topic, d.cloud)))
+    }
+
     /// Partial clouds given up because a newer one started.
     pub fn abandoned(&self) -> usize {
         self.assembler.abandoned()

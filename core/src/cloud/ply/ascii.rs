@@ -65,30 +65,6 @@ impl<'a> AsciiRows<'a> {
             found: self.tokens.len(),
         }
     }
-
-    /// Reads one list value, keeping its items in `out` when given.
-    fn list(
-        &mut self,
-        ctx: RowCtx<'_>,
-        count: Scalar,
-        item: Scalar,
-        property: &str,
-        mut out: Option<&mut Vec<f64>>,
-    ) -> Result<(), PlyError> {
-        let len = list_length(ctx, property, self.scalar(ctx, count, property)?)?;
-        let len = usize::try_from(len).unwrap_or(usize::MAX);
-        self.needed = self.needed.saturating_add(len);
-        if self.tokens.len().saturating_sub(self.next) < len {
-            return Err(self.row_length_error(ctx));
-        }
-        for _ in 0..len {
-            let value = self.scalar(ctx, item, property)?;
-            if let Some(out) = out.as_deref_mut() {
-                out.push(value);
-            }
-        }
-        Ok(())
-    }
 }
 
 impl Rows for AsciiRows<'_> {
@@ -121,25 +97,27 @@ impl Rows for AsciiRows<'_> {
         })
     }
 
-    fn skip_list(
+    fn list(
         &mut self,
         ctx: RowCtx<'_>,
         count: Scalar,
         item: Scalar,
         property: &str,
+        mut out: Option<&mut Vec<f64>>,
     ) -> Result<(), PlyError> {
-        self.list(ctx, count, item, property, None)
-    }
-
-    fn read_list(
-        &mut self,
-        ctx: RowCtx<'_>,
-        count: Scalar,
-        item: Scalar,
-        property: &str,
-        out: &mut Vec<f64>,
-    ) -> Result<(), PlyError> {
-        self.list(ctx, count, item, property, Some(out))
+        let len = list_length(ctx, property, self.scalar(ctx, count, property)?)?;
+        let len = usize::try_from(len).unwrap_or(usize::MAX);
+        self.needed = self.needed.saturating_add(len);
+        if self.tokens.len().saturating_sub(self.next) < len {
+            return Err(self.row_length_error(ctx));
+        }
+        for _ in 0..len {
+            let value = self.scalar(ctx, item, property)?;
+            if let Some(out) = out.as_deref_mut() {
+                out.push(value);
+            }
+        }
+        Ok(())
     }
 
     fn line(&self) -> Option<usize> {

@@ -66,26 +66,17 @@ impl Rows for BinaryRows<'_> {
             .ok_or_else(|| ctx.truncated())
     }
 
-    fn skip_list(
+    fn list(
         &mut self,
         ctx: RowCtx<'_>,
         count: Scalar,
         item: Scalar,
         property: &str,
-    ) -> Result<(), PlyError> {
-        self.list_bytes(ctx, count, item, property).map(|_| ())
-    }
-
-    fn read_list(
-        &mut self,
-        ctx: RowCtx<'_>,
-        count: Scalar,
-        item: Scalar,
-        property: &str,
-        out: &mut Vec<f64>,
+        out: Option<&mut Vec<f64>>,
     ) -> Result<(), PlyError> {
         let big_endian = self.big_endian;
         let bytes = self.list_bytes(ctx, count, item, property)?;
+        let Some(out) = out else { return Ok(()) };
         for chunk in bytes.chunks_exact(item.size()) {
             out.push(
                 item.decode(chunk, big_endian)

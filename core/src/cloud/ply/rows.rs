@@ -44,23 +44,15 @@ pub trait Rows {
     /// Reads one scalar value of the current row.
     fn scalar(&mut self, ctx: RowCtx<'_>, ty: Scalar, property: &str) -> Result<f64, PlyError>;
 
-    /// Reads past one list value of the current row.
-    fn skip_list(
+    /// Reads one list value of the current row, appending its items to `out`
+    /// (`None`: reads past it).
+    fn list(
         &mut self,
         ctx: RowCtx<'_>,
         count: Scalar,
         item: Scalar,
         property: &str,
-    ) -> Result<(), PlyError>;
-
-    /// Reads one list value of the current row, appending its items to `out`.
-    fn read_list(
-        &mut self,
-        ctx: RowCtx<'_>,
-        count: Scalar,
-        item: Scalar,
-        property: &str,
-        out: &mut Vec<f64>,
+        out: Option<&mut Vec<f64>>,
     ) -> Result<(), PlyError>;
 
     /// The 1-based file line of the current row, for encodings that have lines.
@@ -93,7 +85,7 @@ pub fn skip_rows<R: Rows + ?Sized>(rows: &mut R, element: &Element) -> Result<()
                 PropertyKind::Scalar(ty) => {
                     rows.scalar(ctx, ty, &p.name)?;
                 }
-                PropertyKind::List { count, item } => rows.skip_list(ctx, count, item, &p.name)?,
+                PropertyKind::List { count, item } => rows.list(ctx, count, item, &p.name, None)?,
             }
         }
         rows.end(ctx)?;

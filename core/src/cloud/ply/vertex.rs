@@ -138,7 +138,7 @@ pub fn read_vertices<R: Rows>(
                         values[role.slot()] = v;
                     }
                 }
-                PropertyKind::List { count, item } => rows.skip_list(ctx, count, item, &p.name)?,
+                PropertyKind::List { count, item } => rows.list(ctx, count, item, &p.name, None)?,
             }
         }
         rows.end(ctx)?;

@@ -11,6 +11,7 @@ use serde_json::Value;
 use super::boundaries::map_indices;
 use super::error::CityJsonError;
 use super::model::{CityObject, Document, Transform};
+use crate::file;
 use crate::scene::SceneError;
 
 /// City object types that are buildings (their parts included).
@@ -45,10 +46,7 @@ pub fn read_city_model(paths: &[PathBuf]) -> Result<CityModel, SceneError> {
     let mut model = CityModel::default();
     let mut first_crs: Option<(PathBuf, String)> = None;
     for path in paths {
-        let data = std::fs::read(path).map_err(|source| SceneError::Io {
-            path: path.clone(),
-            source,
-        })?;
+        let data = file::read(path)?;
         let file_err = |source| SceneError::CityJson {
             path: path.clone(),
             source,
@@ -292,10 +290,7 @@ pub fn city_files(spec: &str) -> Result<Vec<PathBuf>, SceneError> {
             out.push(path.to_path_buf());
             continue;
         }
-        let entries = std::fs::read_dir(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let entries = file::read_dir(path)?;
         let mut files: Vec<PathBuf> = entries
             .filter_map(Result::ok)
             .map(|e| e.path())

@@ -48,7 +48,7 @@ fn read_row<R: Rows>(
             match p.kind {
                 PropertyKind::Scalar(ty) => values.push(rows.scalar(ctx, ty, &p.name)?),
                 PropertyKind::List { count, item } => {
-                    rows.read_list(ctx, count, item, &p.name, &mut values)?;
+                    rows.list(ctx, count, item, &p.name, Some(&mut values))?;
                 }
             }
             take(k, &values);

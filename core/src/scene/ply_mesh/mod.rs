@@ -31,16 +31,14 @@ use crate::cloud::ply::reader::{AsciiRows, BinaryRows, Header, PlyFormat, Rows, 
 
 use super::indexed::{IndexedObject, scene_from_indexed};
 use super::{ObjectKind, Scene, SceneError};
+use crate::file;
 
 const SPLIT_NAMES: [&str; 5] = ["object", "object_id", "label", "building", "building_id"];
 const CLASS_NAMES: [&str; 2] = ["class", "classification"];
 
 /// Reads a PLY mesh file.
 pub fn read_ply_mesh(path: &Path) -> Result<Scene, SceneError> {
-    let data = std::fs::read(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let data = file::read(path)?;
     parse_ply_mesh(&data).map_err(|source| SceneError::PlyMesh {
         path: path.to_path_buf(),
         source,
