@@ -6,8 +6,9 @@
 //! latched status.
 
 use crate::graph::{GraphParams, GroundGraph};
-use crate::route::{Route, RouteParams, Stop, Visited, replan};
-use crate::targets::{Region, TargetPoint, TargetSet};
+use crate::missing::MissingPoint;
+use crate::route::{Route, RouteParams, Stop, Visited, in_order, replan};
+use crate::targets::{Region, SeenGaps, Site, TargetParams, TargetPoint, TargetSet};
 
 use super::ground;
 use super::protocol::{
@@ -27,6 +28,9 @@ pub struct PlannerConfig {
     pub route: RouteParams,
     /// Tries per stop before a blocked stop is given up.
     pub block_retries: u32,
+    /// What a sensor on the ground sees (range, facing, field of view), for
+    /// `route.skip_seen`: the target generator's settings.
+    pub targets: TargetParams,
 }
 
 /// What happens to the planner.
@@ -53,6 +57,8 @@ pub enum PlannerEvent {
         /// The set's stamp.
         stamp: u64,
     },
+    /// The round's missing points (for `route.skip_seen`).
+    Missing(Vec<MissingPoint>),
     /// Where the vehicle is.
     Position([f32; 3]),
     /// The planner's own latched status, as a restarted planner finds it.
@@ -106,6 +112,11 @@ pub struct Planner {
     blocked: Vec<BlockedSpot>,
     /// Where the vehicle drove this round, a position every half metre.
     trail: Vec<[f32; 2]>,
+    /// The site and the latest missing points, and which of the round's
+    /// gaps the trail has seen (with `route.skip_seen`).
+    site: Option<Site>,
+    missing: Vec<MissingPoint>,
+    seen: Option<SeenGaps>,
     out: Vec<PlannerCommand>,
 }
 
@@ -133,6 +144,9 @@ impl Planner {
             restored: None,
             blocked: Vec::new(),
             trail: Vec::new(),
+            site: None,
+            missing: Vec::new(),
+            seen: None,
             out: Vec::new(),
         }
     }
@@ -151,6 +165,15 @@ impl Planner {
     pub fn handle(&mut self, event: PlannerEvent) -> Vec<PlannerCommand> {
         match event {
             PlannerEvent::Cloud { xyz, labels } => {
+                if self.config.route.skip_seen {
+                    let t = &self.config.targets;
+                    self.site = Site::from_cloud(&xyz, &labels, t.cell, t.clearance)
+                        .map_err(|e| {
+                            self.out
+                                .push(PlannerCommand::Warn(format!("no site for skip_seen: {e}")))
+                        })
+                        .ok();
+                }
                 self.cloud = Some((xyz, labels));
                 self.graph = None;
                 self.need_plan = true;
@@ -168,8 +191,13 @@ impl Planner {
                 let far = |q: &[f32; 2]| (q[0] - p[0]).hypot(q[1] - p[1]) >= TRAIL_STEP_M;
                 if self.route.is_some() && self.trail.last().is_none_or(far) {
                     self.trail.push([p[0], p[1]]);
+                    if let (Some(seen), Some(site)) = (self.seen.as_mut(), self.site.as_ref()) {
+                        seen.look_from(site, [p[0], p[1]], &self.config.targets);
+                        self.skip_if_seen();
+                    }
                 }
             }
+            PlannerEvent::Missing(m) => self.missing = m,
             PlannerEvent::Restore(s) => self.restore(s),
             PlannerEvent::Vehicle(v) => self.on_vehicle(&v),
             PlannerEvent::Explorer(e) => self.on_explorer(&e),
@@ -321,6 +349,8 @@ impl Planner {
         self.visited = Visited::default();
         self.retries = 0;
         self.trail.clear();
+        self.seen = (self.config.route.skip_seen && self.site.is_some())
+            .then(|| SeenGaps::new(self.missing.clone(), self.config.targets.stop_range));
         self.round += 1;
         if let Some(s) = self.restored.take()
             && s.target_points == targets.points.len()
@@ -395,9 +425,7 @@ impl Planner {
                 self.visited.points.push(i);
                 self.retries = 0;
                 if self.drop_passed(k) > 0 {
-                    // The remaining stops get a route from here without them.
-                    self.need_plan = true;
-                    self.phase = Phase::Waiting;
+                    self.route_rest_in_order(k);
                 } else {
                     self.start_leg(k + 1);
                 }
@@ -413,16 +441,91 @@ impl Planner {
         }
     }
 
-    /// Marks visited every point stop after `k` that the trail passed within
-    /// `route.skip_passed_m`; returns how many.
+    /// The point stop being driven to needs no visit once every gap it would
+    /// see is in view: it is dropped (with any later one in the same case)
+    /// and the rest of the round routed from here, without going there.
+    fn skip_if_seen(&mut self) {
+        let Phase::Driving(k) = self.phase else {
+            return;
+        };
+        let Some(Stop::Point(i)) = self.stop(k) else {
+            return;
+        };
+        let (Some(seen), Some(site), Some(t)) = (
+            self.seen.as_ref(),
+            self.site.as_ref(),
+            self.targets.points.get(i),
+        ) else {
+            return;
+        };
+        if !seen.nothing_new_from(site, t.xyz, &self.config.targets) {
+            return;
+        }
+        self.out.push(PlannerCommand::Info(format!(
+            "round {}: stop {i} dropped on the way: every gap it would see is in view",
+            self.round
+        )));
+        self.visited.points.push(i);
+        self.retries = 0;
+        self.drop_passed(k);
+        self.route_rest_in_order(k);
+    }
+
+    /// Routes from where the vehicle is over the stops after `k` not yet
+    /// visited, in the order planned: touring them again from a point short
+    /// of a stop turned the vehicle round more often than it saved metres.
+    fn route_rest_in_order(&mut self, k: usize) {
+        let (Some(graph), Some(route), Some(position)) =
+            (self.graph.as_ref(), self.route.as_ref(), self.position)
+        else {
+            return;
+        };
+        let rest: Vec<Stop> = route.order[k + 1..]
+            .iter()
+            .filter(|s| match s {
+                Stop::Point(i) => !self.visited.points.contains(i),
+                Stop::Region(i) => !self.visited.regions.contains(i),
+            })
+            .copied()
+            .collect();
+        match in_order(graph, &self.targets, &rest, position, &self.config.route) {
+            Ok(r) => {
+                self.out
+                    .push(PlannerCommand::GlobalPath(r.waypoints.clone()));
+                self.route = Some(r);
+                self.start_leg(0);
+            }
+            Err(e) => {
+                self.out
+                    .push(PlannerCommand::Warn(format!("cannot route the rest: {e}")));
+                self.need_plan = true;
+                self.phase = Phase::Waiting;
+            }
+        }
+    }
+
+    /// Marks visited every point stop after `k` that needs no visit: the
+    /// trail passed within `route.skip_passed_m`, or (`route.skip_seen`)
+    /// every gap it would see was in view from the trail. Returns how many.
     fn drop_passed(&mut self, k: usize) -> usize {
         let r = self.config.route.skip_passed_m;
         let Some(route) = self.route.as_ref() else {
             return 0;
         };
-        if r <= 0.0 {
+        let seen = self.seen.as_ref().zip(self.site.as_ref());
+        if r <= 0.0 && seen.is_none() {
             return 0;
         }
+        let passed_by = |t: &TargetPoint| {
+            r > 0.0
+                && self
+                    .trail
+                    .iter()
+                    .any(|q| (q[0] - t.xyz[0]).hypot(q[1] - t.xyz[1]) <= r)
+        };
+        let seen_from = |t: &TargetPoint| {
+            seen.is_some_and(|(g, site)| g.nothing_new_from(site, t.xyz, &self.config.targets))
+        };
         let passed: Vec<usize> = route.order[k + 1..]
             .iter()
             .filter_map(|s| match s {
@@ -431,16 +534,20 @@ impl Planner {
             })
             .filter(|i| !self.visited.points.contains(i))
             .filter(|&i| {
-                self.targets.points.get(i).is_some_and(|t| {
-                    self.trail
-                        .iter()
-                        .any(|q| (q[0] - t.xyz[0]).hypot(q[1] - t.xyz[1]) <= r)
-                })
+                self.targets
+                    .points
+                    .get(i)
+                    .is_some_and(|t| passed_by(t) || seen_from(t))
             })
             .collect();
         if !passed.is_empty() {
+            let gaps = self
+                .seen
+                .as_ref()
+                .map(|g| format!("; {} of {} gaps seen so far", g.seen_count(), g.len()))
+                .unwrap_or_default();
             self.out.push(PlannerCommand::Info(format!(
-                "round {}: {} stop(s) dropped, driven past within {r} m: {passed:?}",
+                "round {}: {} stop(s) dropped, driven past or seen on the way: {passed:?}{gaps}",
                 self.round,
                 passed.len()
             )));

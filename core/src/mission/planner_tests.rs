@@ -1,3 +1,5 @@
+use std::f32::consts::FRAC_1_SQRT_2;
+
 use super::*;
 use crate::geom::fixtures::flat_ground;
 
@@ -19,6 +21,7 @@ fn planner(block_retries: u32) -> Planner {
         graph: GraphParams::default(),
         route: RouteParams::default(),
         block_retries,
+        targets: TargetParams::default(),
     })
 }
 
@@ -276,6 +279,7 @@ fn a_stop_the_vehicle_already_drove_past_is_dropped() {
                 ..RouteParams::default()
             },
             block_retries: 2,
+            targets: TargetParams::default(),
         });
         let (xyz, labels) = flat_ground(160, 40, 0.25);
         p.handle(PlannerEvent::Cloud { xyz, labels });
@@ -309,4 +313,93 @@ fn a_stop_the_vehicle_already_drove_past_is_dropped() {
     let (visited, next) = run(0.0);
     assert_eq!(visited, vec![0], "skip_passed_m 0 keeps every stop");
     assert!((next[0] - 20.0).abs() < 1.0, "next stop {next:?}");
+}
+
+#[test]
+fn a_stop_whose_gaps_were_seen_on_the_way_is_dropped() {
+    // Stops at (10, 5), (30, 6) and (35, 5); the one at (30, 6) looks at
+    // three gaps of a wall at y = 11 facing south-west, 2 m up, which the
+    // one at (35, 5) sees too obliquely (78° off their normal).
+    let run = |swing: Option<f32>, skip_seen: bool| {
+        let mut p = Planner::new(PlannerConfig {
+            graph: GraphParams::default(),
+            route: RouteParams {
+                skip_seen,
+                ..RouteParams::default()
+            },
+            block_retries: 2,
+            targets: TargetParams::default(),
+        });
+        let (xyz, labels) = flat_ground(160, 40, 0.25);
+        p.handle(PlannerEvent::Cloud { xyz, labels });
+        p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+        let gaps = [30.0, 31.0, 32.0].map(|x| MissingPoint {
+            xyz: [x, 11.0, 2.0],
+            building: 3,
+            normal: [-FRAC_1_SQRT_2, -FRAC_1_SQRT_2],
+            skeleton: [x, 15.0],
+        });
+        p.handle(PlannerEvent::Missing(gaps.to_vec()));
+        let mut points = two_points();
+        points.push(TargetPoint {
+            xyz: [30.0, 6.0, 0.0],
+            building: 3,
+        });
+        let out = points_only(&mut p, points, 1);
+        let first = *legs(&out)[0].last().expect("pose");
+        assert!((first[0] - 10.0).abs() < 1.0, "first stop {first:?}");
+        // (28, 5.5) is 6–7 m from the gaps and faces them; from (10, 5)
+        // and (8, 5.5) they are over 20.9 m away, beyond the 20 m a stop sees.
+        let mut way = vec![4.0, 8.0];
+        way.extend(swing);
+        for x in way {
+            p.handle(PlannerEvent::Position([x, 5.5, 0.0]));
+        }
+        p.handle(PlannerEvent::Position(first));
+        let out = p.handle(arrived(first));
+        let out = if legs(&out).is_empty() {
+            p.handle(PlannerEvent::Tick)
+        } else {
+            out
+        };
+        let next = *legs(&out)[0].last().expect("pose");
+        (p.status().visited.points, next)
+    };
+    let (visited, next) = run(Some(28.0), true);
+    assert_eq!(visited, vec![0, 2], "its gaps were seen from (28, 5.5)");
+    assert!((next[0] - 35.0).abs() < 1.0, "next stop {next:?}");
+    let (visited, next) = run(None, true);
+    assert_eq!(visited, vec![0], "nothing on the way saw its gaps");
+    assert!((next[0] - 30.0).abs() < 1.0, "next stop {next:?}");
+    let (visited, _) = run(Some(28.0), false);
+    assert_eq!(visited, vec![0], "skip_seen off keeps every stop");
+}
+
+#[test]
+fn the_stop_driven_to_is_given_up_once_its_gaps_are_in_view() {
+    let mut p = planner(2);
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+    // The stop at (10, 5) looks at gaps of a west-facing wall at x = 28,
+    // 18 m away: within the 20 m a stop sees.
+    let gaps = [4.5, 5.0, 5.5].map(|y| MissingPoint {
+        xyz: [28.0, y, 2.0],
+        building: 1,
+        normal: [-1.0, 0.0],
+        skeleton: [30.0, y],
+    });
+    p.handle(PlannerEvent::Missing(gaps.to_vec()));
+    let out = points_only(&mut p, two_points(), 1);
+    let first = *legs(&out)[0].last().expect("pose");
+    assert!((first[0] - 10.0).abs() < 1.0, "first stop {first:?}");
+    let out = p.handle(PlannerEvent::Position([3.0, 5.5, 0.0]));
+    assert!(
+        legs(&out).is_empty(),
+        "from (3, 5.5) the gaps are 25 m away"
+    );
+    let out = p.handle(PlannerEvent::Position([8.5, 5.5, 0.0]));
+    let next = *legs(&out).first().expect("a new leg").last().expect("pose");
+    assert!((next[0] - 35.0).abs() < 1.0, "next stop {next:?}");
+    assert_eq!(p.status().visited.points, vec![0]);
 }

@@ -20,5 +20,5 @@ pub(crate) mod tour;
 pub use budget::{Budget, BudgetParams, PlannedWork, WorkLimit, route_budget};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
-pub use plan::{Route, Visited, plan, replan};
+pub use plan::{Route, Visited, in_order, plan, replan};
 pub use stops::Stop;

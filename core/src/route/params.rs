@@ -32,6 +32,10 @@ pub struct RouteParams {
     /// is dropped: its 360° LiDAR saw from there what it would see at the
     /// stop. 0 (the default: no gain measured) keeps every stop.
     pub skip_passed_m: f32,
+    /// A point stop is dropped once every gap it would see was in view
+    /// from where the vehicle drove (the targets' `sees` test on the
+    /// driven positions); the rest of the round is routed again.
+    pub skip_seen: bool,
 }
 
 impl Default for RouteParams {
@@ -41,6 +45,7 @@ impl Default for RouteParams {
             tour: TourChoice::Shortest,
             max_passes: 100,
             skip_passed_m: 0.0,
+            skip_seen: false,
         }
     }
 }

@@ -41,14 +41,7 @@ pub fn plan(
     params: &RouteParams,
 ) -> Result<Route, RouteError> {
     params.validate()?;
-    let start_node = graph
-        .start_node_from([start[0], start[1]], params.max_snap_m)
-        .ok_or(RouteError::StartOffGraph {
-            x: start[0],
-            y: start[1],
-            max: params.max_snap_m,
-        })?
-        .0;
+    let start_node = start_node(graph, start, params)?;
     let snapped = snap(graph, targets, params.max_snap_m);
     // One search per stop, from its nodes: the distance of any node to the stop.
     let trees: Vec<ShortestPaths> = snapped
@@ -121,6 +114,59 @@ pub fn plan(
         tsp_length_m: tsp_len,
         streets_length_m: streets_len,
     })
+}
+
+/// A route from `start` over `order` (stops of `targets`) in that order, not
+/// toured again: the rest of a round after a stop was dropped on the way.
+/// Stops that cannot be reached from `start` are left out.
+pub fn in_order(
+    graph: &GroundGraph,
+    targets: &TargetSet,
+    order: &[Stop],
+    start: [f32; 3],
+    params: &RouteParams,
+) -> Result<Route, RouteError> {
+    params.validate()?;
+    let start_node = start_node(graph, start, params)?;
+    let snapped = snap(graph, targets, params.max_snap_m);
+    let stops: Vec<(Stop, Vec<usize>)> = order
+        .iter()
+        .filter_map(|s| snapped.stops.iter().find(|(t, _)| t == s).cloned())
+        .collect();
+    let trees: Vec<ShortestPaths> = stops
+        .par_iter()
+        .map(|(_, nodes)| graph.shortest_paths(nodes))
+        .collect();
+    let reached: Vec<usize> = (0..stops.len())
+        .filter(|&k| trees[k].dist[start_node].is_finite())
+        .collect();
+    let (length_m, nodes, arrivals) = drive(&trees, start_node, &reached);
+    Ok(Route {
+        order: reached.iter().map(|&k| stops[k].0).collect(),
+        waypoints: nodes.iter().map(|&n| graph.positions()[n]).collect(),
+        arrivals,
+        length_m,
+        unreachable_points: snapped.unreachable_points,
+        unreachable_regions: snapped.unreachable_regions,
+        greedy_length_m: length_m,
+        tsp_length_m: length_m,
+        streets_length_m: length_m,
+    })
+}
+
+fn start_node(
+    graph: &GroundGraph,
+    start: [f32; 3],
+    params: &RouteParams,
+) -> Result<usize, RouteError> {
+    graph
+        .start_node_from([start[0], start[1]], params.max_snap_m)
+        .map(|(n, _)| n)
+        .ok_or(RouteError::StartOffGraph {
+            x: start[0],
+            y: start[1],
+            max: params.max_snap_m,
+        })
 }
 
 /// Targets already dealt with, by their indices in the full target set.

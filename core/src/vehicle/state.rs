@@ -136,14 +136,20 @@ impl Vehicle {
         let turn = err.clamp(-max_turn, max_turn);
         self.state.yaw = wrap(self.state.yaw + turn);
         self.state.yaw_rate = turn / dt.max(1e-6);
-        // Turn in place when facing away; slow down on the final approach.
+        // Turn in place when facing away; slow down on the approach to the
+        // path's last way-point only: a path follower drives through the
+        // ones before it (slowing at each made the reference mission's
+        // average speed half the top speed).
+        let last = self.goals.len() == 1;
         let speed = if err.abs() > PI / 3.0 {
             0.0
-        } else {
+        } else if last {
             self.config
                 .max_speed
                 .min(dist / dt.max(1e-6))
                 .min(dist.max(0.2))
+        } else {
+            self.config.max_speed.min(dist / dt.max(1e-6))
         };
         let step = speed * dt;
         if step <= 0.0 {
@@ -266,6 +272,28 @@ mod tests {
         let p = v.state.position;
         assert!(((p[0] - 5.0).powi(2) + (p[1] - 12.0).powi(2)).sqrt() <= 0.5);
         assert!(v.state.odometer >= 12.0);
+    }
+
+    #[test]
+    fn drives_through_a_path_at_speed_and_slows_for_its_end_only() {
+        let c = Caster::new(&scene()).unwrap();
+        let cfg = VehicleConfig::default();
+        let mut v = Vehicle::new(cfg, &c, -10.0, 15.0, 0.0).unwrap();
+        // 24 way-points 1.25 m apart, as a graph path gives them: 30 m east.
+        v.set_path((1..=24).map(|k| [-10.0 + 1.25 * k as f32, 15.0]));
+        let (mut t, dt) = (0.0f32, 0.05f32);
+        while !v.goals.is_empty() && t < 60.0 {
+            v.step(&c, dt);
+            t += dt;
+        }
+        assert!(v.goals.is_empty(), "path not done after {t} s");
+        // At top speed 29.5 m take 14.75 s; the last metre's slow-down adds ~1 s.
+        let full_speed = 29.5 / cfg.max_speed;
+        assert!(
+            t < full_speed + 2.0,
+            "{t:.2} s for 29.5 m (top speed: {full_speed:.2} s)"
+        );
+        assert!(v.state.speed < 0.6, "arrives slowly: {} m/s", v.state.speed);
     }
 
     #[test]

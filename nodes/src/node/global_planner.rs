@@ -15,18 +15,19 @@ use skyground_core::graph::GraphParams;
 use skyground_core::mission::planner::{Planner, PlannerCommand, PlannerConfig, PlannerEvent};
 use skyground_core::mission::{ExplorerStatus, PlannerStatus, VehicleStatus};
 use skyground_core::route::RouteParams;
-use skyground_core::targets::TargetPoint;
+use skyground_core::targets::{TargetParams, TargetPoint};
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
+use crate::convert::detection::missing_from_message;
 use crate::convert::diagnostics::{array, statuses};
-use crate::convert::markers::{markers_to_regions, regions_to_markers};
+use crate::convert::markers::{received_regions, regions_to_markers};
 use crate::convert::path::{odom_position, path};
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
-use crate::transport::{CloudSubscription, TransportConfig, labelled, with_buildings};
+use crate::transport::{CloudSubscription, TransportConfig, with_buildings};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -35,6 +36,9 @@ struct Params {
     graph: GraphParams,
     #[serde(default)]
     route: RouteParams,
+    /// The target generator's view model, for `route.skip_seen`.
+    #[serde(default)]
+    targets: TargetParams,
     /// Tries per stop before a blocked stop is given up.
     block_retries: u32,
     transport: TransportConfig,
@@ -73,6 +77,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut target_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), tile)?;
+    let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
     let regions_sub = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
     let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
@@ -95,6 +100,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         graph: p.graph,
         route: p.route,
         block_retries: p.block_retries,
+        targets: p.targets,
     });
     rt.log.info(
         "waiting for /classified_cloud, /target_points, /target_regions and /state_estimation",
@@ -102,9 +108,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     loop {
         let events: Vec<PlannerEvent> = tokio::select! {
             _ = rt.shutdown.wait() => break,
-            r = cloud_sub.next_cloud(&rt.log) => match r {
-                Some(c) => c.and_then(|(_, d)| labelled(&rt.log, "/classified_cloud", d.cloud))
-                    .map(|(xyz, labels)| PlannerEvent::Cloud { xyz, labels }).into_iter().collect(),
+            r = cloud_sub.next_labelled(&rt.log) => match r {
+                Some(c) => c.map(|(xyz, labels)| PlannerEvent::Cloud { xyz, labels }).into_iter().collect(),
                 None => break,
             },
             r = target_sub.next_cloud(&rt.log) => match r {
@@ -115,18 +120,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 }).into_iter().collect(),
                 None => break,
             },
-            Some(m) = regions_s.next() => match m {
-                Ok((arr, _)) => {
-                    let (regions, errors) = markers_to_regions(&arr);
-                    for e in errors {
-                        rt.log.warn(&format!("/target_regions: {e}"));
-                    }
-                    // The DELETEALL marker first carries the set's stamp.
-                    let stamp = arr.markers.first().map(|m| m.header.stamp).unwrap_or_default();
-                    vec![PlannerEvent::Regions { regions, stamp: stamp_key(stamp) }]
-                }
-                Err(e) => { rt.log.error(&format!("/target_regions: unreadable message: {e}")); vec![] }
+            r = missing_sub.next_cloud(&rt.log) => match r {
+                Some(c) => c.and_then(|(_, d)| missing_from_message(&d).map_err(|e| rt.log.error(&e)).ok())
+                    .map(PlannerEvent::Missing).into_iter().collect(),
+                None => break,
             },
+            Some(m) = regions_s.next() => received_regions(&rt.log, "/target_regions", m)
+                .map(|(regions, stamp)| PlannerEvent::Regions { regions, stamp: stamp_key(stamp) }).into_iter().collect(),
             Some(m) = odom_s.next() => m.ok().and_then(|(o, _)| odom_position(&o)).map(PlannerEvent::Position).into_iter().collect(),
             Some(m) = own_s.next() => statuses(&rt.log, m, PlannerStatus::from_wire).into_iter().map(PlannerEvent::Restore).collect(),
             Some(m) = vstatus_s.next() => statuses(&rt.log, m, VehicleStatus::from_wire).into_iter().map(PlannerEvent::Vehicle).collect(),
