@@ -2,13 +2,13 @@
 
 use std::num::NonZeroUsize;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::ImmutableKdTree;
 use rayon::prelude::*;
 
 use super::echo::{Echoes, UNKNOWN, voxel_counts};
 use super::error::FeatureError;
 use super::params::FeatureParams;
-use super::shape::Moments;
+use super::shape::nearest_moments;
 use super::voxel::{ScaleStats, VoxelStats, thin, voxel_stats};
 
 /// Column names of [`Features::data`], in order. `knn_*` lengths are divided
@@ -141,17 +141,8 @@ pub fn compute_subset(
         .zip(rows.par_iter())
         .for_each(|(out, &r)| {
             let p = xyz[r];
-            let near = tree
-                .query(&p)
-                .nearest_n::<SquaredEuclidean<f32>>(k)
-                .execute();
-            let mut m = Moments::default();
-            let mut r2 = 0.0f32;
-            for nb in &near {
-                let q = xyz[nb.item as usize];
-                m.add(std::array::from_fn(|i| f64::from(q[i]) - f64::from(p[i])));
-                r2 = r2.max(nb.distance);
-            }
+            let (m, near) = nearest_moments(&tree, xyz, p, k);
+            let r2 = near.iter().fold(0.0f32, |a, nb| a.max(nb.1));
             let radius = f64::from(r2.sqrt()).max(1e-6);
             let s = m.shape();
             // The point's distance from the fitted plane (the anchor is the point).

@@ -1,7 +1,33 @@
 //! Shape of one neighbourhood from the eigenvalues of its covariance:
 //! how line-, plane- or volume-like it is and which way its normal points.
 
+use std::num::NonZeroUsize;
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+
 use crate::geom::eigen::sym3_eigen;
+
+/// The `k` nearest points of `xyz` (indexed by `tree`) to `p`, nearest first,
+/// as (index, squared distance), and their moments relative to `p`.
+pub fn nearest_moments(
+    tree: &ImmutableKdTree<f32, 3>,
+    xyz: &[[f32; 3]],
+    p: [f32; 3],
+    k: NonZeroUsize,
+) -> (Moments, Vec<(usize, f32)>) {
+    let near = tree
+        .query(&p)
+        .nearest_n::<SquaredEuclidean<f32>>(k)
+        .execute();
+    let mut m = Moments::default();
+    let mut out = Vec::with_capacity(near.len());
+    for nb in &near {
+        let q = xyz[nb.item as usize];
+        m.add(std::array::from_fn(|i| f64::from(q[i]) - f64::from(p[i])));
+        out.push((nb.item as usize, nb.distance));
+    }
+    (m, out)
+}
 
 /// Running sums of a neighbourhood (coordinates relative to an anchor, so
 /// f64 sums stay accurate far from the origin).

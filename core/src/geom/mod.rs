@@ -6,6 +6,7 @@
 //! - [`grid`]: the 2D grid frame and the occupancy rasters' morphology.
 //! - [`tiled`]: a grid frame's cells stored in tiles only where wanted.
 //! - [`ring`]: point-in-polygon for a ring of points (geo).
+//! - [`soup`]: a triangle soup as parry3d's `TriMesh`.
 //! - `fixtures` (tests only): point sets the unit tests share.
 
 pub mod eigen;
@@ -14,4 +15,5 @@ pub(crate) mod fixtures;
 pub mod grid;
 pub mod ring;
 pub mod segment;
+pub mod soup;
 pub mod tiled;

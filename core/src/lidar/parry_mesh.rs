@@ -6,6 +6,8 @@ use parry3d::math::Vector;
 use parry3d::query::Ray;
 use parry3d::shape::{CompositeShapeRef, TriMesh};
 
+use crate::geom::soup::soup_mesh;
+
 /// A parry triangle mesh over the caster's triangles, in input order.
 #[derive(Debug, Clone)]
 pub(crate) struct ParryMesh {
@@ -24,12 +26,11 @@ impl ParryMesh {
             .iter()
             .flat_map(|t| t.map(|v| Vector::new(v[0], v[1], v[2])))
             .collect();
-        // Three vertices per triangle, unshared: the index is the triangle number × 3.
-        let indices: Vec<[u32; 3]> = (0..tris.len() as u32)
-            .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
-            .collect();
-        let mesh = TriMesh::new(vertices, indices).ok();
-        Self { mesh, tris, ids }
+        Self {
+            mesh: soup_mesh(vertices),
+            tris,
+            ids,
+        }
     }
 
     /// The closest hit `(t, triangle in this mesh's order)` of the ray from

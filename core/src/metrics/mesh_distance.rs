@@ -6,6 +6,8 @@
 use parry3d::math::Vector;
 use parry3d::shape::{CompositeShapeRef, TriMesh};
 
+use crate::geom::soup::soup_mesh;
+
 use super::triangle_grid::TriangleGrid;
 use crate::scene::vec3::{area_vector, dot, point_triangle_dist2, wide};
 use crate::scene::{ObjectKind, Scene};
@@ -101,12 +103,11 @@ impl ParryIndex {
             .iter()
             .flat_map(|t| t.map(|v| local(v, centre)))
             .collect();
-        // Three vertices per triangle, unshared: the index is the triangle number × 3.
-        let indices: Vec<[u32; 3]> = (0..tris.len() as u32)
-            .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
-            .collect();
-        let mesh = TriMesh::new(vertices, indices).ok();
-        ParryIndex { mesh, centre, tris }
+        ParryIndex {
+            mesh: soup_mesh(vertices),
+            centre,
+            tris,
+        }
     }
 
     fn nearest_dist2(&self, p: [f64; 3], max_dist: f64) -> Option<f64> {

@@ -2,10 +2,10 @@
 
 use std::num::NonZeroUsize;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::ImmutableKdTree;
 use rayon::prelude::*;
 
-use crate::features::shape::Moments;
+use crate::features::shape::nearest_moments;
 
 /// Normals (unit, z ≥ 0), curvature and the k nearest neighbours of points.
 pub(crate) struct Neighbourhoods {
@@ -54,17 +54,11 @@ pub(crate) fn neighbourhoods(xyz: &[[f32; 3]], k: usize) -> Neighbourhoods {
         .into_par_iter()
         .map(|i| {
             let p = xyz[i];
-            let near = tree
-                .query(&p)
-                .nearest_n::<SquaredEuclidean<f32>>(kk)
-                .execute();
-            let mut m = Moments::default();
+            let (m, near) = nearest_moments(&tree, xyz, p, kk);
             let mut ids = Vec::with_capacity(k);
-            for nb in &near {
-                let q = xyz[nb.item as usize];
-                m.add(std::array::from_fn(|c| f64::from(q[c]) - f64::from(p[c])));
-                if nb.item as usize != i && ids.len() < k {
-                    ids.push(nb.item);
+            for &(j, _) in &near {
+                if j != i && ids.len() < k {
+                    ids.push(j as u32);
                 }
             }
             while ids.len() < k {

@@ -34,7 +34,8 @@ pub struct RouteParams {
     pub skip_passed_m: f32,
     /// A point stop is dropped once every gap it would see was in view
     /// from where the vehicle drove (the targets' `sees` test on the
-    /// driven positions); the rest of the round is routed again.
+    /// driven positions); the rest of the round follows the planned order.
+    /// Off by default: on the reference it drove more (docs/profile.md).
     pub skip_seen: bool,
 }
 

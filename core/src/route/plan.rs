@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use super::error::RouteError;
 use super::params::{RouteParams, TourChoice};
-use super::stops::{Stop, snap};
+use super::stops::{Snapped, Stop, snap};
 use super::tour::{Costs, greedy_alternating, street_tour, tsp};
 use crate::graph::{GroundGraph, ShortestPaths};
 use crate::targets::TargetSet;
@@ -40,9 +40,7 @@ pub fn plan(
     start: [f32; 3],
     params: &RouteParams,
 ) -> Result<Route, RouteError> {
-    params.validate()?;
-    let start_node = start_node(graph, start, params)?;
-    let snapped = snap(graph, targets, params.max_snap_m);
+    let (start_node, snapped) = tie(graph, targets, start, params)?;
     // One search per stop, from its nodes: the distance of any node to the stop.
     let trees: Vec<ShortestPaths> = snapped
         .stops
@@ -126,9 +124,7 @@ pub fn in_order(
     start: [f32; 3],
     params: &RouteParams,
 ) -> Result<Route, RouteError> {
-    params.validate()?;
-    let start_node = start_node(graph, start, params)?;
-    let snapped = snap(graph, targets, params.max_snap_m);
+    let (start_node, snapped) = tie(graph, targets, start, params)?;
     let stops: Vec<(Stop, Vec<usize>)> = order
         .iter()
         .filter_map(|s| snapped.stops.iter().find(|(t, _)| t == s).cloned())
@@ -154,19 +150,22 @@ pub fn in_order(
     })
 }
 
-fn start_node(
+/// The start's node and the targets tied to the graph, after checking `params`.
+fn tie(
     graph: &GroundGraph,
+    targets: &TargetSet,
     start: [f32; 3],
     params: &RouteParams,
-) -> Result<usize, RouteError> {
-    graph
+) -> Result<(usize, Snapped), RouteError> {
+    params.validate()?;
+    let (node, _) = graph
         .start_node_from([start[0], start[1]], params.max_snap_m)
-        .map(|(n, _)| n)
         .ok_or(RouteError::StartOffGraph {
             x: start[0],
             y: start[1],
             max: params.max_snap_m,
-        })
+        })?;
+    Ok((node, snap(graph, targets, params.max_snap_m)))
 }
 
 /// Targets already dealt with, by their indices in the full target set.

@@ -266,10 +266,7 @@ impl NodeRuntime {
         let (pkg, ty) = split_type_name(M::TYPE_NAME);
         self.node
             .create_topic(&name, MessageTypeName::new(pkg, ty), qos)
-            .map_err(|e| RuntimeError::Create {
-                what: format!("topic {topic}"),
-                reason: e.to_string(),
-            })
+            .map_err(create_error(format!("topic {topic}")))
     }
 
     /// A publisher of `M` on `topic`.
@@ -281,10 +278,7 @@ impl NodeRuntime {
         let t = self.topic::<M>(topic, &qos)?;
         self.node
             .create_publisher(&t, Some(qos))
-            .map_err(|e| RuntimeError::Create {
-                what: format!("publisher on {topic}"),
-                reason: e.to_string(),
-            })
+            .map_err(create_error(format!("publisher on {topic}")))
     }
 
     /// A subscription to `M` on `topic`.
@@ -296,10 +290,7 @@ impl NodeRuntime {
         let t = self.topic::<M>(topic, &qos)?;
         self.node
             .create_subscription(&t, Some(qos))
-            .map_err(|e| RuntimeError::Create {
-                what: format!("subscription to {topic}"),
-                reason: e.to_string(),
-            })
+            .map_err(create_error(format!("subscription to {topic}")))
     }
 
     /// Stops the spinner and drops node and context in the order RustDDS needs
@@ -370,6 +361,14 @@ where
         node.stop().await;
         code
     })
+}
+
+/// Maps a DDS creation error to [`RuntimeError::Create`] naming `what`.
+fn create_error<E: std::fmt::Display>(what: String) -> impl FnOnce(E) -> RuntimeError {
+    move |e| RuntimeError::Create {
+        what,
+        reason: e.to_string(),
+    }
 }
 
 #[cfg(test)]
