@@ -141,8 +141,8 @@ pub fn compute_subset(
         .zip(rows.par_iter())
         .for_each(|(out, &r)| {
             let p = xyz[r];
-            let (m, near) = nearest_moments(&tree, xyz, p, k);
-            let r2 = near.iter().fold(0.0f32, |a, nb| a.max(nb.1));
+            let mut r2 = 0.0f32;
+            let m = nearest_moments(&tree, xyz, p, k, |_, d2| r2 = r2.max(d2));
             let radius = f64::from(r2.sqrt()).max(1e-6);
             let s = m.shape();
             // The point's distance from the fitted plane (the anchor is the point).

@@ -7,26 +7,26 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
 use crate::geom::eigen::sym3_eigen;
 
-/// The `k` nearest points of `xyz` (indexed by `tree`) to `p`, nearest first,
-/// as (index, squared distance), and their moments relative to `p`.
+/// The moments relative to `p` of its `k` nearest points of `xyz` (indexed by
+/// `tree`); `each` is given every one's index and squared distance, nearest first.
 pub fn nearest_moments(
     tree: &ImmutableKdTree<f32, 3>,
     xyz: &[[f32; 3]],
     p: [f32; 3],
     k: NonZeroUsize,
-) -> (Moments, Vec<(usize, f32)>) {
+    mut each: impl FnMut(usize, f32),
+) -> Moments {
     let near = tree
         .query(&p)
         .nearest_n::<SquaredEuclidean<f32>>(k)
         .execute();
     let mut m = Moments::default();
-    let mut out = Vec::with_capacity(near.len());
     for nb in &near {
         let q = xyz[nb.item as usize];
         m.add(std::array::from_fn(|i| f64::from(q[i]) - f64::from(p[i])));
-        out.push((nb.item as usize, nb.distance));
+        each(nb.item as usize, nb.distance);
     }
-    (m, out)
+    m
 }
 
 /// Running sums of a neighbourhood (coordinates relative to an anchor, so

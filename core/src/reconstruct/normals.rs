@@ -54,13 +54,12 @@ pub(crate) fn neighbourhoods(xyz: &[[f32; 3]], k: usize) -> Neighbourhoods {
         .into_par_iter()
         .map(|i| {
             let p = xyz[i];
-            let (m, near) = nearest_moments(&tree, xyz, p, kk);
             let mut ids = Vec::with_capacity(k);
-            for &(j, _) in &near {
+            let m = nearest_moments(&tree, xyz, p, kk, |j, _| {
                 if j != i && ids.len() < k {
                     ids.push(j as u32);
                 }
-            }
+            });
             while ids.len() < k {
                 ids.push(i as u32);
             }

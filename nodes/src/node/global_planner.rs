@@ -27,7 +27,7 @@ use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::{received_regions, regions_to_markers};
 use crate::convert::path::{odom_position, path};
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
-use crate::transport::{CloudSubscription, TransportConfig, with_buildings};
+use crate::transport::{CloudSubscription, TransportConfig, next_cloud_of, with_buildings};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -77,7 +77,17 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut target_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), tile)?;
-    let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
+    // Only skip_seen needs the gaps: otherwise the detector need not send them here.
+    let skip_seen = p.route.skip_seen;
+    let mut missing_sub = match skip_seen {
+        true => Some(CloudSubscription::new(
+            rt,
+            "/missing_points",
+            qos::latched(64),
+            tile,
+        )?),
+        false => None,
+    };
     let regions_sub = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
     let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
@@ -120,7 +130,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 }).into_iter().collect(),
                 None => break,
             },
-            r = missing_sub.next_cloud(&rt.log) => match r {
+            r = next_cloud_of(missing_sub.as_mut(), &rt.log), if skip_seen => match r {
                 Some(c) => c.and_then(|(_, d)| missing_from_message(&d).map_err(|e| rt.log.error(&e)).ok())
                     .map(PlannerEvent::Missing).into_iter().collect(),
                 None => break,

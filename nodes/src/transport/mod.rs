@@ -5,4 +5,4 @@ mod publisher;
 mod subscriber;
 
 pub use publisher::{CloudPublisher, PublishStats, TransportConfig};
-pub use subscriber::{CloudSubscription, Received, labelled, with_buildings};
+pub use subscriber::{CloudSubscription, Received, labelled, next_cloud_of, with_buildings};

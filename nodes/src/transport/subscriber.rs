@@ -95,6 +95,18 @@ impl CloudSubscription {
     }
 }
 
+/// [`CloudSubscription::next_cloud`] of a subscription a node may not have;
+/// without one it is never ready (for a `select!` branch).
+pub async fn next_cloud_of(
+    sub: Option<&mut CloudSubscription>,
+    log: &Logger,
+) -> Option<Option<(PointCloud2, Decoded)>> {
+    match sub {
+        Some(s) => s.next_cloud(log).await,
+        None => std::future::pending().await,
+    }
+}
+
 /// A classified cloud's points and labels; a cloud without labels is logged
 /// (it came from before the classifier) and gives `None`.
 pub fn labelled(log: &Logger, topic: &str, cloud: Cloud) -> Option<(Vec<[f32; 3]>, Vec<u8>)> {
