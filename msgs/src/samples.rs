@@ -49,7 +49,7 @@ pub fn all() -> Vec<Sample> {
         sample(duration()),
         sample(header()),
         sample(color(0.25)),
-        sample(point_field("intensity", 12, PointField::FLOAT32)),
+        sample(PointField::single("intensity", 12, PointField::FLOAT32)),
         sample(point_cloud2()),
         sample(compressed_image()),
         sample(point(1.5)),
@@ -168,25 +168,16 @@ fn color(r: f32) -> ColorRGBA {
     }
 }
 
-fn point_field(name: &str, offset: u32, datatype: u8) -> PointField {
-    PointField {
-        name: name.into(),
-        offset,
-        datatype,
-        count: 1,
-    }
-}
-
 fn point_cloud2() -> PointCloud2 {
     PointCloud2 {
         header: header(),
         height: 1,
         width: 2,
         fields: vec![
-            point_field("x", 0, PointField::FLOAT32),
-            point_field("y", 4, PointField::FLOAT32),
-            point_field("z", 8, PointField::FLOAT32),
-            point_field("label", 12, PointField::UINT8),
+            PointField::single("x", 0, PointField::FLOAT32),
+            PointField::single("y", 4, PointField::FLOAT32),
+            PointField::single("z", 8, PointField::FLOAT32),
+            PointField::single("label", 12, PointField::UINT8),
         ],
         is_bigendian: false,
         point_step: 13,

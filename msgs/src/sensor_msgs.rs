@@ -35,6 +35,17 @@ impl PointField {
     pub const FLOAT32: u8 = 7;
     /// Datatype code of `float64`.
     pub const FLOAT64: u8 = 8;
+
+    /// A field of one `datatype` value at byte `offset` (every field
+    /// skyground writes, and every one most writers do).
+    pub fn single(name: &str, offset: u32, datatype: u8) -> Self {
+        Self {
+            name: name.into(),
+            offset,
+            datatype,
+            count: 1,
+        }
+    }
 }
 
 /// `sensor_msgs/msg/PointCloud2`: points as packed binary records (see [`crate::pointcloud2`]).

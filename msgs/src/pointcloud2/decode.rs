@@ -273,15 +273,6 @@ mod tests {
     use super::*;
     use crate::sensor_msgs::PointField;
 
-    fn field(name: &str, offset: u32, datatype: u8) -> PointField {
-        PointField {
-            name: name.into(),
-            offset,
-            datatype,
-            count: 1,
-        }
-    }
-
     /// An xyz FLOAT32 cloud of `width` × `height` points, 12 bytes each, no row padding.
     fn xyz_msg(width: u32, height: u32) -> PointCloud2 {
         let n = (width * height) as usize;
@@ -295,9 +286,9 @@ mod tests {
             height,
             width,
             fields: vec![
-                field("x", 0, PointField::FLOAT32),
-                field("y", 4, PointField::FLOAT32),
-                field("z", 8, PointField::FLOAT32),
+                PointField::single("x", 0, PointField::FLOAT32),
+                PointField::single("y", 4, PointField::FLOAT32),
+                PointField::single("z", 8, PointField::FLOAT32),
             ],
             point_step: 12,
             row_step: 12 * width,
@@ -330,7 +321,8 @@ mod tests {
     #[test]
     fn empty_cloud_with_attributes_gives_empty_columns() {
         let mut m = xyz_msg(0, 0);
-        m.fields.push(field("label", 12, PointField::UINT8));
+        m.fields
+            .push(PointField::single("label", 12, PointField::UINT8));
         m.point_step = 13;
         let d = decode(&m).unwrap();
         assert!(d.cloud.is_empty());
@@ -374,7 +366,8 @@ mod tests {
             })
         );
         let mut m = xyz_msg(1, 1);
-        m.fields.push(field("label", 8, PointField::FLOAT32));
+        m.fields
+            .push(PointField::single("label", 8, PointField::FLOAT32));
         assert_eq!(
             decode(&m),
             Err(PointCloud2Error::UnsupportedDatatype {
@@ -477,7 +470,8 @@ mod tests {
     #[test]
     fn label_out_of_range() {
         let mut m = xyz_msg(2, 1);
-        m.fields.push(field("label", 0, PointField::INT32));
+        m.fields
+            .push(PointField::single("label", 0, PointField::INT32));
         // x of point 0 is 0.0 (bits 0: in range); x of point 1 is 3.0 (bits 0x40400000).
         assert_eq!(
             decode(&m),
@@ -489,7 +483,8 @@ mod tests {
         );
         let mut m = xyz_msg(1, 1);
         m.data[0] = 0xff;
-        m.fields.push(field("building", 0, PointField::INT8));
+        m.fields
+            .push(PointField::single("building", 0, PointField::INT8));
         assert!(matches!(
             decode(&m),
             Err(PointCloud2Error::ValueOutOfRange {
@@ -515,12 +510,12 @@ mod tests {
             height: 1,
             width: 1,
             fields: vec![
-                field("z", 20, PointField::FLOAT32),
-                field("rgb", 6, PointField::UINT16),
-                field("label", 0, PointField::UINT32),
-                field("y", 16, PointField::FLOAT32),
-                field("intensity", 4, PointField::UINT16),
-                field("x", 8, PointField::FLOAT64),
+                PointField::single("z", 20, PointField::FLOAT32),
+                PointField::single("rgb", 6, PointField::UINT16),
+                PointField::single("label", 0, PointField::UINT32),
+                PointField::single("y", 16, PointField::FLOAT32),
+                PointField::single("intensity", 4, PointField::UINT16),
+                PointField::single("x", 8, PointField::FLOAT64),
             ],
             point_step: 24,
             row_step: 24,
@@ -564,7 +559,7 @@ mod tests {
     #[test]
     fn float64_too_large_for_f32_counts_as_non_finite() {
         let mut m = xyz_msg(1, 1);
-        m.fields[0] = field("x", 0, PointField::FLOAT64);
+        m.fields[0] = PointField::single("x", 0, PointField::FLOAT64);
         m.fields[1].offset = 8;
         m.fields[2].offset = 12;
         m.point_step = 16;

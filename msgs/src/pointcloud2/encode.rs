@@ -67,11 +67,8 @@ impl Layout {
         } else {
             PointField::FLOAT32
         };
-        let field = |name: &str, offset: usize, datatype: u8| PointField {
-            name: name.to_owned(),
-            offset: offset as u32,
-            datatype,
-            count: 1,
+        let field = |name: &str, offset: usize, datatype: u8| {
+            PointField::single(name, offset as u32, datatype)
         };
         let mut fields = vec![
             field("x", 0, coordinate_type),
