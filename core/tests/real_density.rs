@@ -14,11 +14,10 @@
 
 use skyground_core::classify::GroundReport;
 use skyground_core::cloud::{Cloud, class, read_cloud};
-use skyground_core::footprint::{DeriveParams, SplitParams};
 use skyground_core::graph::{GraphParams, GroundGraph};
 use skyground_core::ground::{CsfParams, csf};
 use skyground_core::metrics::{ProducerCheck, producer_check};
-use skyground_core::missing::{DetectParams, detect_scene};
+use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::targets::{Site, TargetParams, generate};
 
 mod common;
@@ -71,15 +70,7 @@ struct Bars {
 
 fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
     let labels = cloud.label.as_ref().expect("labelled file");
-    let (detection, used) = detect_scene(
-        cloud,
-        None,
-        None,
-        &SplitParams::default(),
-        &DeriveParams::default(),
-        &DetectParams::default(),
-    )
-    .unwrap();
+    let (detection, used) = detect_scene(cloud, None, None, &SceneParams::default()).unwrap();
     let tp = TargetParams::default();
     let site = Site::from_cloud(&cloud.xyz, labels, tp.cell, tp.clearance).unwrap();
     let (targets, _) = generate(&detection, &site, &tp).unwrap();

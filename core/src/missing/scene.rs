@@ -8,6 +8,20 @@ use super::params::DetectParams;
 use crate::cloud::{Cloud, class};
 use crate::footprint::{DeriveParams, Footprint, ParamsError, SplitParams, derive, split};
 
+/// What [`detect_scene`] runs with: the completeness detector's params
+/// sections `detect`, `split` and `derive`, as the node and `skyground
+/// detect` read them (a section left out keeps its defaults).
+#[derive(Debug, Clone, Default, serde::Deserialize)]
+#[serde(default)]
+pub struct SceneParams {
+    /// Where walls are missing (step 3).
+    pub detect: DetectParams,
+    /// Building points by footprint (step 2).
+    pub split: SplitParams,
+    /// Footprints from the points where none are given (step 2).
+    pub derive: DeriveParams,
+}
+
 /// Why a scene could not be analysed.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneDetectError {
@@ -57,28 +71,26 @@ pub fn detect_scene(
     aerial: &Cloud,
     extra: Option<&Cloud>,
     footprints: Option<&[Footprint]>,
-    split_params: &SplitParams,
-    derive_params: &DeriveParams,
-    params: &DetectParams,
+    params: &SceneParams,
 ) -> Result<(Detection, Vec<Footprint>), SceneDetectError> {
     let mut pts = building_xyz(aerial, aerial.origin, true)?;
     // The prior's density sets the `auto` lengths: ground scans merged in
     // later rounds are far denser on their walls and would change them
     // from round to round.
-    let params = &params.resolved_for(&pts);
+    let detect = &params.detect.resolved_for(&pts);
     let used: Vec<Footprint> = match footprints {
         Some(f) => f.to_vec(),
-        None => derive(&pts, derive_params)?,
+        None => derive(&pts, &params.derive)?,
     };
     if let Some(e) = extra {
         pts.extend(building_xyz(e, aerial.origin, false)?);
     }
-    let ids = split(&pts, &used, split_params)?;
+    let ids = split(&pts, &used, &params.split)?;
     let given: Option<Vec<(u32, geo::MultiPolygon<f64>)>> =
         footprints.map(|f| f.iter().map(|f| (f.id, f.polygon.clone())).collect());
     let ground = aerial.xyz_of_class(class::GROUND);
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
-    let detection = detect_all_on(&pts, &ids, given.as_deref(), terrain.as_ref(), params)?;
+    let detection = detect_all_on(&pts, &ids, given.as_deref(), terrain.as_ref(), detect)?;
     Ok((detection, used))
 }
 

@@ -9,11 +9,11 @@ use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
 use skyground_core::cloud::{Cloud, class, write_cloud};
-use skyground_core::footprint::{DeriveParams, SplitParams, load_footprints_in};
+use skyground_core::footprint::load_footprints_in;
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
-use skyground_core::missing::{DetectParams, detect_scene, evaluate, shift_missing};
+use skyground_core::missing::{SceneParams, detect_scene, evaluate, shift_missing};
 use skyground_core::plot::detection_picture;
 use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, consolidate, generate};
@@ -50,16 +50,6 @@ pub struct DetectArgs {
     pub json: bool,
     #[command(flatten)]
     pub units: super::units::UnitsArg,
-}
-
-#[derive(Debug, Deserialize, Default)]
-struct DetectorParams {
-    #[serde(default)]
-    detect: DetectParams,
-    #[serde(default)]
-    split: SplitParams,
-    #[serde(default)]
-    derive: DeriveParams,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -110,7 +100,7 @@ fn gt_scene(spec: &str) -> Result<String, RuntimeError> {
 /// Runs detection (and targets) on a file.
 pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     use crate::node::{completeness_detector, target_generator};
-    let pd: DetectorParams = section(
+    let pd: SceneParams = section(
         "completeness_detector",
         completeness_detector::SPEC.default_params,
         a.params_file.as_deref(),
@@ -149,15 +139,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         None => None,
     };
     let t1 = Instant::now();
-    let (detection, used) = detect_scene(
-        &cloud,
-        None,
-        footprints.as_deref(),
-        &pd.split,
-        &pd.derive,
-        &pd.detect,
-    )
-    .map_err(err)?;
+    let (detection, used) = detect_scene(&cloud, None, footprints.as_deref(), &pd).map_err(err)?;
     let detect_s = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let labels = cloud.label.as_deref().unwrap_or_default();

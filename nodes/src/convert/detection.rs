@@ -226,9 +226,8 @@ pub fn detection_markers(header: &Header, d: &Detection) -> MarkerArray {
 
 #[cfg(test)]
 mod tests {
-    use skyground_core::footprint::{DeriveParams, SplitParams};
     use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
-    use skyground_core::missing::{DetectParams, detect_scene};
+    use skyground_core::missing::{DetectParams, SceneParams, detect_scene};
     use skyground_core::scene::load_scene;
     use skyground_core::targets::{
         Site, TargetParams, consolidate, generate, generate_from_missing,
@@ -262,13 +261,14 @@ mod tests {
         let caster = Caster::new(&scene).expect("a caster");
         let aerial = airborne_scan(&caster, &AirborneConfig::default()).expect("a prior");
         // θ low enough that both strategies occur on this scene.
-        let dp = DetectParams {
-            theta: 0.12,
-            ..DetectParams::default()
+        let params = SceneParams {
+            detect: DetectParams {
+                theta: 0.12,
+                ..DetectParams::default()
+            },
+            ..SceneParams::default()
         };
-        let split_p = SplitParams::default();
-        let (d, _) = detect_scene(&aerial, None, None, &split_p, &DeriveParams::default(), &dp)
-            .expect("detection");
+        let (d, _) = detect_scene(&aerial, None, None, &params).expect("detection");
         let tp = TargetParams::default();
         let site = Site::from_classified(&aerial, &tp).expect("a site");
         // Offline, as `skyground detect`.

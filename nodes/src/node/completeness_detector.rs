@@ -8,8 +8,8 @@ use std::sync::Arc;
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
-use skyground_core::footprint::{DeriveParams, Footprint, SplitParams, load_footprints};
-use skyground_core::missing::{DetectParams, detect_scene};
+use skyground_core::footprint::{Footprint, load_footprints};
+use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::mission::PlannerStatus;
 use skyground_core::mission::detector::{DetectorEvent, DetectorGate};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -29,12 +29,9 @@ struct Params {
     planner_status_topic: String,
     footprints: String,
     origin: Vec<f64>,
-    #[serde(default)]
-    detect: DetectParams,
-    #[serde(default)]
-    split: SplitParams,
-    #[serde(default)]
-    derive: DeriveParams,
+    /// The sections `detect`, `split` and `derive`, as `skyground detect` reads them.
+    #[serde(flatten)]
+    scene: SceneParams,
     transport: TransportConfig,
 }
 
@@ -43,15 +40,14 @@ crate::node_spec!("completeness_detector");
 #[derive(Clone)]
 struct Setup {
     footprints: Option<Vec<Footprint>>,
-    detect: DetectParams,
-    split: SplitParams,
-    derive: DeriveParams,
+    scene: SceneParams,
 }
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
-    p.detect
+    p.scene
+        .detect
         .validate()
         .map_err(|e| RuntimeError::Node(format!("detect params: {e}")))?;
     let tile = p.transport.tile_points;
@@ -76,9 +72,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let marker_pub = rt.publisher::<MarkerArray>("/detection_markers", qos::latched(1))?;
     let mut setup = Arc::new(Setup {
         footprints: None,
-        detect: p.detect,
-        split: p.split,
-        derive: p.derive,
+        scene: p.scene,
     });
     rt.log.info(&format!("waiting for {}", p.input_topic));
     let mut aerial: Option<(Cloud, Header)> = None;
@@ -145,7 +139,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         let (s, c, extra) = (setup.clone(), cloud.clone(), resampled.clone());
         let result = tokio::task::spawn_blocking(move || {
             let f = s.footprints.as_deref();
-            detect_scene(&c, extra.as_ref(), f, &s.split, &s.derive, &s.detect)
+            detect_scene(&c, extra.as_ref(), f, &s.scene)
         })
         .await
         .map_err(|e| RuntimeError::Node(format!("detection task: {e}")))?;
@@ -183,4 +177,23 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         round += 1;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::runtime::params::ParamSet;
+
+    // `scene` is flattened into a struct that denies unknown fields: its
+    // three sections must still be read, and a stray key still refused.
+    #[test]
+    fn shipped_params_read_the_scene_sections_and_refuse_a_stray_key() {
+        let mut set = ParamSet::default();
+        set.merge_yaml(super::SPEC.default_params, super::SPEC.name, "config")
+            .expect("shipped YAML");
+        set.set("detect.theta", serde_json::json!(0.33));
+        let p: super::Params = set.parse(super::SPEC.name).expect("parses");
+        assert_eq!(p.scene.detect.theta, 0.33);
+        set.set("detecc.theta", serde_json::json!(0.5));
+        assert!(set.parse::<super::Params>(super::SPEC.name).is_err());
+    }
 }
