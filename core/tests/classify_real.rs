@@ -70,7 +70,7 @@ fn score(name: &str, model: Model) -> Option<Scored> {
     let report = ClassReport::on_scored(&truth, &c.labels).unwrap();
     let (t, g): (Vec<u8>, Vec<bool>) = truth
         .iter()
-        .zip(&c.is_ground)
+        .zip(&c.ground.is_ground)
         .filter(|(t, _)| is_scored(**t))
         .map(|(t, g)| (*t, *g))
         .unzip();

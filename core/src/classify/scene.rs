@@ -7,9 +7,8 @@ use super::error::ClassifyError;
 use super::model::Model;
 use super::pipeline::classify;
 use crate::cloud::{Cloud, class};
-use crate::density::Density;
 use crate::features::Echoes;
-use crate::ground::{CsfParams, Dtm, csf};
+use crate::ground::{CsfParams, GroundSplit, csf};
 
 /// A ground filter and a trained model, ready for clouds.
 #[derive(Debug, Clone)]
@@ -23,17 +22,9 @@ pub struct SceneClassifier {
 pub struct Classified {
     /// LAS class per point (2 ground, 5 vegetation, 6 building, 1 other).
     pub labels: Vec<u8>,
-    /// The ground filter's verdict per point.
-    pub is_ground: Vec<bool>,
-    /// Height above the terrain model per point, metres.
-    pub hag: Vec<f32>,
-    /// The terrain model.
-    pub dtm: Dtm,
-    /// The ground filter's parameters as used (`auto` resolved) and the
-    /// density they were resolved for.
-    pub csf: CsfParams,
-    /// The cloud's measured density.
-    pub density: Density,
+    /// The ground filter's result: its verdict and height above the terrain
+    /// per point, the terrain model, the density and its parameters as used.
+    pub ground: GroundSplit,
     /// Seconds in the ground filter.
     pub seconds_csf: f64,
     /// Seconds in features and forest.
@@ -96,21 +87,17 @@ impl SceneClassifier {
         echoes: Option<Echoes<'_>>,
     ) -> Result<Classified, ClassifyError> {
         let t0 = Instant::now();
-        let split = csf(xyz, &self.csf)?;
+        let ground = csf(xyz, &self.csf)?;
         let seconds_csf = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         // Points the filter skipped (non-finite) have a NaN height: keep them out of the features.
-        if let Some(index) = split.hag.iter().position(|h| !h.is_finite()) {
+        if let Some(index) = ground.hag.iter().position(|h| !h.is_finite()) {
             return Err(ClassifyError::NonFinite { index });
         }
-        let labels = classify(xyz, &split.hag, &split.is_ground, echoes, &self.model)?;
+        let labels = classify(xyz, &ground.hag, &ground.is_ground, echoes, &self.model)?;
         Ok(Classified {
             labels,
-            is_ground: split.is_ground,
-            hag: split.hag,
-            dtm: split.dtm,
-            csf: split.params,
-            density: split.density,
+            ground,
             seconds_csf,
             seconds_classify: t1.elapsed().as_secs_f64(),
         })

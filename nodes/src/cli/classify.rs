@@ -128,8 +128,8 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
         "seconds": {"read": read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
         "model": classifier.model().trained_on,
         "trained_on_this_file": seen,
-        "density": classified.density,
-        "csf": classified.csf,
+        "density": classified.ground.density,
+        "csf": classified.ground.params,
     });
     if seen {
         eprintln!(
@@ -143,7 +143,10 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
         let pick = |v: &[u8]| scored.iter().map(|&i| v[i]).collect::<Vec<u8>>();
         let t = pick(truth);
         let report = ClassReport::new(&t, &pick(&classified.labels)).map_err(err)?;
-        let flags: Vec<bool> = scored.iter().map(|&i| classified.is_ground[i]).collect();
+        let flags: Vec<bool> = scored
+            .iter()
+            .map(|&i| classified.ground.is_ground[i])
+            .collect();
         let ground = GroundReport::new(&t, &flags).map_err(err)?;
         if !a.json {
             eprintln!("{}", report.table());
