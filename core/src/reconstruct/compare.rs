@@ -38,8 +38,8 @@ pub fn compare(before: &ModelEvaluation, after: &ModelEvaluation, off_m: f64) ->
             .buildings
             .iter()
             .find(|a| a.building == b.building)
-            .and_then(|a| a.mean);
-        match (b.mean, a) {
+            .and_then(|a| a.distance.mean);
+        match (b.distance.mean, a) {
             (Some(mb), a) if mb > off_m => {
                 out.prior_off.push(b.building);
                 if a.is_none_or(|ma| ma >= mb) {
@@ -61,7 +61,7 @@ pub fn compare(before: &ModelEvaluation, after: &ModelEvaluation, off_m: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reconstruct::ModelScore;
+    use crate::reconstruct::{DistanceStats, ModelScore};
 
     fn eval(means: &[(u32, Option<f64>)]) -> ModelEvaluation {
         ModelEvaluation {
@@ -70,9 +70,11 @@ mod tests {
                 .map(|&(building, mean)| ModelScore {
                     building,
                     models: vec![building],
-                    mean,
-                    rmse: mean,
-                    p95: mean,
+                    distance: DistanceStats {
+                        mean,
+                        rmse: mean,
+                        p95: mean,
+                    },
                     gt_to_model: mean,
                     model_to_gt: mean,
                     roof_error: None,
@@ -82,9 +84,7 @@ mod tests {
                     samples: Vec::new(),
                 })
                 .collect(),
-            mean: None,
-            rmse: None,
-            p95: None,
+            distance: DistanceStats::default(),
             roof_error: None,
             models: means.len(),
             all_watertight: true,

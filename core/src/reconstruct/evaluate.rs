@@ -21,6 +21,37 @@ use crate::scene::vec3::{cross, norm, sub};
 /// Distances farther than this (m) count as this far (a model far off).
 const FAR: f64 = 50.0;
 
+/// Mean, root mean square and 95th percentile of one set of surface
+/// distances, m (`None` without distances).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct DistanceStats {
+    /// Mean, m.
+    pub mean: Option<f64>,
+    /// Root mean square, m.
+    pub rmse: Option<f64>,
+    /// 95th percentile, m.
+    pub p95: Option<f64>,
+}
+
+impl DistanceStats {
+    /// The statistics of `d` (reordered in place for the percentile).
+    pub fn of(d: &mut [f64]) -> Self {
+        if d.is_empty() {
+            return Self::default();
+        }
+        let n = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / n;
+        let rmse = (d.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
+        let k = ((n * 0.95).ceil() as usize).clamp(1, d.len()) - 1;
+        d.select_nth_unstable_by(k, f64::total_cmp);
+        Self {
+            mean: Some(mean),
+            rmse: Some(rmse),
+            p95: Some(d[k]),
+        }
+    }
+}
+
 /// One ground-truth building against the models matched to it.
 #[derive(Debug, Clone, Serialize)]
 pub struct ModelScore {
@@ -28,12 +59,9 @@ pub struct ModelScore {
     pub building: u32,
     /// Ids of the models whose footprint overlaps this building most.
     pub models: Vec<u32>,
-    /// Mean symmetric surface distance, m (both directions pooled).
-    pub mean: Option<f64>,
-    /// Root mean square of the same distances, m.
-    pub rmse: Option<f64>,
-    /// 95th percentile of the same distances, m.
-    pub p95: Option<f64>,
+    /// The symmetric surface distances (both directions pooled).
+    #[serde(flatten)]
+    pub distance: DistanceStats,
     /// Mean distance of the truth's samples to the model, m.
     pub gt_to_model: Option<f64>,
     /// Mean distance of the model's samples to the truth, m.
@@ -57,12 +85,9 @@ pub struct ModelScore {
 pub struct ModelEvaluation {
     /// Per ground-truth building, ascending id.
     pub buildings: Vec<ModelScore>,
-    /// Mean symmetric distance over every matched building's samples, m.
-    pub mean: Option<f64>,
-    /// RMSE of the same, m.
-    pub rmse: Option<f64>,
-    /// 95th percentile of the same, m.
-    pub p95: Option<f64>,
+    /// The symmetric distances of every matched building's samples, pooled.
+    #[serde(flatten)]
+    pub distance: DistanceStats,
     /// Mean roof error over all matched buildings' roof samples, m.
     pub roof_error: Option<f64>,
     /// Models made.
@@ -92,18 +117,6 @@ fn sample_triangle(t: &[[f64; 3]; 3], spacing: f64, out: &mut Vec<[f64; 3]>) {
         }
         out.push([0, 1, 2].map(|i| t[0][i] + u * e1[i] + v * e2[i]));
     }
-}
-
-fn stats(d: &mut [f64]) -> (Option<f64>, Option<f64>, Option<f64>) {
-    if d.is_empty() {
-        return (None, None, None);
-    }
-    let n = d.len() as f64;
-    let mean = d.iter().sum::<f64>() / n;
-    let rmse = (d.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
-    let k = ((n * 0.95).ceil() as usize).clamp(1, d.len()) - 1;
-    d.select_nth_unstable_by(k, f64::total_cmp);
-    (Some(mean), Some(rmse), Some(d[k]))
 }
 
 fn mean(d: &[f64]) -> Option<f64> {
@@ -164,9 +177,7 @@ pub fn evaluate_models(
         let mut score = ModelScore {
             building: f.id,
             models: ms.iter().map(|&m| rec.models[m].id).collect(),
-            mean: None,
-            rmse: None,
-            p95: None,
+            distance: DistanceStats::default(),
             gt_to_model: None,
             model_to_gt: None,
             roof_error: None,
@@ -232,7 +243,7 @@ pub fn evaluate_models(
         let mut all: Vec<f64> = a.iter().chain(&to_gt).copied().collect();
         pooled.extend_from_slice(&all);
         pooled_roof.extend_from_slice(&roof);
-        (score.mean, score.rmse, score.p95) = stats(&mut all);
+        score.distance = DistanceStats::of(&mut all);
         let union = ms
             .iter()
             .map(|&m| move_xy(&rec.models[m].outline))
@@ -240,13 +251,10 @@ pub fn evaluate_models(
         score.footprint_iou = Some(iou(&union, &f.polygon));
         buildings.push(score);
     }
-    let (mean_all, rmse, p95) = stats(&mut pooled);
     let checks: Vec<_> = rec.models.iter().map(|m| m.shell.check()).collect();
     ModelEvaluation {
         buildings,
-        mean: mean_all,
-        rmse,
-        p95,
+        distance: DistanceStats::of(&mut pooled),
         roof_error: mean(&pooled_roof),
         models: rec.models.len(),
         all_watertight: checks.iter().all(|c| c.watertight()),
@@ -312,8 +320,8 @@ mod tests {
             "{near_origin}"
         );
         let mut d = vec![1.0, 2.0, 3.0, 4.0];
-        let (m, r, p) = stats(&mut d);
-        assert_eq!((m, p), (Some(2.5), Some(4.0)));
-        assert!((r.unwrap() - 7.5f64.sqrt()).abs() < 1e-12);
+        let s = DistanceStats::of(&mut d);
+        assert_eq!((s.mean, s.p95), (Some(2.5), Some(4.0)));
+        assert!((s.rmse.unwrap() - 7.5f64.sqrt()).abs() < 1e-12);
     }
 }

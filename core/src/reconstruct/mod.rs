@@ -34,7 +34,7 @@ mod tests;
 pub use building::Model;
 pub use compare::{BeforeAfter, PRIOR_OFF_M, compare};
 pub use error::{ReconstructError, Skip};
-pub use evaluate::{ModelEvaluation, ModelScore, evaluate_models};
+pub use evaluate::{DistanceStats, ModelEvaluation, ModelScore, evaluate_models};
 pub use params::ReconstructParams;
 pub use planes::RoofPlane;
 pub use solid::{ModelFace, Shell, SolidCheck, SurfaceType};

@@ -97,7 +97,7 @@ fn complete_cloud_gives_closed_accurate_models() {
     let gt = sample_building_surfaces(&s, 0.25);
     let e = evaluate_models(&s, &gt, &rec, 0.25);
     for b in &e.buildings {
-        assert!(b.mean.unwrap() < 0.08, "{b:?}");
+        assert!(b.distance.mean.unwrap() < 0.08, "{b:?}");
         assert!(b.footprint_iou.unwrap() > 0.97, "{b:?}");
         assert!(b.roof_error.unwrap() < 0.06, "{b:?}");
         assert!(b.watertight);
@@ -131,7 +131,7 @@ fn missing_walls_leave_the_model_less_accurate() {
     assert!(eb.all_watertight && ea.all_watertight);
     for (b, a) in eb.buildings.iter().zip(&ea.buildings) {
         assert!(
-            a.mean.unwrap() < b.mean.unwrap(),
+            a.distance.mean.unwrap() < b.distance.mean.unwrap(),
             "after {a:?}\nbefore {b:?}"
         );
     }

@@ -96,9 +96,9 @@ pub fn table(before: &ModelEvaluation, after: Option<&ModelEvaluation>) -> Strin
                     "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
                     b.building,
                     b.models.len(),
-                    metres(b.mean),
-                    metres(b.rmse),
-                    metres(b.p95),
+                    metres(b.distance.mean),
+                    metres(b.distance.rmse),
+                    metres(b.distance.p95),
                     metres(b.roof_error),
                     b.footprint_iou.map_or("–".into(), |v| format!("{v:.3}")),
                     if b.watertight { "yes" } else { "no" }
@@ -107,9 +107,9 @@ pub fn table(before: &ModelEvaluation, after: Option<&ModelEvaluation>) -> Strin
             s.push_str(&format!(
                 "| **all** | {} | {} | {} | {} | {} | | {} |\n",
                 before.models,
-                metres(before.mean),
-                metres(before.rmse),
-                metres(before.p95),
+                metres(before.distance.mean),
+                metres(before.distance.rmse),
+                metres(before.distance.p95),
                 metres(before.roof_error),
                 if before.all_watertight { "yes" } else { "no" }
             ));
@@ -122,12 +122,12 @@ pub fn table(before: &ModelEvaluation, after: Option<&ModelEvaluation>) -> Strin
                 s.push_str(&format!(
                     "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
                     b.building,
-                    metres(b.mean),
-                    metres(a.and_then(|a| a.mean)),
-                    metres(b.rmse),
-                    metres(a.and_then(|a| a.rmse)),
-                    metres(b.p95),
-                    metres(a.and_then(|a| a.p95)),
+                    metres(b.distance.mean),
+                    metres(a.and_then(|a| a.distance.mean)),
+                    metres(b.distance.rmse),
+                    metres(a.and_then(|a| a.distance.rmse)),
+                    metres(b.distance.p95),
+                    metres(a.and_then(|a| a.distance.p95)),
                     metres(b.roof_error),
                     metres(a.and_then(|a| a.roof_error)),
                     iou(b.footprint_iou),
@@ -140,12 +140,12 @@ pub fn table(before: &ModelEvaluation, after: Option<&ModelEvaluation>) -> Strin
             }
             s.push_str(&format!(
                 "| **all** | {} | {} | {} | {} | {} | {} | {} | {} | | | {} |\n",
-                metres(before.mean),
-                metres(after.mean),
-                metres(before.rmse),
-                metres(after.rmse),
-                metres(before.p95),
-                metres(after.p95),
+                metres(before.distance.mean),
+                metres(after.distance.mean),
+                metres(before.distance.rmse),
+                metres(after.distance.rmse),
+                metres(before.distance.p95),
+                metres(after.distance.p95),
                 metres(before.roof_error),
                 metres(after.roof_error),
                 if before.all_watertight && after.all_watertight {
@@ -224,7 +224,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
                 eprintln!("{md}");
             }
             Some(serde_json::json!({
-                "model_dist_before": mb.mean, "model_dist_after": ma.mean,
+                "model_dist_before": mb.distance.mean, "model_dist_after": ma.distance.mean,
                 "models_before": mb, "models_after": ma, "models_pictured": pictured,
                 "models_compared": verdict,
             }))
@@ -322,7 +322,7 @@ pub fn write_picture(
         .iter()
         .filter_map(|b| {
             let a = after.buildings.iter().find(|a| a.building == b.building)?;
-            Some((b.mean? - a.mean?, b.building))
+            Some((b.distance.mean? - a.distance.mean?, b.building))
         })
         .collect();
     gains.sort_by(|x, y| y.0.total_cmp(&x.0));
