@@ -707,26 +707,20 @@ fn scans_do_not_depend_on_the_thread_count() {
         dropout: 0.05,
         ..AirborneConfig::default()
     };
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
-    let (s1, a1) = one.install(|| {
-        (
-            scan(&caster, &config, &pose, 5).unwrap(),
-            airborne_scan(&caster, &survey).unwrap(),
-        )
-    });
-    let three = rayon::ThreadPoolBuilder::new()
-        .num_threads(3)
-        .build()
-        .unwrap();
-    let (s3, a3) = three.install(|| {
-        (
-            scan(&caster, &config, &pose, 5).unwrap(),
-            airborne_scan(&caster, &survey).unwrap(),
-        )
-    });
+    let on_threads = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            (
+                scan(&caster, &config, &pose, 5).unwrap(),
+                airborne_scan(&caster, &survey).unwrap(),
+            )
+        })
+    };
+    let (s1, a1) = on_threads(1);
+    let (s3, a3) = on_threads(3);
     assert_eq!(s1, s3);
     assert_eq!(a1, a3);
 }

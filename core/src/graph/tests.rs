@@ -240,43 +240,17 @@ fn without_a_start_the_largest_component_is_kept() {
 /// 3 m high over x 30..30.3, y −5..15 (the spikes city-model ground
 /// carries); both are boxes whose sides are ground too, as a model's are.
 fn stepped_scene() -> crate::scene::Scene {
-    use crate::scene::{ObjectKind, Scene, SceneObject};
-    let mut s = Scene::default();
-    s.objects.push(SceneObject {
-        name: "ground".into(),
-        kind: ObjectKind::Ground,
-        building: 0,
-    });
-    s.vertices.extend([
-        [-5.0, -5.0, 0.0],
-        [45.0, -5.0, 0.0],
-        [45.0, 25.0, 0.0],
-        [-5.0, 25.0, 0.0],
-    ]);
-    s.triangles.extend([[0, 1, 2], [0, 2, 3]]);
-    s.triangle_object.extend([0, 0]);
-    for (lo, hi) in [([15.0, -5.0], [25.0, 12.0]), ([30.0, -5.0], [30.3, 15.0])] {
-        let b = s.vertices.len() as u32;
-        for k in 0..8u32 {
-            s.vertices.push([
-                if k & 1 == 0 { lo[0] } else { hi[0] },
-                if k & 2 == 0 { lo[1] } else { hi[1] },
-                if k & 4 == 0 { 0.0 } else { 3.0 },
-            ]);
-        }
-        for f in [
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
-            s.triangles.push([b + f[0], b + f[1], b + f[2]]);
-            s.triangles.push([b + f[0], b + f[2], b + f[3]]);
-            s.triangle_object.extend([0, 0]);
-        }
+    use crate::lidar::synthetic::SyntheticBuilder;
+    use crate::scene::ObjectKind;
+    let mut b = SyntheticBuilder::new();
+    let ground = b.object("ground", ObjectKind::Ground);
+    b.add_terrain(ground, [-5.0, -5.0], [45.0, 25.0], 1, |_, _| 0.0);
+    let quay = ([15.0, -5.0, 0.0], [25.0, 12.0, 3.0]);
+    let ridge = ([30.0, -5.0, 0.0], [30.3, 15.0, 3.0]);
+    for (lo, hi) in [quay, ridge] {
+        b.add_box(ground, lo, hi, f32::INFINITY);
     }
-    s
+    b.finish()
 }
 
 /// The graph leaves out every edge the vehicle would refuse: a route

@@ -202,53 +202,13 @@ fn wrap(a: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lidar::synthetic::boxes_on_plane;
     use crate::scene::{ObjectKind, Scene, SceneObject};
 
-    /// A 40 m × 40 m ground plane with a closed 10 m box building at x 20..30.
+    /// A ground plane (x, y in ±40 m) with a closed 10 m box building at
+    /// x 20..30, y 0..10.
     fn scene() -> Scene {
-        let mut s = Scene::default();
-        s.objects.push(SceneObject {
-            name: "ground".into(),
-            kind: ObjectKind::Ground,
-            building: 0,
-        });
-        s.objects.push(SceneObject {
-            name: "building1".into(),
-            kind: ObjectKind::Building,
-            building: 1,
-        });
-        s.vertices.extend([
-            [-20.0, -20.0, 0.0],
-            [40.0, -20.0, 0.0],
-            [40.0, 40.0, 0.0],
-            [-20.0, 40.0, 0.0],
-        ]);
-        s.triangles.extend([[0, 1, 2], [0, 2, 3]]);
-        s.triangle_object.extend([0, 0]);
-        let (lo, hi) = ([20.0f32, 0.0, 0.0], [30.0f32, 10.0, 10.0]);
-        let b = s.vertices.len() as u32;
-        for k in 0..8u32 {
-            s.vertices.push([
-                if k & 1 == 0 { lo[0] } else { hi[0] },
-                if k & 2 == 0 { lo[1] } else { hi[1] },
-                if k & 4 == 0 { lo[2] } else { hi[2] },
-            ]);
-        }
-        // Outward-facing (counter-clockwise seen from outside) box faces.
-        let faces = [
-            [0, 2, 3, 1], // bottom (-z)
-            [4, 5, 7, 6], // top (+z)
-            [0, 1, 5, 4], // -y
-            [2, 6, 7, 3], // +y
-            [0, 4, 6, 2], // -x
-            [1, 3, 7, 5], // +x
-        ];
-        for f in faces {
-            s.triangles.push([b + f[0], b + f[1], b + f[2]]);
-            s.triangles.push([b + f[0], b + f[2], b + f[3]]);
-            s.triangle_object.extend([1, 1]);
-        }
-        s
+        boxes_on_plane(40.0, &[([20.0, 0.0, 0.0], [30.0, 10.0, 10.0])])
     }
 
     fn run(v: &mut Vehicle, c: &Caster, secs: f32) -> Vec<Step> {
@@ -262,12 +222,19 @@ mod tests {
         out
     }
 
+    /// A vehicle set down in `scene` at `from` (facing +x) and sent to `to`:
+    /// where it ends and what it reported within `secs`.
+    fn drive(scene: &Scene, from: [f32; 2], to: [f32; 2], secs: f32) -> (Vehicle, Vec<Step>) {
+        let c = Caster::new(scene).unwrap();
+        let mut v = Vehicle::new(VehicleConfig::default(), &c, from[0], from[1], 0.0).unwrap();
+        v.set_goal(to);
+        let steps = run(&mut v, &c, secs);
+        (v, steps)
+    }
+
     #[test]
     fn drives_to_a_way_point_and_stops() {
-        let c = Caster::new(&scene()).unwrap();
-        let mut v = Vehicle::new(VehicleConfig::default(), &c, 0.0, 0.0, 0.0).unwrap();
-        v.set_goal([5.0, 12.0]);
-        let steps = run(&mut v, &c, 30.0);
+        let (v, steps) = drive(&scene(), [0.0, 0.0], [5.0, 12.0], 30.0);
         assert_eq!(steps, vec![Step::Arrived([5.0, 12.0])]);
         let p = v.state.position;
         assert!(((p[0] - 5.0).powi(2) + (p[1] - 12.0).powi(2)).sqrt() <= 0.5);
@@ -298,10 +265,7 @@ mod tests {
 
     #[test]
     fn refuses_a_way_point_inside_a_building() {
-        let c = Caster::new(&scene()).unwrap();
-        let mut v = Vehicle::new(VehicleConfig::default(), &c, 0.0, 5.0, 0.0).unwrap();
-        v.set_goal([25.0, 5.0]);
-        let steps = run(&mut v, &c, 30.0);
+        let (v, steps) = drive(&scene(), [0.0, 5.0], [25.0, 5.0], 30.0);
         assert!(
             matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("inside")),
             "{steps:?}"
@@ -332,10 +296,7 @@ mod tests {
     #[test]
     fn climbs_kerbs_but_not_a_quay_wall() {
         for (h, passes) in [(0.05, true), (0.3, true), (0.6, false), (1.5, false)] {
-            let c = Caster::new(&with_step(h)).unwrap();
-            let mut v = Vehicle::new(VehicleConfig::default(), &c, 0.0, 12.0, 0.0).unwrap();
-            v.set_goal([10.0, 12.0]);
-            let steps = run(&mut v, &c, 30.0);
+            let (v, steps) = drive(&with_step(h), [0.0, 12.0], [10.0, 12.0], 30.0);
             if passes {
                 assert_eq!(steps, vec![Step::Arrived([10.0, 12.0])], "kerb of {h} m");
             } else {
@@ -350,10 +311,7 @@ mod tests {
 
     #[test]
     fn never_drives_through_a_wall() {
-        let c = Caster::new(&scene()).unwrap();
-        let mut v = Vehicle::new(VehicleConfig::default(), &c, 10.0, 5.0, 0.0).unwrap();
-        v.set_goal([38.0, 5.0]);
-        let steps = run(&mut v, &c, 40.0);
+        let (v, steps) = drive(&scene(), [10.0, 5.0], [38.0, 5.0], 40.0);
         assert!(
             matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("obstacle")),
             "{steps:?}"
