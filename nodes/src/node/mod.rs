@@ -50,6 +50,7 @@ mod tests {
     use serde::Serialize;
     use serde::de::DeserializeOwned;
     use skyground_core::explore::ExploreParams;
+    use skyground_core::follow::FollowConfig;
     use skyground_core::footprint::{DeriveParams, SplitParams};
     use skyground_core::graph::GraphParams;
     use skyground_core::ground::CsfParams;
@@ -58,6 +59,7 @@ mod tests {
     use skyground_core::targets::TargetParams;
 
     use crate::cli::detect::section;
+    use crate::runtime::NodeSpec;
 
     /// The section `key` of a node's shipped YAML, as the node reads it.
     fn shipped<T: DeserializeOwned>(node: &str, yaml: &str, key: &str) -> T {
@@ -70,44 +72,33 @@ mod tests {
         one.inner.into_values().next().expect("section present")
     }
 
-    fn same<T: Serialize>(a: &T, b: &T) -> bool {
-        serde_json::to_value(a).ok() == serde_json::to_value(b).ok()
+    /// Asserts that section `key` of `spec`'s shipped YAML is `T::default()`
+    /// (compared as JSON: not every params type has `PartialEq`).
+    fn assert_shipped_default<T>(spec: &NodeSpec, key: &str)
+    where
+        T: Serialize + DeserializeOwned + Default + std::fmt::Debug,
+    {
+        let got: T = shipped(spec.name, spec.default_params, key);
+        let same = serde_json::to_value(&got).ok() == serde_json::to_value(T::default()).ok();
+        assert!(same, "{} {key}: {got:?}", spec.name);
     }
 
     // The YAML files carry the reasoning for each default; the library's
     // Default must say the same, or one of them is stale.
     #[test]
     fn shipped_yaml_sections_match_the_library_defaults() {
-        let cls = super::scene_classifier::SPEC;
-        let c: CsfParams = shipped(cls.name, cls.default_params, "csf");
-        assert_eq!(c, CsfParams::default());
-        let det = super::completeness_detector::SPEC;
-        let d: DetectParams = shipped(det.name, det.default_params, "detect");
-        assert!(same(&d, &DetectParams::default()), "detect: {d:?}");
-        let s: SplitParams = shipped(det.name, det.default_params, "split");
-        assert_eq!(s, SplitParams::default());
-        let v: DeriveParams = shipped(det.name, det.default_params, "derive");
-        assert_eq!(v, DeriveParams::default());
-        let gen_ = super::target_generator::SPEC;
-        let t: TargetParams = shipped(gen_.name, gen_.default_params, "targets");
-        assert!(same(&t, &TargetParams::default()), "targets: {t:?}");
-        let plan = super::global_planner::SPEC;
-        let g: GraphParams = shipped(plan.name, plan.default_params, "graph");
-        assert_eq!(g, GraphParams::default());
-        let r: RouteParams = shipped(plan.name, plan.default_params, "route");
-        assert_eq!(r, RouteParams::default());
-        let exp = super::local_explorer::SPEC;
-        let g2: GraphParams = shipped(exp.name, exp.default_params, "graph");
-        assert_eq!(
-            g2,
-            GraphParams::default(),
-            "explorer and planner build one graph"
-        );
-        let e: ExploreParams = shipped(exp.name, exp.default_params, "explore");
-        assert_eq!(e, ExploreParams::default());
-        let br = super::robot_bridge::SPEC;
-        let f: skyground_core::follow::FollowConfig = shipped(br.name, br.default_params, "follow");
-        assert_eq!(f, skyground_core::follow::FollowConfig::default());
+        use super::{completeness_detector as det, global_planner as plan};
+        assert_shipped_default::<CsfParams>(&super::scene_classifier::SPEC, "csf");
+        assert_shipped_default::<DetectParams>(&det::SPEC, "detect");
+        assert_shipped_default::<SplitParams>(&det::SPEC, "split");
+        assert_shipped_default::<DeriveParams>(&det::SPEC, "derive");
+        assert_shipped_default::<TargetParams>(&super::target_generator::SPEC, "targets");
+        assert_shipped_default::<GraphParams>(&plan::SPEC, "graph");
+        assert_shipped_default::<RouteParams>(&plan::SPEC, "route");
+        // The explorer and the planner build one graph.
+        assert_shipped_default::<GraphParams>(&super::local_explorer::SPEC, "graph");
+        assert_shipped_default::<ExploreParams>(&super::local_explorer::SPEC, "explore");
+        assert_shipped_default::<FollowConfig>(&super::robot_bridge::SPEC, "follow");
     }
 
     #[test]
