@@ -24,6 +24,7 @@ pub mod lidar;
 pub mod metrics;
 pub mod missing;
 pub mod mission;
+pub mod params;
 pub mod plot;
 pub mod prior;
 pub mod reconstruct;

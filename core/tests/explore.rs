@@ -12,6 +12,7 @@ use skyground_core::explore::{ExploreError, ExploreParams, Explorer, SurfaceSamp
 use skyground_core::graph::{GroundGraph, polygon_contains};
 use skyground_core::lidar::{LidarConfig, Pose, scan};
 use skyground_core::metrics::{SurfaceKind, nearest_distances};
+use skyground_core::params::ParamError;
 use skyground_core::targets::Region;
 
 /// Missing wall samples of building `b` inside `region`, thinned to 0.5 m, with normals.
@@ -168,7 +169,7 @@ fn bad_input_gives_errors() {
     };
     assert!(matches!(
         Explorer::new(&region, vec![], &[], g.clone(), &bad_p),
-        Err(ExploreError::Param { field: "tau_m", .. })
+        Err(ExploreError::Param(ParamError { field: "tau_m", .. }))
     ));
     // Nothing to cover: done at once, full coverage.
     let ex = Explorer::new(&region, vec![], &[], g.clone(), &p).unwrap();

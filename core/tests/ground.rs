@@ -11,6 +11,7 @@ use skyground_core::density::Auto;
 use skyground_core::ground::{CsfError, CsfParams, GroundSplit, csf};
 use skyground_core::lidar::Ray;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
+use skyground_core::params::ParamError;
 use skyground_core::scene::{ObjectKind, REFERENCE_SEED, Scene, reference_scene};
 
 mod common;
@@ -249,10 +250,10 @@ fn bad_input_is_an_error() {
     };
     assert!(matches!(
         csf(&[[0.0, 0.0, 0.0]], &bad),
-        Err(CsfError::BadParam {
-            name: "class_threshold",
+        Err(CsfError::Param(ParamError {
+            field: "class_threshold",
             ..
-        })
+        }))
     ));
 }
 

@@ -15,6 +15,9 @@ pub enum ClassifyError {
     /// Training or prediction of the forest failed.
     #[error(transparent)]
     Forest(#[from] ForestError),
+    /// A ground filter, feature, forest or training parameter is out of range.
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
     /// A per-point column does not match the cloud.
     #[error("{what} has {got} values but the cloud has {expected} points")]
     LengthMismatch {

@@ -17,6 +17,7 @@ use crate::features::{Echoes, FEATURE_NAMES, FeatureParams, compute_subset};
 use crate::forest::{ForestParams, RandomForest};
 use crate::ground::{CsfParams, csf};
 use crate::lidar::{AirborneConfig, Caster, FlightPattern, airborne_scan};
+use crate::params::Checks;
 use crate::scene::reference_scene;
 
 /// One labelled cloud to learn from.
@@ -78,13 +79,7 @@ impl TrainParams {
     pub fn validate(&self) -> Result<(), ClassifyError> {
         self.features.validate()?;
         self.forest.validate()?;
-        if self.per_class == 0 {
-            return Err(ClassifyError::Forest(crate::forest::ForestError::Param {
-                field: "per_class",
-                value: 0.0,
-                rule: "must be ≥ 1",
-            }));
-        }
+        Checks("training").that(self.per_class > 0, "per_class", 0, "must be ≥ 1")?;
         Ok(())
     }
 }

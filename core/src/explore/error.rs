@@ -4,15 +4,8 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ExploreError {
     /// A parameter is out of range.
-    #[error("explore parameter {field} = {value}: {expected}")]
-    Param {
-        /// The field's name as in the params file.
-        field: &'static str,
-        /// The value given.
-        value: f32,
-        /// What it must be.
-        expected: &'static str,
-    },
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
     /// Normals were given but not one per surface sample.
     #[error("{samples} surface samples but {normals} normals; give one normal per sample or none")]
     NormalLength {

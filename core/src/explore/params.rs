@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::ExploreError;
+use crate::params::{Checks, ParamError};
 
 /// How a region is explored (docs/design.md step 7).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -62,86 +62,26 @@ impl Default for ExploreParams {
 
 impl ExploreParams {
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), ExploreError> {
-        let pos = |v: f32| v.is_finite() && v > 0.0;
-        let checks: [(&'static str, f32, bool, &'static str); 10] = [
-            (
-                "viewpoint_spacing_m",
-                self.viewpoint_spacing_m,
-                (0.1..=50.0).contains(&self.viewpoint_spacing_m),
-                "must be in [0.1, 50]",
-            ),
-            (
-                "collision_margin_m",
-                self.collision_margin_m,
-                self.collision_margin_m.is_finite() && self.collision_margin_m >= 0.0,
-                "must be finite and ≥ 0",
-            ),
-            (
-                "sensor_height_m",
-                self.sensor_height_m,
-                self.sensor_height_m.is_finite() && self.sensor_height_m >= 0.0,
-                "must be finite and ≥ 0",
-            ),
-            (
-                "sensor_range_m",
-                self.sensor_range_m,
-                pos(self.sensor_range_m) && self.sensor_range_m <= 500.0,
-                "must be in (0, 500]",
-            ),
-            (
-                "fov_min_deg",
-                self.fov_min_deg,
-                (-90.0..=90.0).contains(&self.fov_min_deg) && self.fov_min_deg < self.fov_max_deg,
-                "must be within ±90 and below fov_max_deg",
-            ),
-            (
-                "fov_max_deg",
-                self.fov_max_deg,
-                (-90.0..=90.0).contains(&self.fov_max_deg),
-                "must be within ±90",
-            ),
-            (
-                "tau_m",
-                self.tau_m,
-                pos(self.tau_m),
-                "must be finite and > 0",
-            ),
-            (
-                "min_gain_per_m",
-                self.min_gain_per_m,
-                self.min_gain_per_m.is_finite() && self.min_gain_per_m >= 0.0,
-                "must be finite and ≥ 0",
-            ),
-            (
-                "voxel_m",
-                self.voxel_m,
-                (0.05..=5.0).contains(&self.voxel_m),
-                "must be in [0.05, 5]",
-            ),
-            (
-                "own_neighbourhood_m",
-                self.own_neighbourhood_m,
-                self.own_neighbourhood_m.is_finite() && self.own_neighbourhood_m >= 0.0,
-                "must be finite and ≥ 0",
-            ),
-        ];
-        for (field, value, ok, expected) in checks {
-            if !ok {
-                return Err(ExploreError::Param {
-                    field,
-                    value,
-                    expected,
-                });
-            }
-        }
-        if self.restarts > 10_000 {
-            return Err(ExploreError::Param {
-                field: "restarts",
-                value: self.restarts as f32,
-                expected: "must be at most 10000",
-            });
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("explore");
+        let (fov_min, fov_max) = (self.fov_min_deg, self.fov_max_deg);
+        c.within("viewpoint_spacing_m", self.viewpoint_spacing_m, 0.1, 50.0)?;
+        c.non_negative("collision_margin_m", self.collision_margin_m)?;
+        c.non_negative("sensor_height_m", self.sensor_height_m)?;
+        c.positive("sensor_range_m", self.sensor_range_m)?;
+        c.within("sensor_range_m", self.sensor_range_m, 0.0, 500.0)?;
+        let fov_ok = (-90.0..=90.0).contains(&fov_min) && fov_min < fov_max;
+        c.that(
+            fov_ok,
+            "fov_min_deg",
+            fov_min,
+            "must be within ±90 and below fov_max_deg",
+        )?;
+        c.within("fov_max_deg", fov_max, -90.0, 90.0)?;
+        c.positive("tau_m", self.tau_m)?;
+        c.non_negative("min_gain_per_m", self.min_gain_per_m)?;
+        c.within("voxel_m", self.voxel_m, 0.05, 5.0)?;
+        c.non_negative("own_neighbourhood_m", self.own_neighbourhood_m)?;
+        c.within("restarts", self.restarts, 0, 10_000)
     }
 }

@@ -273,7 +273,7 @@ mod tests {
         let bad = FeatureParams { k: 1, ..p };
         assert!(matches!(
             compute(&xyz, &[0.0; 4], None, &bad),
-            Err(FeatureError::Param { .. })
+            Err(FeatureError::Param(_))
         ));
         // Duplicates are degenerate, not NaN.
         let f = compute(

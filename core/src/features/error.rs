@@ -44,13 +44,6 @@ pub enum FeatureError {
         len: usize,
     },
     /// A parameter is out of range.
-    #[error("feature parameter {field} = {value}: {rule}")]
-    Param {
-        /// Field name.
-        field: &'static str,
-        /// Given value.
-        value: f64,
-        /// What it must satisfy.
-        rule: &'static str,
-    },
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
 }

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::FeatureError;
+use crate::params::{Checks, ParamError};
 
 /// Neighbourhood sizes; the defaults suit airborne clouds of 2–50 pts/m².
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,37 +35,26 @@ impl Default for FeatureParams {
 
 impl FeatureParams {
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), FeatureError> {
-        let bad = |field, value: f64, rule| Err(FeatureError::Param { field, value, rule });
-        if !(3..=256).contains(&self.k) {
-            return bad("k", self.k as f64, "must be in 3..=256");
-        }
-        let pos = |v: f32| v.is_finite() && v > 0.0;
-        if !pos(self.voxel_m) {
-            return bad("voxel_m", self.voxel_m.into(), "must be > 0");
-        }
-        if !pos(self.radius_small_m) || self.radius_small_m < self.voxel_m {
-            return bad(
-                "radius_small_m",
-                self.radius_small_m.into(),
-                "must be ≥ voxel_m",
-            );
-        }
-        if !pos(self.radius_large_m) || self.radius_large_m <= self.radius_small_m {
-            return bad(
-                "radius_large_m",
-                self.radius_large_m.into(),
-                "must be > radius_small_m",
-            );
-        }
-        if !pos(self.column_radius_m) {
-            return bad(
-                "column_radius_m",
-                self.column_radius_m.into(),
-                "must be > 0",
-            );
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("feature");
+        let (small, large) = (self.radius_small_m, self.radius_large_m);
+        c.within("k", self.k as f64, 3.0, 256.0)?;
+        c.positive("voxel_m", self.voxel_m)?;
+        c.positive("radius_small_m", small)?;
+        c.that(
+            small >= self.voxel_m,
+            "radius_small_m",
+            small,
+            "must be ≥ voxel_m",
+        )?;
+        c.positive("radius_large_m", large)?;
+        c.that(
+            large > small,
+            "radius_large_m",
+            large,
+            "must be > radius_small_m",
+        )?;
+        c.positive("column_radius_m", self.column_radius_m)
     }
 
     /// Smallest cloud the features are defined on.

@@ -5,20 +5,20 @@
 use geo::{Area, Simplify};
 use rayon::prelude::*;
 
-use super::error::ParamsError;
 use super::params::DeriveParams;
 use super::polygon::union_valid;
 use super::raster::Raster;
 use super::trace::trace;
 use super::types::Footprint;
 use crate::density::Density;
+use crate::params::ParamError;
 
 /// Derives one footprint per cluster of `building_points` (local frame), ids
 /// 1.. by decreasing point count, named `derived_N`. Empty input gives none.
 pub fn derive(
     building_points: &[[f32; 3]],
     params: &DeriveParams,
-) -> Result<Vec<Footprint>, ParamsError> {
+) -> Result<Vec<Footprint>, ParamError> {
     params.validate()?;
     let params = &match Density::measure(building_points) {
         Some(d) => params.resolved(&d),

@@ -112,18 +112,3 @@ impl std::fmt::Display for Skipped {
         write!(f, "{}: {}", self.source, self.problem)
     }
 }
-
-/// Invalid parameters.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ParamsError {
-    /// A value outside its range.
-    #[error("footprint parameter `{name}` = {value}: {expected}")]
-    OutOfRange {
-        /// Parameter name.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// What is allowed.
-        expected: &'static str,
-    },
-}

@@ -29,7 +29,7 @@ mod types;
 pub use cityjson::parse_cityjson_footprints;
 pub use compare::{FootprintMatch, iou, match_footprints};
 pub use derive::derive;
-pub use error::{FootprintError, ParamsError, ParseError, RingProblem, Skipped};
+pub use error::{FootprintError, ParseError, RingProblem, Skipped};
 pub use geojson::parse_geojson;
 pub use load::{load_footprints, load_footprints_in};
 pub use obj::parse_obj_footprints;

@@ -1,7 +1,7 @@
 //! Tunables of splitting and deriving, as read from a node's params YAML.
 
-use super::error::ParamsError;
 use crate::density::{Auto, Density};
+use crate::params::{Checks, ParamError};
 
 /// Finest derivation cell, metres: the reference prior's value.
 const MIN_DERIVE_CELL: f64 = 0.5;
@@ -28,7 +28,7 @@ impl Default for SplitParams {
 
 impl SplitParams {
     /// Checks ranges.
-    pub fn validate(&self) -> Result<(), ParamsError> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check(
             "tolerance_m",
             self.tolerance_m,
@@ -107,7 +107,7 @@ impl DeriveParams {
     }
 
     /// Checks ranges.
-    pub fn validate(&self) -> Result<(), ParamsError> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         check("cell_m", self.cell(), 0.05, 50.0, "0.05 ≤ value ≤ 50 m")?;
         check(
             "closing_cells",
@@ -141,20 +141,14 @@ impl DeriveParams {
     }
 }
 
+/// `value` in `[lo, hi]`, said as `expected` (with its unit).
 fn check(
     name: &'static str,
     value: f64,
     lo: f64,
     hi: f64,
     expected: &'static str,
-) -> Result<(), ParamsError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(ParamsError::OutOfRange {
-            name,
-            value,
-            expected,
-        })
-    }
+) -> Result<(), ParamError> {
+    let ok = value.is_finite() && value >= lo && value <= hi;
+    Checks("footprint").that(ok, name, value, expected)
 }

@@ -4,11 +4,11 @@
 use geo::{Contains, Coord, MultiPolygon};
 use rayon::prelude::*;
 
-use super::error::ParamsError;
 use super::params::SplitParams;
 use super::types::Footprint;
 use crate::geom::grid::GridFrame;
 use crate::geom::segment;
+use crate::params::ParamError;
 
 /// The index grid never exceeds this many cells (the cell grows instead).
 const MAX_CELLS: f64 = 4.0e6;
@@ -44,7 +44,7 @@ pub fn split(
     points: &[[f32; 3]],
     footprints: &[Footprint],
     params: &SplitParams,
-) -> Result<Vec<u32>, ParamsError> {
+) -> Result<Vec<u32>, ParamError> {
     params.validate()?;
     let tol = params.tolerance_m;
     let shapes: Vec<(Shape, [f64; 4])> = footprints

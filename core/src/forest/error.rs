@@ -39,15 +39,8 @@ pub enum ForestError {
         got: usize,
     },
     /// A parameter is out of range.
-    #[error("forest parameter {field} = {value}: {rule}")]
-    Param {
-        /// Field name.
-        field: &'static str,
-        /// Given value.
-        value: f64,
-        /// What it must satisfy.
-        rule: &'static str,
-    },
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
     /// A model file could not be read or written.
     #[error("forest model I/O: {0}")]
     Io(#[from] serde_json::Error),

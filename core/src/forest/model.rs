@@ -274,7 +274,7 @@ mod tests {
         };
         assert!(matches!(
             RandomForest::fit(&[1.0; 3], 3, &[1], &bad),
-            Err(ForestError::Param { .. })
+            Err(ForestError::Param(_))
         ));
         // One class, one row: a valid (trivial) forest.
         let f = RandomForest::fit(&[1.0; 3], 3, &[6], &p).unwrap();

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::ForestError;
+use crate::params::{Checks, ParamError};
 
 /// How many trees, how deep, how random.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -41,30 +41,31 @@ impl Default for ForestParams {
 
 impl ForestParams {
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), ForestError> {
-        let bad = |field, value: f64, rule| Err(ForestError::Param { field, value, rule });
-        if !(1..=10_000).contains(&self.trees) {
-            return bad("trees", self.trees as f64, "must be in 1..=10000");
-        }
-        if !(1..=64).contains(&self.max_depth) {
-            return bad("max_depth", self.max_depth as f64, "must be in 1..=64");
-        }
-        if self.min_samples_leaf == 0 {
-            return bad("min_samples_leaf", 0.0, "must be ≥ 1");
-        }
-        if self.max_features == Some(0) {
-            return bad("max_features", 0.0, "must be ≥ 1 (or null for √features)");
-        }
-        if !(self.sample_fraction > 0.0 && self.sample_fraction <= 4.0) {
-            return bad(
-                "sample_fraction",
-                self.sample_fraction.into(),
-                "must be in (0, 4]",
-            );
-        }
-        if !(2..=256).contains(&self.bins) {
-            return bad("bins", self.bins as f64, "must be in 2..=256");
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("forest");
+        let fraction = self.sample_fraction;
+        c.within("trees", self.trees as f64, 1.0, 10_000.0)?;
+        c.within("max_depth", self.max_depth as f64, 1.0, 64.0)?;
+        c.that(
+            self.min_samples_leaf > 0,
+            "min_samples_leaf",
+            0,
+            "must be ≥ 1",
+        )?;
+        let some = self.max_features != Some(0);
+        c.that(
+            some,
+            "max_features",
+            0,
+            "must be ≥ 1 (or null for √features)",
+        )?;
+        let fraction_ok = fraction > 0.0 && fraction <= 4.0;
+        c.that(
+            fraction_ok,
+            "sample_fraction",
+            fraction,
+            "must be in (0, 4]",
+        )?;
+        c.within("bins", self.bins as f64, 2.0, 256.0)
     }
 }

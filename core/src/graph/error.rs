@@ -4,15 +4,8 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GraphError {
     /// A parameter is out of range.
-    #[error("graph parameter {field} = {value}: {expected}")]
-    Param {
-        /// The field's name as in the params file.
-        field: &'static str,
-        /// The value given.
-        value: f32,
-        /// What it must be.
-        expected: &'static str,
-    },
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
     /// `labels` does not have one entry per point.
     #[error("cloud has {points} points but {labels} labels")]
     LabelLength {

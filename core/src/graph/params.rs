@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::GraphError;
 use crate::density::{Auto, Density};
+use crate::params::{Checks, ParamError};
 
 /// Finest node spacing, metres: the reference prior's value.
 const MIN_NODE_SPACING: f32 = 1.25;
@@ -100,76 +100,47 @@ impl GraphParams {
     }
 
     /// Checks every field's range and that edges can reach the neighbouring cells.
-    pub fn validate(&self) -> Result<(), GraphError> {
-        let positive = |v: f32| v.is_finite() && v > 0.0;
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("graph");
         let (spacing, reach) = (self.node_spacing(), self.d_threshold());
-        let checks: [(&'static str, f32, bool, &'static str); 9] = [
-            (
-                "node_spacing_m",
-                spacing,
-                (0.1..=20.0).contains(&spacing),
-                "must be in [0.1, 20]",
-            ),
-            (
-                "d_threshold_m",
-                reach,
-                positive(reach) && reach > spacing,
-                "must exceed node_spacing_m, or no two nodes are joined",
-            ),
-            (
-                "vehicle_height_m",
-                self.vehicle_height_m,
-                positive(self.vehicle_height_m),
-                "must be finite and > 0",
-            ),
-            (
-                "vehicle_radius_m",
-                self.vehicle_radius_m,
-                self.vehicle_radius_m.is_finite() && self.vehicle_radius_m >= 0.0,
-                "must be finite and ≥ 0",
-            ),
-            (
-                "max_slope_deg",
-                self.max_slope_deg,
-                (0.0..90.0).contains(&self.max_slope_deg),
-                "must be in [0, 90)",
-            ),
-            (
-                "clearance_m",
-                self.clearance_m,
-                self.clearance_m.is_finite()
-                    && self.clearance_m >= 0.0
-                    && self.clearance_m < self.vehicle_height_m,
-                "must be ≥ 0 and below vehicle_height_m",
-            ),
-            (
-                "occupancy_resolution_m",
-                self.occupancy_resolution_m,
-                (0.02..=5.0).contains(&self.occupancy_resolution_m),
-                "must be in [0.02, 5]",
-            ),
-            (
-                "max_start_snap_m",
-                self.max_start_snap_m,
-                positive(self.max_start_snap_m),
-                "must be finite and > 0",
-            ),
-            (
-                "d_threshold_m",
-                reach,
-                reach <= 10.0 * spacing,
-                "must be at most 10 × node_spacing_m",
-            ),
-        ];
-        for (field, value, ok, expected) in checks {
-            if !ok {
-                return Err(GraphError::Param {
-                    field,
-                    value,
-                    expected,
-                });
-            }
-        }
-        Ok(())
+        let (height, clearance) = (self.vehicle_height_m, self.clearance_m);
+        c.within("node_spacing_m", spacing, 0.1, 20.0)?;
+        let joins = reach.is_finite() && reach > spacing;
+        c.that(
+            joins,
+            "d_threshold_m",
+            reach,
+            "must exceed node_spacing_m, or no two nodes are joined",
+        )?;
+        c.positive("vehicle_height_m", height)?;
+        c.non_negative("vehicle_radius_m", self.vehicle_radius_m)?;
+        let slope_ok = (0.0..90.0).contains(&self.max_slope_deg);
+        c.that(
+            slope_ok,
+            "max_slope_deg",
+            self.max_slope_deg,
+            "must be in [0, 90)",
+        )?;
+        let under = clearance.is_finite() && clearance >= 0.0 && clearance < height;
+        c.that(
+            under,
+            "clearance_m",
+            clearance,
+            "must be ≥ 0 and below vehicle_height_m",
+        )?;
+        c.within(
+            "occupancy_resolution_m",
+            self.occupancy_resolution_m,
+            0.02,
+            5.0,
+        )?;
+        c.positive("max_start_snap_m", self.max_start_snap_m)?;
+        let near = reach <= 10.0 * spacing;
+        c.that(
+            near,
+            "d_threshold_m",
+            reach,
+            "must be at most 10 × node_spacing_m",
+        )
     }
 }

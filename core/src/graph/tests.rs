@@ -91,7 +91,7 @@ fn bad_input_gives_errors() {
     };
     assert!(matches!(
         bad.validate(),
-        Err(GraphError::Param {
+        Err(crate::params::ParamError {
             field: "d_threshold_m",
             ..
         })

@@ -13,15 +13,8 @@ pub enum CsfError {
         count: usize,
     },
     /// A parameter is outside its allowed range.
-    #[error("ground filter parameter {name} = {value} is invalid: {expected}")]
-    BadParam {
-        /// The parameter's field name in `CsfParams`.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// The allowed range, in words.
-        expected: &'static str,
-    },
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
     /// The cloud's extent divided by the cloth resolution gives too many particles.
     #[error(
         "ground filter: cloth of {nx} × {ny} particles exceeds {max}; raise cloth_resolution or split the cloud"

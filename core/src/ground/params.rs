@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::CsfError;
 use crate::density::{Auto, Density};
+use crate::params::{Checks, ParamError};
 
 /// Cloth resolution over point spacing in sparse clouds.
 const CLOTH_SPACINGS: f32 = 4.0;
@@ -102,43 +102,30 @@ impl CsfParams {
     }
 
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), CsfError> {
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("ground filter");
         if let Some(v) = self.cloth_resolution.value() {
-            positive("cloth_resolution", v)?;
+            c.positive("cloth_resolution", v)?;
         }
-        positive("time_step", self.time_step)?;
+        c.positive("time_step", self.time_step)?;
         if let Some(v) = self.class_threshold.value() {
-            positive("class_threshold", v)?;
+            c.positive("class_threshold", v)?;
         }
-        positive("tolerance", self.tolerance)?;
-        positive("slope_threshold", self.slope_threshold)?;
-        if !(1..=3).contains(&self.rigidness) {
-            return Err(CsfError::BadParam {
-                name: "rigidness",
-                value: f64::from(self.rigidness),
-                expected: "1 (steep), 2 or 3 (flat)",
-            });
-        }
-        if self.iterations == 0 {
-            return Err(CsfError::BadParam {
-                name: "iterations",
-                value: 0.0,
-                expected: "at least 1",
-            });
-        }
-        Ok(())
-    }
-}
-
-fn positive(name: &'static str, value: f32) -> Result<(), CsfError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(CsfError::BadParam {
-            name,
-            value: f64::from(value),
-            expected: "a finite number > 0",
-        })
+        c.positive("tolerance", self.tolerance)?;
+        c.positive("slope_threshold", self.slope_threshold)?;
+        let rigid = (1..=3).contains(&self.rigidness);
+        c.that(
+            rigid,
+            "rigidness",
+            self.rigidness,
+            "1 (steep), 2 or 3 (flat)",
+        )?;
+        c.that(
+            self.iterations > 0,
+            "iterations",
+            self.iterations,
+            "at least 1",
+        )
     }
 }
 
@@ -155,8 +142,8 @@ mod tests {
         };
         assert!(matches!(
             p.validate(),
-            Err(CsfError::BadParam {
-                name: "rigidness",
+            Err(ParamError {
+                field: "rigidness",
                 ..
             })
         ));

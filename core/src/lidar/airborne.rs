@@ -12,11 +12,11 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::caster::Caster;
-use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::{INTENSITY_FULL_SCALE, reflectance};
 use super::noise::Stream;
 use super::ray::{Hit, Ray, cross, dot, normalize};
 use crate::cloud::Cloud;
+use crate::params::{Checks, ParamError};
 use crate::scene::ObjectKind;
 
 /// Which way the flight lines run.
@@ -148,85 +148,61 @@ const MAX_CROWNS: usize = 4;
 
 impl AirborneConfig {
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), ConfigError> {
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("airborne LiDAR");
         let pos = |v: f32| v.is_finite() && v > 0.0;
-        check(
-            pos(self.altitude_m),
-            "altitude_m",
-            self.altitude_m,
-            "must be > 0",
-        )?;
-        check(
-            pos(self.speed_mps),
-            "speed_mps",
-            self.speed_mps,
-            "must be > 0",
-        )?;
-        check(
+        c.positive("altitude_m", self.altitude_m)?;
+        c.positive("speed_mps", self.speed_mps)?;
+        c.that(
             pos(self.pulse_rate_hz) && self.pulse_rate_hz <= 1e8,
             "pulse_rate_hz",
             self.pulse_rate_hz,
             "must be in (0, 1e8]",
         )?;
-        check(
+        c.that(
             self.scan_angle_deg > 0.0 && self.scan_angle_deg < 80.0,
             "scan_angle_deg",
             self.scan_angle_deg,
             "must be in (0, 80)",
         )?;
         if let Some(r) = self.scan_rate_hz {
-            check(
+            c.that(
                 pos(r) && r <= self.pulse_rate_hz,
                 "scan_rate_hz",
                 r,
                 "must be > 0 and ≤ pulse_rate_hz",
             )?;
         }
-        check(
+        c.that(
             (0.0..0.95).contains(&self.strip_overlap),
             "strip_overlap",
             self.strip_overlap,
             "must be in [0, 0.95)",
         )?;
         if let Some(o) = self.oblique_deg {
-            check(o.abs() < 60.0, "oblique_deg", o, "must be within ±60")?;
+            c.that(o.abs() < 60.0, "oblique_deg", o, "must be within ±60")?;
         }
         if let Some(m) = self.margin_m {
-            check(m.is_finite() && m >= 0.0, "margin_m", m, "must be ≥ 0")?;
+            c.non_negative("margin_m", m)?;
         }
-        check(
-            self.range_noise_sigma.is_finite() && self.range_noise_sigma >= 0.0,
-            "range_noise_sigma",
-            self.range_noise_sigma,
-            "must be ≥ 0",
-        )?;
+        c.non_negative("range_noise_sigma", self.range_noise_sigma)?;
         if let Some(d) = self.beam_divergence_mrad {
-            check(
+            c.that(
                 pos(d) && d < 100.0,
                 "beam_divergence_mrad",
                 d,
                 "must be in (0, 100)",
             )?;
         }
-        check(
-            (1..=64).contains(&self.sub_rays),
-            "sub_rays",
-            self.sub_rays,
-            "must be 1–64",
-        )?;
-        check(
-            self.canopy_events_per_m.is_finite() && self.canopy_events_per_m >= 0.0,
-            "canopy_events_per_m",
-            self.canopy_events_per_m,
-            "must be ≥ 0",
-        )?;
-        check(
+        c.within("sub_rays", self.sub_rays, 1, 64)?;
+        c.non_negative("canopy_events_per_m", self.canopy_events_per_m)?;
+        c.that(
             self.canopy_interception > 0.0 && self.canopy_interception <= 1.0,
             "canopy_interception",
             self.canopy_interception,
             "must be in (0, 1]",
         )?;
-        check_dropout(self.dropout)
+        c.within("dropout", self.dropout, 0.0, 1.0)
     }
 
     /// Swath width on flat ground at flying height, metres.
@@ -339,7 +315,7 @@ struct Return {
 /// labels are the LAS classes of the objects hit, building ids theirs,
 /// intensity reflectance × |cos incidence| (0–65535), origin the scene's.
 /// Deterministic for a given config (seed included) on any thread count.
-pub fn airborne_scan(caster: &Caster, config: &AirborneConfig) -> Result<Cloud, ConfigError> {
+pub fn airborne_scan(caster: &Caster, config: &AirborneConfig) -> Result<Cloud, ParamError> {
     config.validate()?;
     let mut cloud = Cloud {
         origin: caster.origin(),

@@ -5,12 +5,12 @@ use serde::{Deserialize, Serialize};
 
 use super::bvh::PACKET;
 use super::caster::Caster;
-use super::config_error::{ConfigError, check, check_dropout};
 use super::intensity::return_intensity;
 use super::noise::{Stream, combine};
 use super::pose::{Pose, rotate};
 use super::ray::{Hit, Ray, dot};
 use crate::cloud::Cloud;
+use crate::params::{Checks, ParamError};
 
 /// Spinning LiDAR parameters; every field has a default (a Velodyne VLP-16
 /// at 10 Hz), so a config file names only what differs.
@@ -59,53 +59,29 @@ impl Default for LidarConfig {
 
 impl LidarConfig {
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        check(
-            (1..=1024).contains(&self.beams),
-            "beams",
-            self.beams,
-            "must be 1–1024",
-        )?;
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("LiDAR");
+        c.within("beams", self.beams, 1, 1024)?;
         let fov_ok = (-90.0..=90.0).contains(&self.fov_min_deg)
             && (-90.0..=90.0).contains(&self.fov_max_deg)
             && self.fov_min_deg <= self.fov_max_deg;
-        check(
+        c.that(
             fov_ok,
             "fov_max_deg",
             self.fov_max_deg,
             "fov_min_deg ≤ fov_max_deg, both within ±90",
         )?;
-        check(
-            self.azimuth_step_deg >= 0.001 && self.azimuth_step_deg <= 360.0,
-            "azimuth_step_deg",
-            self.azimuth_step_deg,
-            "must be in [0.001, 360]",
-        )?;
-        check(
-            self.max_range.is_finite() && self.max_range > 0.0,
-            "max_range",
-            self.max_range,
-            "must be finite and > 0",
-        )?;
-        check(
+        c.within("azimuth_step_deg", self.azimuth_step_deg, 0.001, 360.0)?;
+        c.positive("max_range", self.max_range)?;
+        c.that(
             self.min_range >= 0.0 && self.min_range < self.max_range,
             "min_range",
             self.min_range,
             "must be ≥ 0 and < max_range",
         )?;
-        check(
-            self.rate_hz.is_finite() && self.rate_hz > 0.0,
-            "rate_hz",
-            self.rate_hz,
-            "must be finite and > 0",
-        )?;
-        check(
-            self.range_noise_sigma.is_finite() && self.range_noise_sigma >= 0.0,
-            "range_noise_sigma",
-            self.range_noise_sigma,
-            "must be finite and ≥ 0",
-        )?;
-        check_dropout(self.dropout)
+        c.positive("rate_hz", self.rate_hz)?;
+        c.non_negative("range_noise_sigma", self.range_noise_sigma)?;
+        c.within("dropout", self.dropout, 0.0, 1.0)
     }
 
     /// Firings per revolution (columns of the range image).
@@ -188,7 +164,7 @@ pub fn scan(
     config: &LidarConfig,
     pose: &Pose,
     rng_seed: u64,
-) -> Result<ScanPoints, ConfigError> {
+) -> Result<ScanPoints, ParamError> {
     config.validate()?;
     let beams = config.beams as usize;
     let rays = revolution_rays(config, pose);

@@ -9,15 +9,16 @@ use thiserror::Error;
 use super::building::detect_building_on;
 use super::detection::{BuildingDetection, Detection, SkipReason};
 use super::ground::GroundGrid;
-use super::params::{DetectParams, DetectParamsError};
+use super::params::DetectParams;
 use crate::density::Density;
+use crate::params::ParamError;
 
 /// Why detection over a cloud could not run.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum DetectError {
     /// Parameters are invalid.
     #[error(transparent)]
-    Params(#[from] DetectParamsError),
+    Params(#[from] ParamError),
     /// The building-id column does not match the points.
     #[error("building ids ({ids}) and points ({points}) differ in length")]
     IdLength {

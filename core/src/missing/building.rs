@@ -11,9 +11,10 @@ use super::detection::{
     StructureReport,
 };
 use super::ground::GroundGrid;
-use super::params::{DetectParams, DetectParamsError};
+use super::params::DetectParams;
 use super::wall::{face_below, open_below, wall_normal};
 use crate::geom::grid::GridFrame;
+use crate::params::ParamError;
 use crate::skeleton::{Skeleton, medial_axis};
 use crate::slice::{Sliced, cluster_structures, slice_building};
 
@@ -40,7 +41,7 @@ pub fn detect_building(
     footprint: Option<&MultiPolygon<f64>>,
     ground_z: Option<f32>,
     params: &DetectParams,
-) -> Result<BuildingDetection, DetectParamsError> {
+) -> Result<BuildingDetection, ParamError> {
     detect_building_on(id, points, footprint, ground_z, None, params)
 }
 
@@ -53,7 +54,7 @@ pub fn detect_building_on(
     ground_z: Option<f32>,
     terrain: Option<&GroundGrid>,
     params: &DetectParams,
-) -> Result<BuildingDetection, DetectParamsError> {
+) -> Result<BuildingDetection, ParamError> {
     params.validate()?;
     let params = &params.resolved_for(points);
     let n = points

@@ -33,5 +33,5 @@ pub use detection::{
 };
 pub use eval::{BuildingScore, DetectionScore, WallCounts, evaluate};
 pub use ground::GroundGrid;
-pub use params::{DetectParams, DetectParamsError};
+pub use params::DetectParams;
 pub use scene::{SceneDetectError, SceneParams, detect_scene, shift_missing};

@@ -1,11 +1,11 @@
 //! Parameters of missing-region detection (docs/design.md steps 3–4).
 
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
 use crate::density::{Auto, Density};
-use crate::skeleton::{SkeletonParams, SkeletonParamsError};
-use crate::slice::{SliceParams, SliceParamsError};
+use crate::params::{Checks, ParamError};
+use crate::skeleton::SkeletonParams;
+use crate::slice::SliceParams;
 
 /// How missing wall parts are found.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -54,33 +54,6 @@ impl Default for DetectParams {
     }
 }
 
-/// A detection parameter out of range.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum DetectParamsError {
-    /// Slicing parameters are invalid.
-    #[error(transparent)]
-    Slice(#[from] SliceParamsError),
-    /// Skeleton parameters are invalid.
-    #[error(transparent)]
-    Skeleton(#[from] SkeletonParamsError),
-    /// A length that must be positive and finite is not.
-    #[error("detection parameter `{name}` must be a positive finite number, got {value}")]
-    NotPositive {
-        /// Parameter name.
-        name: &'static str,
-        /// Given value.
-        value: f64,
-    },
-    /// A share that must lie in [0, 1] does not.
-    #[error("detection parameter `{name}` must lie in [0, 1], got {value}")]
-    NotShare {
-        /// Parameter name.
-        name: &'static str,
-        /// Given value.
-        value: f64,
-    },
-}
-
 impl DetectParams {
     /// `delta: auto`: 1.5 outline cells (0.75 m at the reference prior's
     /// 0.5 m cells), so the strip is as wide, in cells, at every density.
@@ -119,36 +92,17 @@ impl DetectParams {
     }
 
     /// Checks every field is usable.
-    pub fn validate(&self) -> Result<(), DetectParamsError> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         self.slice.validate()?;
         self.skeleton.validate()?;
-        let positive = [
-            ("delta", self.delta_m()),
-            ("boundary_spacing", self.boundary_spacing),
-            ("near", self.near),
-            ("coverage_radius", self.coverage_radius as f64),
-        ];
-        for (name, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(DetectParamsError::NotPositive { name, value });
-            }
-        }
-        if !(self.outside.is_finite() && self.outside >= 0.0) {
-            return Err(DetectParamsError::NotPositive {
-                name: "outside",
-                value: self.outside,
-            });
-        }
-        let shares = [
-            ("min_coverage", self.min_coverage as f64),
-            ("theta", self.theta as f64),
-            ("structure_keep", self.structure_keep),
-        ];
-        for (name, value) in shares {
-            if !(0.0..=1.0).contains(&value) {
-                return Err(DetectParamsError::NotShare { name, value });
-            }
-        }
-        Ok(())
+        let c = Checks("detection");
+        c.positive("delta", self.delta_m())?;
+        c.positive("boundary_spacing", self.boundary_spacing)?;
+        c.positive("near", self.near)?;
+        c.positive("coverage_radius", self.coverage_radius)?;
+        c.non_negative("outside", self.outside)?;
+        c.within("min_coverage", self.min_coverage, 0.0, 1.0)?;
+        c.within("theta", self.theta, 0.0, 1.0)?;
+        c.within("structure_keep", self.structure_keep, 0.0, 1.0)
     }
 }

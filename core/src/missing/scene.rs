@@ -6,7 +6,8 @@ use super::detection::{Detection, MissingPoint};
 use super::ground::GroundGrid;
 use super::params::DetectParams;
 use crate::cloud::{Cloud, class};
-use crate::footprint::{DeriveParams, Footprint, ParamsError, SplitParams, derive, split};
+use crate::footprint::{DeriveParams, Footprint, SplitParams, derive, split};
+use crate::params::ParamError;
 
 /// What [`detect_scene`] runs with: the completeness detector's params
 /// sections `detect`, `split` and `derive`, as the node and `skyground
@@ -29,8 +30,8 @@ pub enum SceneDetectError {
     #[error("the cloud has no classification: classify it first (label 6 = building)")]
     Unclassified,
     /// Footprint parameters are out of range.
-    #[error("footprint params: {0}")]
-    Footprint(#[from] ParamsError),
+    #[error(transparent)]
+    Footprint(#[from] ParamError),
     /// Detection failed.
     #[error(transparent)]
     Detect(#[from] DetectError),

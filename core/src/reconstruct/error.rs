@@ -1,23 +1,13 @@
 //! What can go wrong when reconstructing, in terms a user can act on.
 
-use crate::footprint::ParamsError;
+use crate::params::ParamError;
 
 /// Errors of [`super::reconstruct_cloud`] and the writers.
 #[derive(Debug, thiserror::Error)]
 pub enum ReconstructError {
-    /// A reconstruction parameter is out of range.
-    #[error("reconstruction parameter `{name}` = {value} is out of range: expected {expected}")]
-    Param {
-        /// Parameter name.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// The accepted range.
-        expected: String,
-    },
-    /// A footprint parameter is out of range.
+    /// A reconstruction or footprint parameter is out of range.
     #[error(transparent)]
-    Footprint(#[from] ParamsError),
+    Param(#[from] ParamError),
     /// The cloud has no building points (label 6) to reconstruct from.
     #[error(
         "the cloud has no building points (LAS class 6): classify it first (`skyground classify`)"

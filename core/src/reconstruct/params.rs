@@ -1,6 +1,7 @@
 //! Tunables of building reconstruction, each default with its reason.
 
 use crate::footprint::{DeriveParams, SplitParams};
+use crate::params::{Checks, ParamError};
 
 /// How buildings are reconstructed ([`super::reconstruct_cloud`]).
 #[derive(Debug, Clone, PartialEq, serde::Deserialize, serde::Serialize)]
@@ -72,7 +73,7 @@ impl Default for ReconstructParams {
 
 impl ReconstructParams {
     /// Checks ranges, naming the first bad value.
-    pub fn validate(&self) -> Result<(), super::ReconstructError> {
+    pub fn validate(&self) -> Result<(), ParamError> {
         let checks: [(&'static str, f64, f64, f64); 13] = [
             ("voxel_m", self.voxel_m, 0.0, 10.0),
             ("k", self.k as f64, 3.0, 100.0),
@@ -88,14 +89,9 @@ impl ReconstructParams {
             ("min_step_m", self.min_step_m, 0.0, 100.0),
             ("open_base_share", self.open_base_share, 0.0, 1.0),
         ];
+        let c = Checks("reconstruction");
         for (name, value, lo, hi) in checks {
-            if !(value.is_finite() && value >= lo && value <= hi) {
-                return Err(super::ReconstructError::Param {
-                    name,
-                    value,
-                    expected: format!("{lo} ≤ value ≤ {hi}"),
-                });
-            }
+            c.within(name, value, lo, hi)?;
         }
         self.derive.validate()?;
         self.split.validate()?;

@@ -4,15 +4,8 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RouteError {
     /// A parameter is out of range.
-    #[error("route parameter {field} = {value}: {expected}")]
-    Param {
-        /// The field's name as in the params file.
-        field: &'static str,
-        /// The value given.
-        value: f64,
-        /// What it must be.
-        expected: &'static str,
-    },
+    #[error(transparent)]
+    Param(#[from] crate::params::ParamError),
     /// The start is not near the ground graph.
     #[error(
         "start ({x:.1}, {y:.1}) is more than max_snap_m = {max:.1} m from the ground graph; move it onto open ground reachable from the graph's start"

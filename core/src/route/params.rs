@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::RouteError;
+use crate::params::{Checks, ParamError};
 
 /// Which tour the route follows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -53,28 +53,15 @@ impl Default for RouteParams {
 
 impl RouteParams {
     /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), RouteError> {
-        if !(self.max_snap_m.is_finite() && self.max_snap_m > 0.0) {
-            return Err(RouteError::Param {
-                field: "max_snap_m",
-                value: f64::from(self.max_snap_m),
-                expected: "must be finite and > 0",
-            });
-        }
-        if !(self.skip_passed_m.is_finite() && self.skip_passed_m >= 0.0) {
-            return Err(RouteError::Param {
-                field: "skip_passed_m",
-                value: f64::from(self.skip_passed_m),
-                expected: "must be finite and ≥ 0",
-            });
-        }
-        if self.max_passes > 100_000 {
-            return Err(RouteError::Param {
-                field: "max_passes",
-                value: f64::from(self.max_passes),
-                expected: "must be at most 100000",
-            });
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("route");
+        c.positive("max_snap_m", self.max_snap_m)?;
+        c.non_negative("skip_passed_m", self.skip_passed_m)?;
+        c.that(
+            self.max_passes <= 100_000,
+            "max_passes",
+            self.max_passes,
+            "must be at most 100000",
+        )
     }
 }

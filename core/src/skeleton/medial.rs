@@ -2,10 +2,11 @@
 
 use geo::{Contains, Coord, LineString, MultiPolygon, Point};
 
-use crate::geom::segment;
 use serde::{Deserialize, Serialize};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
-use thiserror::Error;
+
+use crate::geom::segment;
+use crate::params::{Checks, ParamError};
 
 use super::prune::prune_spurs;
 
@@ -28,28 +29,12 @@ impl Default for SkeletonParams {
     }
 }
 
-/// A skeleton parameter out of range.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum SkeletonParamsError {
-    /// A length that must be positive and finite is not.
-    #[error("skeleton parameter `{name}` must be a positive finite number, got {value}")]
-    NotPositive {
-        /// Parameter name.
-        name: &'static str,
-        /// Given value.
-        value: f64,
-    },
-}
-
 impl SkeletonParams {
     /// Checks every field is usable.
-    pub fn validate(&self) -> Result<(), SkeletonParamsError> {
-        for (name, value) in [("sample", self.sample), ("min_branch", self.min_branch)] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(SkeletonParamsError::NotPositive { name, value });
-            }
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("skeleton");
+        c.positive("sample", self.sample)?;
+        c.positive("min_branch", self.min_branch)
     }
 }
 

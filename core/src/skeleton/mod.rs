@@ -9,4 +9,4 @@
 pub mod medial;
 pub mod prune;
 
-pub use medial::{Skeleton, SkeletonParams, SkeletonParamsError, medial_axis};
+pub use medial::{Skeleton, SkeletonParams, medial_axis};

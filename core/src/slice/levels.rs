@@ -8,11 +8,11 @@
 
 use geo::MultiPolygon;
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
 use super::contour::occupancy_contour;
 use super::raster::Raster;
 use crate::density::{Auto, Density};
+use crate::params::{Checks, ParamError};
 
 /// Finest outline raster cell, metres: the value tuned on the reference
 /// prior, kept wherever points are denser than 4 pts/m².
@@ -55,22 +55,6 @@ impl Default for SliceParams {
             min_area: 4.0,
         }
     }
-}
-
-/// A slice parameter out of range.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum SliceParamsError {
-    /// A length that must be positive and finite is not.
-    #[error("slice parameter `{name}` must be a positive finite number, got {value}")]
-    NotPositive {
-        /// Parameter name.
-        name: &'static str,
-        /// Given value.
-        value: f64,
-    },
-    /// The first slice would lie below the ground.
-    #[error("slice parameter `first` must be ≥ 0 (height above ground), got {0}")]
-    FirstBelowGround(f32),
 }
 
 impl SliceParams {
@@ -119,26 +103,21 @@ impl SliceParams {
     }
 
     /// Checks every field is usable.
-    pub fn validate(&self) -> Result<(), SliceParamsError> {
-        let positive = [
-            ("spacing", self.spacing_m() as f64),
-            ("cell", self.cell_m()),
-            ("min_area", self.min_area),
-        ];
-        for (name, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(SliceParamsError::NotPositive { name, value });
-            }
-        }
-        for (name, value) in [("closing", self.closing_m()), ("simplify", self.simplify)] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(SliceParamsError::NotPositive { name, value });
-            }
-        }
-        if !(self.first.is_finite() && self.first >= 0.0) {
-            return Err(SliceParamsError::FirstBelowGround(self.first));
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("slice");
+        c.positive("spacing", self.spacing_m())?;
+        c.positive("cell", self.cell_m())?;
+        c.positive("min_area", self.min_area)?;
+        c.non_negative("closing", self.closing_m())?;
+        c.non_negative("simplify", self.simplify)?;
+        // A slice below the ground would cut the terrain, not the walls.
+        let above = self.first.is_finite() && self.first >= 0.0;
+        c.that(
+            above,
+            "first",
+            self.first,
+            "must be ≥ 0 (height above ground)",
+        )
     }
 }
 

@@ -13,6 +13,6 @@ pub mod raster;
 pub mod structure;
 
 pub use contour::occupancy_contour;
-pub use levels::{Level, SliceParams, SliceParamsError, Sliced, slice_building};
+pub use levels::{Level, SliceParams, Sliced, slice_building};
 pub use raster::Raster;
 pub use structure::{Structure, cluster_structures};

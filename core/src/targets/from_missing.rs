@@ -7,11 +7,12 @@ use std::collections::BTreeMap;
 use geo::MultiPolygon;
 
 use super::generate::{Dropped, generate};
-use super::params::{TargetParams, TargetParamsError};
+use super::params::TargetParams;
 use super::site::{Site, SiteError};
 use super::types::TargetSet;
 use crate::cloud::Cloud;
 use crate::missing::{BuildingDetection, Detection, MissingPoint, Strategy};
+use crate::params::ParamError;
 
 impl Site {
     /// The site of a classified cloud with the cell and clearance of `params`.
@@ -40,7 +41,7 @@ pub fn generate_from_missing(
     plans: &BTreeMap<u32, BuildingPlan>,
     site: &Site,
     params: &TargetParams,
-) -> Result<(TargetSet, Dropped), TargetParamsError> {
+) -> Result<(TargetSet, Dropped), ParamError> {
     let mut per: BTreeMap<u32, Vec<MissingPoint>> = BTreeMap::new();
     for m in missing {
         per.entry(m.building).or_default().push(*m);

@@ -7,10 +7,11 @@ use std::collections::HashSet;
 use geo::{ConvexHull, MultiPoint, Orient, Point, orient::Direction};
 use serde::{Deserialize, Serialize};
 
-use super::params::{TargetParams, TargetParamsError};
+use super::params::TargetParams;
 use super::site::Site;
 use super::types::{Region, TargetPoint, TargetSet};
 use crate::missing::{Detection, MissingPoint, Strategy};
+use crate::params::ParamError;
 
 /// Candidate targets dropped, by reason.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -44,7 +45,7 @@ pub fn generate(
     detection: &Detection,
     site: &Site,
     params: &TargetParams,
-) -> Result<(TargetSet, Dropped), TargetParamsError> {
+) -> Result<(TargetSet, Dropped), ParamError> {
     params.validate()?;
     let mut set = TargetSet::default();
     let mut dropped = Dropped::default();

@@ -19,7 +19,7 @@ mod types;
 pub use consolidate::{Consolidation, consolidate};
 pub use from_missing::{BuildingPlan, generate_from_missing};
 pub use generate::{Dropped, generate};
-pub use params::{TargetParams, TargetParamsError};
+pub use params::TargetParams;
 pub use seen::SeenGaps;
 pub use site::{Site, SiteError};
 pub use types::{Region, TargetPoint, TargetSet};

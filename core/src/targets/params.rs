@@ -1,7 +1,8 @@
 //! Parameters of target generation (docs/design.md step 4; θ lives in detection).
 
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
+
+use crate::params::{Checks, ParamError};
 
 /// How targets are made from missing points.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -47,73 +48,25 @@ impl Default for TargetParams {
     }
 }
 
-/// A target parameter out of range.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum TargetParamsError {
-    /// A length that must be positive and finite is not.
-    #[error("target parameter `{name}` must be a positive finite number, got {value}")]
-    NotPositive {
-        /// Parameter name.
-        name: &'static str,
-        /// Given value.
-        value: f32,
-    },
-    /// No standoff distance given.
-    #[error("target parameter `standoffs` must list at least one distance")]
-    NoStandoff,
-    /// The field of view is not in (0°, 90°).
-    #[error("target parameter `half_fov_deg` must lie in (0, 90), got {0}")]
-    Fov(f32),
-    /// The largest incidence angle is not in (0°, 90°).
-    #[error("target parameter `max_incidence_deg` must lie in (0, 90), got {0}")]
-    Incidence(f32),
-}
-
 impl TargetParams {
     /// Checks every field is usable.
-    pub fn validate(&self) -> Result<(), TargetParamsError> {
-        if self.standoffs.is_empty() {
-            return Err(TargetParamsError::NoStandoff);
-        }
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let c = Checks("target");
+        let n = self.standoffs.len() as f64;
+        c.that(n > 0.0, "standoffs", n, "must list at least one distance")?;
         for &value in &self.standoffs {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(TargetParamsError::NotPositive {
-                    name: "standoffs",
-                    value,
-                });
-            }
+            c.positive("standoffs", value)?;
         }
-        let positive = [
-            ("downsample", self.downsample),
-            ("region_buffer", self.region_buffer),
-            ("region_link", self.region_link),
-            ("cell", self.cell),
-        ];
-        for (name, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(TargetParamsError::NotPositive { name, value });
-            }
-        }
-        for (name, value) in [
-            ("clearance", self.clearance),
-            ("sensor_height", self.sensor_height),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(TargetParamsError::NotPositive { name, value });
-            }
-        }
-        if !(self.stop_range.is_finite() && self.stop_range >= 0.0) {
-            return Err(TargetParamsError::NotPositive {
-                name: "stop_range",
-                value: self.stop_range,
-            });
-        }
-        if !(self.max_incidence_deg > 0.0 && self.max_incidence_deg < 90.0) {
-            return Err(TargetParamsError::Incidence(self.max_incidence_deg));
-        }
-        if !(self.half_fov_deg > 0.0 && self.half_fov_deg < 90.0) {
-            return Err(TargetParamsError::Fov(self.half_fov_deg));
-        }
-        Ok(())
+        c.positive("downsample", self.downsample)?;
+        c.positive("region_buffer", self.region_buffer)?;
+        c.positive("region_link", self.region_link)?;
+        c.positive("cell", self.cell)?;
+        c.non_negative("clearance", self.clearance)?;
+        c.non_negative("sensor_height", self.sensor_height)?;
+        c.non_negative("stop_range", self.stop_range)?;
+        let (inc, fov) = (self.max_incidence_deg, self.half_fov_deg);
+        let acute = |a: f32| a > 0.0 && a < 90.0;
+        c.that(acute(inc), "max_incidence_deg", inc, "must lie in (0, 90)")?;
+        c.that(acute(fov), "half_fov_deg", fov, "must lie in (0, 90)")
     }
 }
