@@ -46,10 +46,7 @@ struct Setup {
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
-    p.scene
-        .detect
-        .validate()
-        .map_err(|e| RuntimeError::Node(format!("detect params: {e}")))?;
+    p.scene.detect.validate()?;
     let tile = p.transport.tile_points;
     let mut aerial_sub = CloudSubscription::new(rt, &p.input_topic, qos::latched(256), tile)?;
     let mut resampled_sub = match p.resampled_topic.as_str() {

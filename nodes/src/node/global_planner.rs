@@ -68,12 +68,8 @@ struct Outputs {
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
-    p.graph
-        .validate()
-        .map_err(|e| RuntimeError::Node(format!("graph params: {e}")))?;
-    p.route
-        .validate()
-        .map_err(|e| RuntimeError::Node(format!("route params: {e}")))?;
+    p.graph.validate()?;
+    p.route.validate()?;
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut target_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), tile)?;

@@ -62,9 +62,7 @@ fn header(rt: &NodeRuntime) -> Header {
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
-    p.graph
-        .validate()
-        .map_err(|e| RuntimeError::Node(format!("graph params: {e}")))?;
+    p.graph.validate()?;
     let mut ex = ExplorerMachine::new(ExplorerConfig {
         graph: p.graph,
         explore: p.explore,

@@ -42,9 +42,7 @@ crate::node_spec!("target_generator");
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
-    p.targets
-        .validate()
-        .map_err(|e| RuntimeError::Node(format!("target params: {e}")))?;
+    p.targets.validate()?;
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;

@@ -33,6 +33,9 @@ pub enum RuntimeError {
     /// Bad params.
     #[error(transparent)]
     Params(#[from] ParamsError),
+    /// A params value outside its range (the library's check names it).
+    #[error(transparent)]
+    OutOfRange(#[from] skyground_core::params::ParamError),
     /// Bad DDS environment.
     #[error(transparent)]
     Domain(#[from] DomainError),
