@@ -7,7 +7,6 @@ use crate::transport::{CloudSubscription, Received};
 use serde::Deserialize;
 use skyground_core::mission::{CloudStatus, CloudSummary};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::std_msgs::Header;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -76,10 +75,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             .to_wire(),
         );
         let report = DiagnosticArray {
-            header: Header {
-                stamp: rt.now(),
-                frame_id: String::new(),
-            },
+            header: rt.header(""),
             status: vec![status],
         };
         if let Err(e) = stats.async_publish(report).await {

@@ -9,7 +9,6 @@ use crate::transport::{CloudPublisher, TransportConfig};
 use serde::Deserialize;
 use skyground_core::cloud::{self, synthetic};
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
-use skyground_msgs::std_msgs::Header;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -68,10 +67,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         if rt.shutdown.requested() {
             break;
         }
-        let header = Header {
-            stamp: rt.now(),
-            frame_id: p.frame_id.clone(),
-        };
+        let header = rt.header(&p.frame_id);
         let stats = publisher.publish(encode(&cloud, header, &opts)).await?;
         rt.log.info(&format!(
             "published {} points on {} as {} message(s), {:.1} MB in {:.3} s ({:.1} MB/s){}",

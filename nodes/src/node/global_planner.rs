@@ -19,7 +19,6 @@ use skyground_core::targets::{TargetParams, TargetPoint};
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::{Odometry, Path};
-use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::detection::missing_from_message;
@@ -49,13 +48,6 @@ crate::node_spec!("global_planner");
 /// The target generator stamps both halves of a target set alike.
 fn stamp_key(t: Time) -> u64 {
     (u64::from(t.sec as u32) << 32) | u64::from(t.nanosec)
-}
-
-fn header(rt: &NodeRuntime) -> Header {
-    Header {
-        stamp: rt.now(),
-        frame_id: "map".into(),
-    }
 }
 
 struct Outputs {
@@ -149,7 +141,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
 }
 
 async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
-    let h = header(rt);
+    let h = rt.header("map");
     let sent = match c {
         PlannerCommand::Info(s) => return rt.log.info(&s),
         PlannerCommand::Warn(s) => return rt.log.warn(&s),

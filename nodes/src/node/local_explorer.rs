@@ -22,7 +22,6 @@ use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::pointcloud2::{EncodeOptions, decode, encode};
 use skyground_msgs::sensor_msgs::PointCloud2;
-use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::diagnostics::{array, statuses};
@@ -51,13 +50,6 @@ struct Params {
 }
 
 crate::node_spec!("local_explorer");
-
-fn header(rt: &NodeRuntime) -> Header {
-    Header {
-        stamp: rt.now(),
-        frame_id: "map".into(),
-    }
-}
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
@@ -134,7 +126,7 @@ async fn perform(
     status_pub: &ros2_client::Publisher<DiagnosticArray>,
     resampled_pub: &CloudPublisher,
 ) -> Result<(), RuntimeError> {
-    let h = header(rt);
+    let h = rt.header("map");
     let sent = match c {
         ExplorerCommand::Info(s) => {
             rt.log.info(&s);

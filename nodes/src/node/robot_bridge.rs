@@ -82,10 +82,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             },
             _ = resend.tick() => f.waypoint().map(FollowEvent::WayPoint).into_iter().collect(),
         };
-        let header = Header {
-            stamp: rt.now(),
-            frame_id: p.frame_id.clone(),
-        };
+        let header = rt.header(&p.frame_id);
         for e in events {
             match e {
                 FollowEvent::WayPoint(w) => {

@@ -15,6 +15,7 @@ use serde::de::DeserializeOwned;
 use skyground_msgs::RosMessage;
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::rosgraph_msgs::Clock;
+use skyground_msgs::std_msgs::Header;
 
 use super::args::{ArgsError, RosArgs};
 use super::domain::{DomainConfig, DomainError};
@@ -243,6 +244,14 @@ impl NodeRuntime {
         Time {
             sec: i32::try_from(ns.div_euclid(1_000_000_000)).unwrap_or(i32::MAX),
             nanosec: u32::try_from(ns.rem_euclid(1_000_000_000)).unwrap_or(0),
+        }
+    }
+
+    /// A header stamped [`Self::now`] in frame `frame_id`.
+    pub fn header(&self, frame_id: &str) -> Header {
+        Header {
+            stamp: self.now(),
+            frame_id: frame_id.into(),
         }
     }
 
