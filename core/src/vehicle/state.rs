@@ -232,6 +232,11 @@ mod tests {
         (v, steps)
     }
 
+    /// Whether the one step reported is a block whose reason says `why`.
+    fn blocked(steps: &[Step], why: &str) -> bool {
+        matches!(steps, [Step::Blocked { reason, .. }] if reason.contains(why))
+    }
+
     #[test]
     fn drives_to_a_way_point_and_stops() {
         let (v, steps) = drive(&scene(), [0.0, 0.0], [5.0, 12.0], 30.0);
@@ -266,10 +271,7 @@ mod tests {
     #[test]
     fn refuses_a_way_point_inside_a_building() {
         let (v, steps) = drive(&scene(), [0.0, 5.0], [25.0, 5.0], 30.0);
-        assert!(
-            matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("inside")),
-            "{steps:?}"
-        );
+        assert!(blocked(&steps, "inside"), "{steps:?}");
         assert!(v.state.position[0] < 20.0);
     }
 
@@ -300,10 +302,7 @@ mod tests {
             if passes {
                 assert_eq!(steps, vec![Step::Arrived([10.0, 12.0])], "kerb of {h} m");
             } else {
-                assert!(
-                    matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("slope")),
-                    "step of {h} m: {steps:?}"
-                );
+                assert!(blocked(&steps, "slope"), "step of {h} m: {steps:?}");
                 assert!(v.state.position[0] < 5.0);
             }
         }
@@ -312,10 +311,7 @@ mod tests {
     #[test]
     fn never_drives_through_a_wall() {
         let (v, steps) = drive(&scene(), [10.0, 5.0], [38.0, 5.0], 40.0);
-        assert!(
-            matches!(&steps[..], [Step::Blocked { reason, .. }] if reason.contains("obstacle")),
-            "{steps:?}"
-        );
+        assert!(blocked(&steps, "obstacle"), "{steps:?}");
         let x = v.state.position[0];
         assert!(x < 20.0 - 0.4 && x > 15.0, "stopped at x = {x}");
     }
