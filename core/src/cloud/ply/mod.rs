@@ -36,7 +36,7 @@ pub(crate) mod reader {
     pub(crate) use super::ascii::AsciiRows;
     pub(crate) use super::binary::BinaryRows;
     pub(crate) use super::header::{Element, Header, PlyFormat, PropertyKind, parse_header};
-    pub(crate) use super::rows::{RowCtx, Rows};
+    pub(crate) use super::rows::{RowCtx, Rows, read_row};
 }
 
 use crate::cloud::Cloud;

@@ -72,23 +72,39 @@ pub trait Rows {
     }
 }
 
+/// Reads row `ctx` property by property, handing each property's index and
+/// values to `take`: a scalar's one value, or a list's items when `items`
+/// is given to collect them in (without it, lists are read past unseen).
+pub fn read_row<R: Rows + ?Sized>(
+    rows: &mut R,
+    ctx: RowCtx<'_>,
+    mut items: Option<&mut Vec<f64>>,
+    mut take: impl FnMut(usize, &[f64]),
+) -> Result<(), PlyError> {
+    rows.begin(ctx)?;
+    for (k, p) in ctx.element.properties.iter().enumerate() {
+        match (p.kind, items.as_deref_mut()) {
+            (PropertyKind::Scalar(ty), _) => take(k, &[rows.scalar(ctx, ty, &p.name)?]),
+            (PropertyKind::List { count, item }, Some(out)) => {
+                out.clear();
+                rows.list(ctx, count, item, &p.name, Some(&mut *out))?;
+                take(k, out);
+            }
+            (PropertyKind::List { count, item }, None) => {
+                rows.list(ctx, count, item, &p.name, None)?;
+            }
+        }
+    }
+    rows.end(ctx)
+}
+
 /// Reads past every row of `element`, value by value.
 pub fn skip_rows<R: Rows + ?Sized>(rows: &mut R, element: &Element) -> Result<(), PlyError> {
     if element.properties.is_empty() {
         return Ok(());
     }
     for index in 0..element.count {
-        let ctx = RowCtx { element, index };
-        rows.begin(ctx)?;
-        for p in &element.properties {
-            match p.kind {
-                PropertyKind::Scalar(ty) => {
-                    rows.scalar(ctx, ty, &p.name)?;
-                }
-                PropertyKind::List { count, item } => rows.list(ctx, count, item, &p.name, None)?,
-            }
-        }
-        rows.end(ctx)?;
+        read_row(rows, RowCtx { element, index }, None, |_, _| {})?;
     }
     Ok(())
 }

@@ -5,7 +5,7 @@
 
 use super::PlyError;
 use super::header::{Element, PropertyKind};
-use super::rows::{RowCtx, Rows};
+use super::rows::{RowCtx, Rows, read_row};
 use crate::cloud::Cloud;
 use crate::cloud::origin::{local_origin, to_local};
 
@@ -129,19 +129,11 @@ pub fn read_vertices<R: Rows>(
             element: vertex,
             index,
         };
-        rows.begin(ctx)?;
-        for (p, role) in vertex.properties.iter().zip(&plan.roles) {
-            match p.kind {
-                PropertyKind::Scalar(ty) => {
-                    let v = rows.scalar(ctx, ty, &p.name)?;
-                    if let Some(role) = role {
-                        values[role.slot()] = v;
-                    }
-                }
-                PropertyKind::List { count, item } => rows.list(ctx, count, item, &p.name, None)?,
+        read_row(rows, ctx, None, |k, v| {
+            if let (Some(Some(role)), [v]) = (plan.roles.get(k), v) {
+                values[role.slot()] = *v;
             }
-        }
-        rows.end(ctx)?;
+        })?;
         if index == 0 && origin.is_none() {
             shift = local_origin([values[0], values[1], values[2]]);
             cloud.origin = shift;

@@ -1,8 +1,7 @@
 //! Reading the vertex and face elements of a mesh body through the shared
 //! PLY row readers ([`crate::cloud::ply::reader`]).
 
-use crate::cloud::PlyError;
-use crate::cloud::ply::reader::{Element, PropertyKind, RowCtx, Rows};
+use crate::cloud::ply::reader::{self, Element, PropertyKind, RowCtx, Rows};
 
 use super::error::{PlyMeshError, PlyPlace};
 use super::{CLASS_NAMES, Face, SPLIT_NAMES};
@@ -34,28 +33,16 @@ pub fn skip_element<R: Rows>(rows: &mut R, element: &Element) -> Result<(), PlyM
     })
 }
 
-/// Reads one row, handing `(property index, values)` to `take`.
+/// Reads one row, handing `(property index, values)` to `take`; an error
+/// says where in the file it is.
 fn read_row<R: Rows>(
     rows: &mut R,
     ctx: RowCtx<'_>,
-    mut take: impl FnMut(usize, &[f64]),
+    take: impl FnMut(usize, &[f64]),
 ) -> Result<(), PlyMeshError> {
-    let mut values = Vec::new();
-    let mut row = || -> Result<(), PlyError> {
-        rows.begin(ctx)?;
-        for (k, p) in ctx.element.properties.iter().enumerate() {
-            values.clear();
-            match p.kind {
-                PropertyKind::Scalar(ty) => values.push(rows.scalar(ctx, ty, &p.name)?),
-                PropertyKind::List { count, item } => {
-                    rows.list(ctx, count, item, &p.name, Some(&mut values))?;
-                }
-            }
-            take(k, &values);
-        }
-        rows.end(ctx)
-    };
-    row().map_err(|e| PlyMeshError::from_body(e, place(rows, ctx)))
+    let mut items = Vec::new();
+    reader::read_row(rows, ctx, Some(&mut items), take)
+        .map_err(|e| PlyMeshError::from_body(e, place(rows, ctx)))
 }
 
 fn find(element: &Element, names: &[&str], list: bool) -> Option<usize> {
