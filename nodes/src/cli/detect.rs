@@ -9,7 +9,6 @@ use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
 use skyground_core::cloud::{Cloud, class, write_cloud};
-use skyground_core::footprint::load_footprints_in;
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
@@ -29,9 +28,8 @@ pub struct DetectArgs {
     /// A classified cloud (LAS/LAZ/PLY with labels); unlabelled clouds are classified first.
     #[arg(long = "in")]
     pub input: PathBuf,
-    /// Footprints (GeoJSON, CityJSON, OBJ) in the cloud's source frame (default: derived).
-    #[arg(long)]
-    pub footprints: Option<PathBuf>,
+    #[command(flatten)]
+    pub footprints: super::footprints::FootprintsArg,
     /// Output directory: classified.las, missing.las, targets.json, detection.json, detection.png.
     #[arg(long, default_value = "out/detect")]
     pub out: PathBuf,
@@ -128,16 +126,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         cloud.label = Some(c.classify_cloud(&cloud).map_err(err)?.labels);
         classify_s = t.elapsed().as_secs_f64();
     }
-    let footprints = match &a.footprints {
-        Some(f) => {
-            let l = load_footprints_in(f, &cloud.frame()).map_err(err)?;
-            for s in &l.skipped {
-                eprintln!("footprints {}: {s}", f.display());
-            }
-            Some(l.footprints)
-        }
-        None => None,
-    };
+    let footprints = a.footprints.load(&cloud.frame())?;
     let t1 = Instant::now();
     let (detection, used) = detect_scene(&cloud, None, footprints.as_deref(), &pd).map_err(err)?;
     let detect_s = t1.elapsed().as_secs_f64();

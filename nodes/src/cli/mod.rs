@@ -12,6 +12,7 @@ pub mod detections;
 pub mod echo;
 pub mod eval;
 pub mod field;
+pub mod footprints;
 pub mod info;
 pub mod merged;
 pub mod plan;

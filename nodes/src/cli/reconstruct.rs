@@ -5,7 +5,6 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud};
-use skyground_core::footprint::load_footprints_in;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
@@ -23,9 +22,8 @@ pub struct ReconstructArgs {
     /// The cloud (LAS/LAZ/PLY); building points are class 6 (all points when unlabelled).
     #[arg(long = "in")]
     pub input: PathBuf,
-    /// Footprints (GeoJSON, CityJSON, OBJ) in the cloud's coordinates; default: derived from the points.
-    #[arg(long)]
-    pub footprints: Option<PathBuf>,
+    #[command(flatten)]
+    pub footprints: super::footprints::FootprintsArg,
     /// Output folder: models.city.json, models.obj, reconstruct.json.
     #[arg(long)]
     pub out: PathBuf,
@@ -174,14 +172,11 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         )));
     }
     let cloud = read_cloud(&a.input).map_err(err)?;
-    let loaded = match &a.footprints {
-        Some(p) => Some(load_footprints_in(p, &cloud.frame()).map_err(err)?),
-        None => None,
-    };
+    let footprints = a.footprints.load(&cloud.frame())?;
     let t0 = std::time::Instant::now();
     let rec = reconstruct_and_write(
         &cloud,
-        loaded.as_ref().map(|l| l.footprints.as_slice()),
+        footprints.as_deref(),
         &a.out,
         "models",
         a.crs.as_deref(),
@@ -246,7 +241,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         .collect();
     let value = serde_json::json!({
         "input": a.input,
-        "footprints": a.footprints,
+        "footprints": a.footprints.footprints,
         "models_written": a.out.join("models.city.json"),
         "models": rec.models.len(),
         "skipped": rec.skipped.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
