@@ -15,7 +15,7 @@ use skyground_core::classify::{
     hag_from_ground_points, simulated_cloud, train,
 };
 use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
-use skyground_core::cloud::read_cloud;
+use skyground_core::cloud::{ColumnLength, read_cloud};
 use skyground_core::features::{Echoes, FeatureError};
 use skyground_core::forest::ForestParams;
 use skyground_core::lidar::{AirborneConfig, FlightPattern};
@@ -158,14 +158,17 @@ fn bad_input_gives_typed_errors() {
     ));
     assert!(matches!(
         classify(&xyz, &hag[..10], &ground, None, &model),
-        Err(ClassifyError::LengthMismatch { what: "hag", .. })
+        Err(ClassifyError::LengthMismatch(ColumnLength {
+            column: "hag",
+            ..
+        }))
     ));
     assert!(matches!(
         classify(&xyz, &hag, &ground[..49], None, &model),
-        Err(ClassifyError::LengthMismatch {
-            what: "is_ground",
+        Err(ClassifyError::LengthMismatch(ColumnLength {
+            column: "is_ground",
             ..
-        })
+        }))
     ));
     let mut nan = xyz.clone();
     nan[5][2] = f32::NAN;
@@ -196,7 +199,7 @@ fn bad_input_gives_typed_errors() {
     );
     assert!(matches!(
         ClassReport::new(&[1, 2], &[2]),
-        Err(ClassifyError::LengthMismatch { .. })
+        Err(ClassifyError::LengthMismatch(_))
     ));
     let missing = PathBuf::from("/nonexistent/model.json");
     assert!(matches!(

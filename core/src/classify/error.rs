@@ -1,5 +1,6 @@
 //! What can go wrong classifying, training or loading a model.
 
+use crate::cloud::ColumnLength;
 use crate::features::FeatureError;
 use crate::forest::ForestError;
 
@@ -19,15 +20,8 @@ pub enum ClassifyError {
     #[error(transparent)]
     Param(#[from] crate::params::ParamError),
     /// A per-point column does not match the cloud.
-    #[error("{what} has {got} values but the cloud has {expected} points")]
-    LengthMismatch {
-        /// Which column.
-        what: &'static str,
-        /// Number of points.
-        expected: usize,
-        /// Number of values given.
-        got: usize,
-    },
+    #[error(transparent)]
+    LengthMismatch(#[from] ColumnLength),
     /// The cloud has no points.
     #[error("the cloud is empty")]
     Empty,
@@ -65,20 +59,4 @@ pub enum ClassifyError {
         /// What failed.
         message: String,
     },
-}
-
-impl ClassifyError {
-    /// `Ok` when column `what` has one value (`got` of them) per point
-    /// (`expected`), else [`ClassifyError::LengthMismatch`].
-    pub fn check_length(what: &'static str, expected: usize, got: usize) -> Result<(), Self> {
-        if got == expected {
-            Ok(())
-        } else {
-            Err(Self::LengthMismatch {
-                what,
-                expected,
-                got,
-            })
-        }
-    }
 }

@@ -8,6 +8,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
 use super::error::ClassifyError;
+use crate::cloud::ColumnLength;
 
 /// Ground points interpolated per query.
 const NEIGHBOURS: usize = 6;
@@ -18,7 +19,7 @@ pub fn hag_from_ground_points(
     xyz: &[[f32; 3]],
     is_ground: &[bool],
 ) -> Result<Vec<f32>, ClassifyError> {
-    ClassifyError::check_length("is_ground", xyz.len(), is_ground.len())?;
+    ColumnLength::check("is_ground", xyz.len(), is_ground.len())?;
     if let Some(index) = xyz.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
         return Err(ClassifyError::NonFinite { index });
     }
@@ -73,7 +74,7 @@ mod tests {
         assert!(h[..400].iter().all(|v| v.abs() < 1e-5));
         assert!(matches!(
             hag_from_ground_points(&xyz, &flags[..3]),
-            Err(ClassifyError::LengthMismatch { .. })
+            Err(ClassifyError::LengthMismatch(_))
         ));
         assert!(matches!(
             hag_from_ground_points(&xyz, &vec![false; xyz.len()]),

@@ -4,6 +4,7 @@ use super::error::ClassifyError;
 use super::model::Model;
 use super::roofs::check_roofs;
 use super::smooth::{argmax_rows, smooth_votes};
+use crate::cloud::ColumnLength;
 use crate::cloud::class::{GROUND, UNCLASSIFIED};
 use crate::features::{Echoes, compute_subset};
 
@@ -23,7 +24,7 @@ pub fn classify(
         return Err(ClassifyError::Empty);
     }
     for (what, got) in [("hag", hag.len()), ("is_ground", is_ground.len())] {
-        ClassifyError::check_length(what, xyz.len(), got)?;
+        ColumnLength::check(what, xyz.len(), got)?;
     }
     model.check()?;
     let rows: Vec<usize> = (0..xyz.len()).filter(|&i| !is_ground[i]).collect();

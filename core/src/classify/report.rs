@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::ClassifyError;
+use crate::cloud::ColumnLength;
 use crate::cloud::class::{BUILDING, GROUND, UNCLASSIFIED, VEGETATION, fold};
 
 /// Precision, recall and F1 of one class.
@@ -60,7 +61,7 @@ impl ClassReport {
 
     /// Compares `predicted` with `truth` (producer LAS codes, folded).
     pub fn new(truth: &[u8], predicted: &[u8]) -> Result<Self, ClassifyError> {
-        ClassifyError::check_length("predicted labels", truth.len(), predicted.len())?;
+        ColumnLength::check("predicted labels", truth.len(), predicted.len())?;
         let classes = vec![UNCLASSIFIED, GROUND, VEGETATION, BUILDING];
         let at = |c: u8| classes.iter().position(|&k| k == fold(c)).unwrap_or(0);
         let mut confusion = vec![vec![0u64; classes.len()]; classes.len()];

@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::error::ClassifyError;
 use super::model::Model;
 use super::pipeline::classify;
-use crate::cloud::{Cloud, class};
+use crate::cloud::{Cloud, ColumnLength, class};
 use crate::features::Echoes;
 use crate::ground::{CsfParams, GroundSplit, csf};
 
@@ -137,7 +137,7 @@ impl GroundReport {
     /// over the points of producer class 2–6, or over all points when the
     /// reference labels no class 3–6 point.
     pub fn new(truth: &[u8], is_ground: &[bool]) -> Result<Self, ClassifyError> {
-        ClassifyError::check_length("ground flags", truth.len(), is_ground.len())?;
+        ColumnLength::check("ground flags", truth.len(), is_ground.len())?;
         if truth.is_empty() {
             return Err(ClassifyError::Empty);
         }

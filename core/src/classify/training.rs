@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 use super::error::ClassifyError;
 use super::hag::hag_from_ground_points;
 use super::model::Model;
-use crate::cloud::Cloud;
 use crate::cloud::class::{BUILDING, GROUND, VEGETATION, fold};
+use crate::cloud::{Cloud, ColumnLength};
 use crate::features::{Echoes, FEATURE_NAMES, FeatureParams, compute_subset};
 use crate::forest::{ForestParams, RandomForest};
 use crate::ground::{CsfParams, csf};
@@ -93,7 +93,7 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
     let mut x = Vec::new();
     let mut y = Vec::new();
     for (ci, c) in clouds.iter().enumerate() {
-        ClassifyError::check_length("training labels", c.xyz.len(), c.label.len())?;
+        ColumnLength::check("training labels", c.xyz.len(), c.label.len())?;
         let rows = balanced_rows(
             &c.label,
             c.candidates.as_deref(),

@@ -2,19 +2,40 @@
 
 use crate::crs::{Crs, LinearUnit, SourceFrame, UnitSource};
 
+/// A per-point column (labels, building ids, heights, an attribute) that
+/// does not hold one value per point: the one error every step that takes
+/// columns beside `xyz` gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("`{column}` has {got} values but the cloud has {expected} points")]
+pub struct ColumnLength {
+    /// The column's name.
+    pub column: &'static str,
+    /// Number of points.
+    pub expected: usize,
+    /// Number of values in the column.
+    pub got: usize,
+}
+
+impl ColumnLength {
+    /// `Ok` when `column` has one value (`got` of them) per point (`expected`).
+    pub fn check(column: &'static str, expected: usize, got: usize) -> Result<(), Self> {
+        if got == expected {
+            return Ok(());
+        }
+        Err(Self {
+            column,
+            expected,
+            got,
+        })
+    }
+}
+
 /// Errors about the shape of a [`Cloud`] itself (not about any file format).
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum CloudError {
     /// An optional attribute column does not have one value per point.
-    #[error("attribute `{name}` has {got} values but the cloud has {expected} points")]
-    AttributeLength {
-        /// Attribute name (intensity, label, building).
-        name: &'static str,
-        /// Number of points.
-        expected: usize,
-        /// Number of values in the attribute.
-        got: usize,
-    },
+    #[error(transparent)]
+    AttributeLength(#[from] ColumnLength),
 }
 
 /// A point cloud in a local metric frame (`map`), structure-of-arrays.
@@ -84,22 +105,22 @@ impl Cloud {
     /// Checks that every present attribute has one value per point.
     pub fn validate(&self) -> Result<(), CloudError> {
         let n = self.xyz.len();
-        let check = |name: &'static str, got: Option<usize>| match got {
-            Some(got) if got != n => Err(CloudError::AttributeLength {
-                name,
-                expected: n,
-                got,
-            }),
-            _ => Ok(()),
-        };
-        check("intensity", self.intensity.as_ref().map(Vec::len))?;
-        check("label", self.label.as_ref().map(Vec::len))?;
-        check("building", self.building.as_ref().map(Vec::len))?;
-        check("return_number", self.return_number.as_ref().map(Vec::len))?;
-        check(
-            "number_of_returns",
-            self.number_of_returns.as_ref().map(Vec::len),
-        )
+        let columns = [
+            ("intensity", self.intensity.as_ref().map(Vec::len)),
+            ("label", self.label.as_ref().map(Vec::len)),
+            ("building", self.building.as_ref().map(Vec::len)),
+            ("return_number", self.return_number.as_ref().map(Vec::len)),
+            (
+                "number_of_returns",
+                self.number_of_returns.as_ref().map(Vec::len),
+            ),
+        ];
+        for (column, got) in columns {
+            if let Some(got) = got {
+                ColumnLength::check(column, n, got)?;
+            }
+        }
+        Ok(())
     }
 
     /// Number of points per label value (index = label), when labels exist.
@@ -213,11 +234,11 @@ mod tests {
         c.label = Some(vec![1, 2]);
         assert_eq!(
             c.validate(),
-            Err(CloudError::AttributeLength {
-                name: "label",
+            Err(CloudError::AttributeLength(ColumnLength {
+                column: "label",
                 expected: 3,
                 got: 2
-            })
+            }))
         );
         c.label = Some(vec![1, 2, 3]);
         assert_eq!(c.validate(), Ok(()));

@@ -10,6 +10,7 @@ use super::error::FeatureError;
 use super::params::FeatureParams;
 use super::shape::nearest_moments;
 use super::voxel::{ScaleStats, VoxelStats, thin, voxel_stats};
+use crate::cloud::ColumnLength;
 
 /// Column names of [`Features::data`], in order. `knn_*` lengths are divided
 /// by the k-NN radius (scale-free); `r1_*` / `r2_*` are the small / large
@@ -106,13 +107,7 @@ pub fn compute_subset(
             ("return_number", e.return_number.len()),
             ("number_of_returns", e.number_of_returns.len()),
         ] {
-            if got != xyz.len() {
-                return Err(FeatureError::LengthMismatch {
-                    what,
-                    expected: xyz.len(),
-                    got,
-                });
-            }
+            ColumnLength::check(what, xyz.len(), got)?;
         }
     }
     if let Some(&row) = rows.iter().find(|&&r| r >= xyz.len()) {
@@ -186,13 +181,7 @@ fn check_input(xyz: &[[f32; 3]], hag: &[f32], params: &FeatureParams) -> Result<
     if xyz.is_empty() {
         return Err(FeatureError::Empty { need });
     }
-    if hag.len() != xyz.len() {
-        return Err(FeatureError::LengthMismatch {
-            what: "hag",
-            expected: xyz.len(),
-            got: hag.len(),
-        });
-    }
+    ColumnLength::check("hag", xyz.len(), hag.len())?;
     if xyz.len() < need {
         return Err(FeatureError::TooFewPoints {
             got: xyz.len(),
@@ -254,7 +243,7 @@ mod tests {
         ];
         assert!(matches!(
             compute(&xyz, &[0.0; 3], None, &p),
-            Err(FeatureError::LengthMismatch { got: 3, .. })
+            Err(FeatureError::LengthMismatch(ColumnLength { got: 3, .. }))
         ));
         let mut nan = xyz.clone();
         nan[2][1] = f32::NAN;

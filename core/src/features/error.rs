@@ -18,15 +18,8 @@ pub enum FeatureError {
         need: usize,
     },
     /// `hag` (or another per-point column) does not match `xyz`.
-    #[error("{what} has {got} values but the cloud has {expected} points")]
-    LengthMismatch {
-        /// Which column.
-        what: &'static str,
-        /// Number of points.
-        expected: usize,
-        /// Number of values given.
-        got: usize,
-    },
+    #[error(transparent)]
+    LengthMismatch(#[from] crate::cloud::ColumnLength),
     /// A coordinate or height is NaN or infinite.
     #[error("{what} of point {index} is not finite: drop or repair such points first")]
     NonFinite {

@@ -7,13 +7,8 @@ pub enum GraphError {
     #[error(transparent)]
     Param(#[from] crate::params::ParamError),
     /// `labels` does not have one entry per point.
-    #[error("cloud has {points} points but {labels} labels")]
-    LabelLength {
-        /// Number of points.
-        points: usize,
-        /// Number of labels.
-        labels: usize,
-    },
+    #[error(transparent)]
+    LabelLength(#[from] crate::cloud::ColumnLength),
     /// No finite point is labelled ground (class 2): classify the cloud first.
     #[error("no ground points (class 2) in the cloud: classify it first")]
     NoGround,

@@ -8,6 +8,7 @@ use super::cells::{bin_ground, drivable, filled_heights};
 use super::error::GraphError;
 use super::obstacles::{Band, GroundHeights, ObstacleMap};
 use super::params::{GraphParams, MAX_OCCUPANCY_CELLS};
+use crate::cloud::ColumnLength;
 use crate::density::Density;
 use crate::geom::ring::Ring;
 use crate::geom::tiled::TiledFrame;
@@ -105,12 +106,7 @@ impl GroundGraph {
         params: &GraphParams,
     ) -> Result<Self, GraphError> {
         params.validate()?;
-        if labels.len() != xyz.len() {
-            return Err(GraphError::LabelLength {
-                points: xyz.len(),
-                labels: labels.len(),
-            });
-        }
+        ColumnLength::check("labels", xyz.len(), labels.len())?;
         let density = Density::measure_where(xyz, |i| drivable(labels[i]));
         let params = &match density {
             Some(d) => params.resolved(&d),

@@ -74,7 +74,7 @@ fn bad_input_gives_errors() {
     let p = GraphParams::default();
     assert!(matches!(
         GroundGraph::build(&xyz, &lab[1..], [2.0, 2.0, 0.0], &p),
-        Err(GraphError::LabelLength { .. })
+        Err(GraphError::LabelLength(_))
     ));
     let none = vec![6u8; xyz.len()];
     assert_eq!(

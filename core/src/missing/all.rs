@@ -10,6 +10,7 @@ use super::building::detect_building_on;
 use super::detection::{BuildingDetection, Detection, SkipReason};
 use super::ground::GroundGrid;
 use super::params::DetectParams;
+use crate::cloud::ColumnLength;
 use crate::density::Density;
 use crate::params::ParamError;
 
@@ -20,13 +21,8 @@ pub enum DetectError {
     #[error(transparent)]
     Params(#[from] ParamError),
     /// The building-id column does not match the points.
-    #[error("building ids ({ids}) and points ({points}) differ in length")]
-    IdLength {
-        /// Ids given.
-        ids: usize,
-        /// Points given.
-        points: usize,
-    },
+    #[error(transparent)]
+    IdLength(#[from] ColumnLength),
 }
 
 /// Runs [`detect_building`] on every building id (> 0) in `building` (one id
@@ -52,12 +48,7 @@ pub fn detect_all_on(
     params: &DetectParams,
 ) -> Result<Detection, DetectError> {
     params.validate()?;
-    if xyz.len() != building.len() {
-        return Err(DetectError::IdLength {
-            ids: building.len(),
-            points: xyz.len(),
-        });
-    }
+    ColumnLength::check("building ids", xyz.len(), building.len())?;
     // One density for the whole cloud's buildings, so every building is
     // sliced alike.
     let own: Vec<[f32; 3]> = xyz

@@ -10,16 +10,17 @@ use super::generate::{Dropped, generate};
 use super::params::TargetParams;
 use super::site::{Site, SiteError};
 use super::types::TargetSet;
-use crate::cloud::Cloud;
+use crate::cloud::{Cloud, ColumnLength};
 use crate::missing::{BuildingDetection, Detection, MissingPoint, Strategy};
 use crate::params::ParamError;
 
 impl Site {
     /// The site of a classified cloud with the cell and clearance of `params`.
     pub fn from_classified(cloud: &Cloud, params: &TargetParams) -> Result<Site, SiteError> {
-        let labels = cloud.label.as_deref().ok_or(SiteError::LabelLength {
-            labels: 0,
-            points: cloud.len(),
+        let labels = cloud.label.as_deref().ok_or(ColumnLength {
+            column: "labels",
+            expected: cloud.len(),
+            got: 0,
         })?;
         Site::from_cloud(&cloud.xyz, labels, params.cell, params.clearance)
     }

@@ -3,7 +3,7 @@
 
 use thiserror::Error;
 
-use crate::cloud::class;
+use crate::cloud::{ColumnLength, class};
 use crate::geom::grid::{self, GridFrame, Neighbours};
 use crate::ground::{Dtm, xy_extent};
 
@@ -11,13 +11,8 @@ use crate::ground::{Dtm, xy_extent};
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SiteError {
     /// Labels do not match the points.
-    #[error("labels ({labels}) and points ({points}) differ in length")]
-    LabelLength {
-        /// Labels given.
-        labels: usize,
-        /// Points given.
-        points: usize,
-    },
+    #[error(transparent)]
+    LabelLength(#[from] ColumnLength),
     /// The cell size is not positive.
     #[error("site cell must be a positive finite number, got {0}")]
     Cell(f32),
@@ -53,12 +48,7 @@ impl Site {
         cell: f32,
         clearance: f32,
     ) -> Result<Site, SiteError> {
-        if xyz.len() != labels.len() {
-            return Err(SiteError::LabelLength {
-                labels: labels.len(),
-                points: xyz.len(),
-            });
-        }
+        ColumnLength::check("labels", xyz.len(), labels.len())?;
         if !(cell.is_finite() && cell > 0.0) {
             return Err(SiteError::Cell(cell));
         }
