@@ -7,7 +7,7 @@ use skyground_core::lidar::{
     AirborneConfig, CastBackend, Caster, CasterError, FlightPattern, LidarConfig, Pose, Ray,
     airborne_scan, scan,
 };
-use skyground_core::scene::{ObjectKind, Scene, SceneObject};
+use skyground_core::scene::{ObjectKind, Scene, SceneCheckError, SceneObject};
 
 /// A small deterministic generator for test inputs.
 struct Lcg(u64);
@@ -446,27 +446,29 @@ fn malformed_scenes_are_rejected_with_the_culprit() {
     s.triangle_object.pop();
     assert!(matches!(
         Caster::new(&s),
-        Err(CasterError::TriangleObjectLength { .. })
+        Err(CasterError::Scene(
+            SceneCheckError::TriangleObjectLength { .. }
+        ))
     ));
     let mut s = street_scene();
     s.triangles[3][1] = 10_000;
     assert_eq!(
         Caster::new(&s).unwrap_err(),
-        CasterError::VertexIndex {
+        CasterError::Scene(SceneCheckError::VertexIndex {
             triangle: 3,
-            index: 10_000,
+            vertex: 10_000,
             vertices: s.vertices.len()
-        }
+        })
     );
     let mut s = street_scene();
     s.triangle_object[5] = 9;
     assert!(matches!(
         Caster::new(&s),
-        Err(CasterError::ObjectIndex {
+        Err(CasterError::Scene(SceneCheckError::ObjectIndex {
             triangle: 5,
             object: 9,
             ..
-        })
+        }))
     ));
     // Empty scenes and degenerate triangles are fine.
     let empty = Caster::new(&Scene::default()).unwrap();

@@ -7,39 +7,14 @@ use super::bvh::{Bvh, PACKET};
 use super::parry_mesh::ParryMesh;
 use super::ray::{Hit, Ray, cross, normalize, sub};
 use super::triangle::PreparedRay;
-use crate::scene::{ObjectKind, Scene, SceneObject};
+use crate::scene::{ObjectKind, Scene, SceneCheckError, SceneObject};
 
 /// Why a scene cannot be indexed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum CasterError {
-    /// `triangle_object` does not have one entry per triangle.
-    #[error("scene has {triangles} triangles but {tags} triangle_object entries")]
-    TriangleObjectLength {
-        /// Number of triangles.
-        triangles: usize,
-        /// Number of `triangle_object` entries.
-        tags: usize,
-    },
-    /// A triangle refers to a vertex that does not exist.
-    #[error("triangle {triangle} refers to vertex {index} but the scene has {vertices} vertices")]
-    VertexIndex {
-        /// Triangle index.
-        triangle: usize,
-        /// The bad vertex index.
-        index: u32,
-        /// Number of vertices.
-        vertices: usize,
-    },
-    /// A triangle is tagged with an object that does not exist.
-    #[error("triangle {triangle} belongs to object {object} but the scene has {objects} objects")]
-    ObjectIndex {
-        /// Triangle index.
-        triangle: usize,
-        /// The bad object index.
-        object: u32,
-        /// Number of objects.
-        objects: usize,
-    },
+    /// The scene's arrays do not fit together (lengths, vertex or object indices).
+    #[error("scene: {0}")]
+    Scene(#[from] SceneCheckError),
     /// More triangles than 32-bit ids can name.
     #[error("scene has {0} triangles; at most 2^32 - 1 are supported")]
     TooManyTriangles(usize),
@@ -110,13 +85,7 @@ impl Caster {
         if n >= u32::MAX as usize {
             return Err(CasterError::TooManyTriangles(n));
         }
-        if scene.triangle_object.len() != n {
-            return Err(CasterError::TriangleObjectLength {
-                triangles: n,
-                tags: scene.triangle_object.len(),
-            });
-        }
-        let nv = scene.vertices.len();
+        scene.check_indices()?;
         let mut tris = Vec::with_capacity(n);
         let mut ids = Vec::with_capacity(n);
         let mut lo = [f32::INFINITY; 3];
@@ -128,24 +97,8 @@ impl Caster {
             .zip(&scene.triangle_object)
             .enumerate()
         {
-            if obj as usize >= scene.objects.len() {
-                return Err(CasterError::ObjectIndex {
-                    triangle: t,
-                    object: obj,
-                    objects: scene.objects.len(),
-                });
-            }
-            let mut v = [[0.0f32; 3]; 3];
-            for (slot, &index) in v.iter_mut().zip(tri) {
-                *slot = *scene
-                    .vertices
-                    .get(index as usize)
-                    .ok_or(CasterError::VertexIndex {
-                        triangle: t,
-                        index,
-                        vertices: nv,
-                    })?;
-            }
+            // Indices are in range: check_indices above.
+            let v = tri.map(|i| scene.vertices[i as usize]);
             let finite = v.iter().flatten().all(|x| x.is_finite());
             let area2 = cross(sub(v[1], v[0]), sub(v[2], v[0]));
             if !finite || area2 == [0.0; 3] {

@@ -67,12 +67,7 @@ impl EdgeDefects {
 impl Scene {
     /// Checks array lengths, indices and finiteness.
     pub fn validate(&self) -> Result<(), SceneCheckError> {
-        if self.triangle_object.len() != self.triangles.len() {
-            return Err(SceneCheckError::TriangleObjectLength {
-                triangles: self.triangles.len(),
-                labels: self.triangle_object.len(),
-            });
-        }
+        self.check_lengths()?;
         if let Some(vertex) = self
             .vertices
             .iter()
@@ -80,6 +75,27 @@ impl Scene {
         {
             return Err(SceneCheckError::NonFiniteVertex { vertex });
         }
+        self.check_index_range()
+    }
+
+    /// Checks array lengths and indices only: what the ray caster needs (it
+    /// skips a triangle with a non-finite corner rather than refuse the scene).
+    pub fn check_indices(&self) -> Result<(), SceneCheckError> {
+        self.check_lengths()?;
+        self.check_index_range()
+    }
+
+    fn check_lengths(&self) -> Result<(), SceneCheckError> {
+        if self.triangle_object.len() != self.triangles.len() {
+            return Err(SceneCheckError::TriangleObjectLength {
+                triangles: self.triangles.len(),
+                labels: self.triangle_object.len(),
+            });
+        }
+        Ok(())
+    }
+
+    fn check_index_range(&self) -> Result<(), SceneCheckError> {
         for (triangle, (t, &object)) in self.triangles.iter().zip(&self.triangle_object).enumerate()
         {
             if let Some(&vertex) = t.iter().find(|&&i| i as usize >= self.vertices.len()) {
