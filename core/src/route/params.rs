@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::drive_by::ViewSlack;
 use super::error::RouteError;
 
 /// Which tour the route follows.
@@ -28,15 +29,15 @@ pub struct RouteParams {
     pub tour: TourChoice,
     /// Improvement passes of 2-opt + Or-opt at most (each pass is O(n²)).
     pub max_passes: u32,
-    /// A point stop the vehicle has already driven past this close (xy, m)
-    /// is dropped: its 360° LiDAR saw from there what it would see at the
-    /// stop. 0 (the default: no gain measured) keeps every stop.
-    pub skip_passed_m: f32,
-    /// A point stop is dropped once every gap it would see was in view
-    /// from where the vehicle drove (the targets' `sees` test on the
-    /// driven positions); the rest of the round follows the planned order.
-    /// Off by default: on the reference it drove more (docs/profile.md).
+    /// A point stop is left off the route when every gap it would see is
+    /// in view from where the rest of the route drives anyway (the targets'
+    /// `sees` test along the route without it), decided when the route is made.
     pub skip_seen: bool,
+    /// With `skip_seen`, a view from the way counts for a gap only if it is
+    /// at most this many times farther from it than the stop.
+    pub seen_range_ratio: f32,
+    /// With `skip_seen`, and at most this many degrees more oblique than the stop's view.
+    pub seen_extra_incidence_deg: f32,
 }
 
 impl Default for RouteParams {
@@ -45,13 +46,22 @@ impl Default for RouteParams {
             max_snap_m: 3.0,
             tour: TourChoice::Shortest,
             max_passes: 100,
-            skip_passed_m: 0.0,
             skip_seen: false,
+            seen_range_ratio: 1.25,
+            seen_extra_incidence_deg: 15.0,
         }
     }
 }
 
 impl RouteParams {
+    /// How much worse than a stop's a view from the way may be (`skip_seen`).
+    pub fn view_slack(&self) -> ViewSlack {
+        ViewSlack {
+            range_ratio: self.seen_range_ratio,
+            extra_incidence_deg: self.seen_extra_incidence_deg,
+        }
+    }
+
     /// Checks every field's range.
     pub fn validate(&self) -> Result<(), RouteError> {
         if !(self.max_snap_m.is_finite() && self.max_snap_m > 0.0) {
@@ -61,11 +71,18 @@ impl RouteParams {
                 expected: "must be finite and > 0",
             });
         }
-        if !(self.skip_passed_m.is_finite() && self.skip_passed_m >= 0.0) {
+        if !(self.seen_range_ratio.is_finite() && self.seen_range_ratio >= 1.0) {
             return Err(RouteError::Param {
-                field: "skip_passed_m",
-                value: f64::from(self.skip_passed_m),
-                expected: "must be finite and ≥ 0",
+                field: "seen_range_ratio",
+                value: f64::from(self.seen_range_ratio),
+                expected: "must be finite and ≥ 1",
+            });
+        }
+        if !(0.0..=180.0).contains(&self.seen_extra_incidence_deg) {
+            return Err(RouteError::Param {
+                field: "seen_extra_incidence_deg",
+                value: f64::from(self.seen_extra_incidence_deg),
+                expected: "must be within 0–180",
             });
         }
         if self.max_passes > 100_000 {
