@@ -44,8 +44,8 @@ pub struct RoofCheck {
     /// keeps its label only when it holds a roof.
     pub link_m: f32,
     /// Non-ground points under a roof or beside it within this distance
-    /// (m), and not above it, are building (walls, eaves, balconies), at
-    /// any height above the ground. Negative: off.
+    /// (m), and not more than `above_roof_m` over it, are building (walls,
+    /// eaves, balconies), at any height above the ground. Negative: off.
     pub under_roof_m: f32,
     /// The roofs' 2D outline is closed by this radius (m) before it is
     /// grown by `under_roof_m`: gaps between a building's roof planes and
@@ -206,7 +206,8 @@ fn walls_under_roofs(
         if *l != VEGETATION {
             continue;
         }
-        // A crown over a roof stands above it; what is under is the house.
+        // A crown over a roof stands above it (more than a chimney does);
+        // what is under is the house.
         if top.get(&cell_of(p)).is_some_and(|&z| p[2] <= z + above) {
             *l = BUILDING;
             n += 1;
