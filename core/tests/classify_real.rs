@@ -11,8 +11,8 @@
 //! The floors are the bars where the held-out figure meets them
 //! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
 //! total error ≤ 5 % on the IGN tiles) and the measured figure less a small
-//! margin where it does not (St Barth building F1 0.875, the Nebraska
-//! snippet 0.673); see the README's "Classification on real surveys".
+//! margin where it does not (St Barth building F1 0.879, the Nebraska
+//! snippet 0.695); see the README's "Classification on real surveys".
 
 use std::path::PathBuf;
 
@@ -116,7 +116,7 @@ fn ign_st_barth_left_out() {
     left_out(
         "ign_stbarth_100x100m.laz",
         "ign_montpellier_150x100m.laz",
-        0.86,
+        0.87,
     );
 }
 
@@ -156,10 +156,10 @@ fn nebraska_snippet_held_out() {
     let Some(s) = score("laspy_nebraska_ftus.las", shipped()) else {
         return;
     };
-    // 1,119 of its 3,737 producer building points lie 2–9 m above the
-    // roof's highest point, inside a tree crown: a classifier that calls
-    // the crown vegetation loses them all.
-    assert!(s.building_f1 >= 0.65, "building F1 {:.3}", s.building_f1);
+    // 1,168 of its 3,737 producer building points lie 2.0–8.9 m above
+    // their roof's highest point, inside a tree crown: a classifier that
+    // calls the crown vegetation loses them all.
+    assert!(s.building_f1 >= 0.68, "building F1 {:.3}", s.building_f1);
     let v = s.vegetation_f1.unwrap_or(0.0);
     assert!(v >= 0.85, "vegetation F1 {v:.3}");
 }

@@ -114,7 +114,7 @@ def test_demo_on_a_small_scene_finishes_gains_and_records_every_topic(tmp_path, 
     for name in ("report.md", "overview.png", "resampled.las"):
         assert (out / name).stat().st_size > 0, name
     counts = topic_counts(out / "mission.mcap")
-    for topic in ("/aerial_cloud", "/classified_cloud", "/missing_points", "/completeness",
+    for topic in ("/aerial_cloud", "/georeference", "/classified_cloud", "/missing_points", "/completeness",
                   "/target_points", "/global_path", "/local_path", "/planner_status",
                   "/state_estimation", "/registered_scan_throttle", "/resampled_cloud", "/tf", "/tf_static"):
         assert counts.get(topic, 0) >= 1, (topic, counts)

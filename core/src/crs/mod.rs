@@ -56,6 +56,32 @@ pub enum UnitSource {
     Assumed,
 }
 
+impl UnitSource {
+    /// Its word, as serialised (`wkt`, `geotiff`, `epsg`, `user`, `assumed`).
+    pub fn word(self) -> &'static str {
+        match self {
+            Self::Wkt => "wkt",
+            Self::GeoTiff => "geotiff",
+            Self::Epsg => "epsg",
+            Self::User => "user",
+            Self::Assumed => "assumed",
+        }
+    }
+
+    /// The source a [`UnitSource::word`] names.
+    pub fn from_word(word: &str) -> Option<Self> {
+        [
+            Self::Wkt,
+            Self::GeoTiff,
+            Self::Epsg,
+            Self::User,
+            Self::Assumed,
+        ]
+        .into_iter()
+        .find(|s| s.word() == word.trim())
+    }
+}
+
 /// A CRS record set that could not be understood.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CrsError {

@@ -5,6 +5,7 @@
 //!
 //! - `protocol`: the status structs every node speaks, and their wire form;
 //! - `inspect`: cloud_inspector's /cloud_stats status;
+//! - `georef`: /georeference, the local frame's origin and CRS;
 //! - `ground`: the one ground graph planner and explorer share, blocked spots included;
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
 //! - `explorer`: when a region starts and ends, when scans count;
@@ -12,11 +13,13 @@
 
 pub mod detector;
 pub mod explorer;
+pub mod georef;
 pub mod ground;
 pub mod inspect;
 pub mod planner;
 pub mod protocol;
 
+pub use georef::Georeference;
 pub use inspect::{CloudStatus, CloudSummary, LabelCount};
 pub use protocol::{
     BlockedSpot, BuildingStatus, ExplorerState, ExplorerStatus, Phase, PlannerStatus,

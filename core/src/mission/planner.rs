@@ -7,8 +7,8 @@
 
 use crate::graph::{GraphParams, GroundGraph};
 use crate::missing::MissingPoint;
-use crate::route::{Route, RouteParams, Stop, Visited, in_order, replan};
-use crate::targets::{Region, SeenGaps, Site, TargetParams, TargetPoint, TargetSet};
+use crate::route::{Route, RouteParams, Stop, Visited, drop_seen_on_the_way, replan};
+use crate::targets::{Region, Site, TargetParams, TargetPoint, TargetSet};
 
 use super::ground;
 use super::protocol::{
@@ -110,18 +110,13 @@ pub struct Planner {
     retries: u32,
     restored: Option<PlannerStatus>,
     blocked: Vec<BlockedSpot>,
-    /// Where the vehicle drove this round, a position every half metre.
-    trail: Vec<[f32; 2]>,
-    /// The site and the latest missing points, and which of the round's
-    /// gaps the trail has seen (with `route.skip_seen`).
+    /// The site and the latest missing points (with `route.skip_seen`).
     site: Option<Site>,
     missing: Vec<MissingPoint>,
-    seen: Option<SeenGaps>,
+    /// Point stops of this round left off because the route sees their gaps anyway.
+    seen_on_the_way: Vec<usize>,
     out: Vec<PlannerCommand>,
 }
-
-/// Trail positions are kept this far apart at least (m).
-const TRAIL_STEP_M: f32 = 0.5;
 
 impl Planner {
     /// A planner waiting for its inputs.
@@ -143,10 +138,9 @@ impl Planner {
             retries: 0,
             restored: None,
             blocked: Vec::new(),
-            trail: Vec::new(),
             site: None,
             missing: Vec::new(),
-            seen: None,
+            seen_on_the_way: Vec::new(),
             out: Vec::new(),
         }
     }
@@ -186,17 +180,7 @@ impl Planner {
                 self.regions = Some((regions, stamp));
                 self.need_plan = true;
             }
-            PlannerEvent::Position(p) => {
-                self.position = Some(p);
-                let far = |q: &[f32; 2]| (q[0] - p[0]).hypot(q[1] - p[1]) >= TRAIL_STEP_M;
-                if self.route.is_some() && self.trail.last().is_none_or(far) {
-                    self.trail.push([p[0], p[1]]);
-                    if let (Some(seen), Some(site)) = (self.seen.as_mut(), self.site.as_ref()) {
-                        seen.look_from(site, [p[0], p[1]], &self.config.targets);
-                        self.skip_if_seen();
-                    }
-                }
-            }
+            PlannerEvent::Position(p) => self.position = Some(p),
             PlannerEvent::Missing(m) => self.missing = m,
             PlannerEvent::Restore(s) => self.restore(s),
             PlannerEvent::Vehicle(v) => self.on_vehicle(&v),
@@ -227,6 +211,7 @@ impl Planner {
             target_points: self.targets.points.len(),
             target_regions: self.targets.regions.len(),
             visited: self.visited.clone(),
+            seen_on_the_way: self.seen_on_the_way.clone(),
             unreachable_points: self.unreachable.0,
             unreachable_regions: self.unreachable.1,
             stops: route.map_or(0, |r| r.order.len()),
@@ -257,6 +242,7 @@ impl Planner {
             ground::apply(g, &s.blocked);
         }
         self.blocked = s.blocked.clone();
+        self.seen_on_the_way = s.seen_on_the_way.clone();
         self.restored = Some(s);
     }
 
@@ -309,14 +295,20 @@ impl Planner {
         let Some(graph) = self.graph.as_ref() else {
             return;
         };
+        // Stops left off stay off when the route is made again (after a block).
+        let dealt_with = Visited {
+            points: [&self.visited.points[..], &self.seen_on_the_way[..]].concat(),
+            regions: self.visited.regions.clone(),
+        };
         match replan(
             graph,
             &self.targets,
-            &self.visited,
+            &dealt_with,
             position,
             &self.config.route,
         ) {
             Ok(route) => {
+                let route = self.drop_seen(route);
                 self.out.push(PlannerCommand::Info(format!(
                     "round {}: route over {} stops, {:.0} m (greedy {:.0} m, TSP {:.0} m, streets {:.0} m), {} points and {} regions unreachable",
                     self.round,
@@ -344,13 +336,43 @@ impl Planner {
         }
     }
 
+    /// With `route.skip_seen`, the route without the point stops whose
+    /// gaps the rest of it sees anyway (they are remembered for the round).
+    fn drop_seen(&mut self, route: Route) -> Route {
+        let (Some(graph), Some(site)) = (self.graph.as_ref(), self.site.as_ref()) else {
+            return route;
+        };
+        if !self.config.route.skip_seen || self.missing.is_empty() {
+            return route;
+        }
+        let before = (route.order.len(), route.length_m);
+        let d = drop_seen_on_the_way(
+            graph,
+            &route,
+            &self.targets,
+            (&self.missing, site),
+            &self.config.targets,
+            self.config.route.view_slack(),
+        );
+        if !d.dropped.is_empty() {
+            self.out.push(PlannerCommand::Info(format!(
+                "round {}: {} of {} stops left off, the route sees their gaps anyway ({:.0} → {:.0} m)",
+                self.round,
+                d.dropped.len(),
+                before.0,
+                before.1,
+                d.route.length_m
+            )));
+        }
+        self.seen_on_the_way.extend(d.dropped);
+        d.route
+    }
+
     /// New targets: a new round, or the restored one if it matches.
     fn new_round(&mut self, targets: TargetSet) {
         self.visited = Visited::default();
+        self.seen_on_the_way.clear();
         self.retries = 0;
-        self.trail.clear();
-        self.seen = (self.config.route.skip_seen && self.site.is_some())
-            .then(|| SeenGaps::new(self.missing.clone(), self.config.targets.stop_range));
         self.round += 1;
         if let Some(s) = self.restored.take()
             && s.target_points == targets.points.len()
@@ -358,6 +380,7 @@ impl Planner {
         {
             self.round = s.round;
             self.visited = s.visited;
+            self.seen_on_the_way = s.seen_on_the_way;
         }
         self.targets = targets;
     }
@@ -424,11 +447,7 @@ impl Planner {
             Some(Stop::Point(i)) => {
                 self.visited.points.push(i);
                 self.retries = 0;
-                if self.drop_passed(k) > 0 {
-                    self.route_rest_in_order(k);
-                } else {
-                    self.start_leg(k + 1);
-                }
+                self.start_leg(k + 1);
             }
             Some(Stop::Region(i)) => {
                 self.phase = Phase::Exploring(k);
@@ -439,121 +458,6 @@ impl Planner {
             }
             None => {}
         }
-    }
-
-    /// The point stop being driven to needs no visit once every gap it would
-    /// see is in view: it is dropped (with any later one in the same case)
-    /// and the rest of the round routed from here, without going there.
-    fn skip_if_seen(&mut self) {
-        let Phase::Driving(k) = self.phase else {
-            return;
-        };
-        let Some(Stop::Point(i)) = self.stop(k) else {
-            return;
-        };
-        let (Some(seen), Some(site), Some(t)) = (
-            self.seen.as_ref(),
-            self.site.as_ref(),
-            self.targets.points.get(i),
-        ) else {
-            return;
-        };
-        if !seen.nothing_new_from(site, t.xyz, &self.config.targets) {
-            return;
-        }
-        self.out.push(PlannerCommand::Info(format!(
-            "round {}: stop {i} dropped on the way: every gap it would see is in view",
-            self.round
-        )));
-        self.visited.points.push(i);
-        self.retries = 0;
-        self.drop_passed(k);
-        self.route_rest_in_order(k);
-    }
-
-    /// Routes from where the vehicle is over the stops after `k` not yet
-    /// visited, in the order planned: touring them again from a point short
-    /// of a stop turned the vehicle round more often than it saved metres.
-    fn route_rest_in_order(&mut self, k: usize) {
-        let (Some(graph), Some(route), Some(position)) =
-            (self.graph.as_ref(), self.route.as_ref(), self.position)
-        else {
-            return;
-        };
-        let rest: Vec<Stop> = route.order[k + 1..]
-            .iter()
-            .filter(|s| match s {
-                Stop::Point(i) => !self.visited.points.contains(i),
-                Stop::Region(i) => !self.visited.regions.contains(i),
-            })
-            .copied()
-            .collect();
-        match in_order(graph, &self.targets, &rest, position, &self.config.route) {
-            Ok(r) => {
-                self.out
-                    .push(PlannerCommand::GlobalPath(r.waypoints.clone()));
-                self.route = Some(r);
-                self.start_leg(0);
-            }
-            Err(e) => {
-                self.out
-                    .push(PlannerCommand::Warn(format!("cannot route the rest: {e}")));
-                self.need_plan = true;
-                self.phase = Phase::Waiting;
-            }
-        }
-    }
-
-    /// Marks visited every point stop after `k` that needs no visit: the
-    /// trail passed within `route.skip_passed_m`, or (`route.skip_seen`)
-    /// every gap it would see was in view from the trail. Returns how many.
-    fn drop_passed(&mut self, k: usize) -> usize {
-        let r = self.config.route.skip_passed_m;
-        let Some(route) = self.route.as_ref() else {
-            return 0;
-        };
-        let seen = self.seen.as_ref().zip(self.site.as_ref());
-        if r <= 0.0 && seen.is_none() {
-            return 0;
-        }
-        let passed_by = |t: &TargetPoint| {
-            r > 0.0
-                && self
-                    .trail
-                    .iter()
-                    .any(|q| (q[0] - t.xyz[0]).hypot(q[1] - t.xyz[1]) <= r)
-        };
-        let seen_from = |t: &TargetPoint| {
-            seen.is_some_and(|(g, site)| g.nothing_new_from(site, t.xyz, &self.config.targets))
-        };
-        let passed: Vec<usize> = route.order[k + 1..]
-            .iter()
-            .filter_map(|s| match s {
-                Stop::Point(i) => Some(*i),
-                Stop::Region(_) => None,
-            })
-            .filter(|i| !self.visited.points.contains(i))
-            .filter(|&i| {
-                self.targets
-                    .points
-                    .get(i)
-                    .is_some_and(|t| passed_by(t) || seen_from(t))
-            })
-            .collect();
-        if !passed.is_empty() {
-            let gaps = self
-                .seen
-                .as_ref()
-                .map(|g| format!("; {} of {} gaps seen so far", g.seen_count(), g.len()))
-                .unwrap_or_default();
-            self.out.push(PlannerCommand::Info(format!(
-                "round {}: {} stop(s) dropped, driven past or seen on the way: {passed:?}{gaps}",
-                self.round,
-                passed.len()
-            )));
-        }
-        self.visited.points.extend(&passed);
-        passed.len()
     }
 
     /// Something the prior did not show stands between the vehicle and a

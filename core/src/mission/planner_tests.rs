@@ -1,5 +1,3 @@
-use std::f32::consts::FRAC_1_SQRT_2;
-
 use super::*;
 use crate::geom::fixtures::flat_ground;
 
@@ -269,130 +267,59 @@ fn a_restarted_planner_goes_on_where_it_was() {
     assert_eq!((q.round(), q.status().visited.points.len()), (1, 0));
 }
 
-/// Stops at (10, 5), (35, 5) and `third` (point 2), gaps `gaps`: the vehicle
-/// sets off from (1, 5) to (10, 5), passes the positions `way` (y = 5.5) and
-/// arrives. Returns the visited points and the next leg's goal.
-fn past_a_third_stop(
-    route: RouteParams,
-    third: [f32; 3],
-    gaps: &[MissingPoint],
-    way: &[f32],
-) -> (Vec<usize>, [f32; 3]) {
-    let mut p = Planner::new(PlannerConfig {
-        graph: GraphParams::default(),
-        route,
-        block_retries: 2,
-        targets: TargetParams::default(),
-    });
-    let (xyz, labels) = flat_ground(160, 40, 0.25);
-    p.handle(PlannerEvent::Cloud { xyz, labels });
-    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
-    p.handle(PlannerEvent::Missing(gaps.to_vec()));
-    let mut points = two_points();
-    points.push(TargetPoint {
-        xyz: third,
-        building: 3,
-    });
-    let out = points_only(&mut p, points, 1);
-    let first = *legs(&out)[0].last().expect("pose");
-    assert!((first[0] - 10.0).abs() < 1.0, "first stop {first:?}");
-    for &x in way {
-        p.handle(PlannerEvent::Position([x, 5.5, 0.0]));
-    }
-    p.handle(PlannerEvent::Position(first));
-    let out = p.handle(arrived(first));
-    let out = if legs(&out).is_empty() {
-        p.handle(PlannerEvent::Tick)
-    } else {
-        out
-    };
-    let next = *legs(&out)[0].last().expect("pose");
-    (p.status().visited.points, next)
-}
-
 #[test]
-fn a_stop_the_vehicle_already_drove_past_is_dropped() {
-    // On its way the vehicle swings by (20.5, 5.5), 1.1 m from the stop at
-    // (20, 6), then arrives at (10, 5).
-    let run = |skip_passed_m: f32| {
-        let route = RouteParams {
-            skip_passed_m,
-            ..RouteParams::default()
-        };
-        past_a_third_stop(route, [20.0, 6.0, 0.0], &[], &[4.0, 8.0, 20.5, 12.0])
-    };
-    let (visited, next) = run(2.0);
-    assert_eq!(visited, vec![0, 2], "the stop at (20, 6) was driven past");
-    assert!((next[0] - 35.0).abs() < 1.0, "next stop {next:?}");
-    let (visited, next) = run(0.0);
-    assert_eq!(visited, vec![0], "skip_passed_m 0 keeps every stop");
-    assert!((next[0] - 20.0).abs() < 1.0, "next stop {next:?}");
-}
-
-#[test]
-fn a_stop_whose_gaps_were_seen_on_the_way_is_dropped() {
-    // The stop at (30, 6) looks at three gaps of a wall at y = 11 facing
-    // south-west, 2 m up, which the one at (35, 5) sees too obliquely (78°
-    // off their normal). (28, 5.5) is 6–7 m from the gaps and faces them;
-    // from (10, 5) and (8, 5.5) they are over 20.9 m away, beyond the 20 m
-    // a stop sees.
-    let gaps = [30.0, 31.0, 32.0].map(|x| MissingPoint {
-        xyz: [x, 11.0, 2.0],
-        building: 3,
-        normal: [-FRAC_1_SQRT_2, -FRAC_1_SQRT_2],
-        skeleton: [x, 15.0],
-    });
-    let run = |swing: &[f32], skip_seen: bool| {
-        let route = RouteParams {
-            skip_seen,
-            ..RouteParams::default()
-        };
-        let way: Vec<f32> = [4.0, 8.0].iter().chain(swing).copied().collect();
-        past_a_third_stop(route, [30.0, 6.0, 0.0], &gaps, &way)
-    };
-    let (visited, next) = run(&[28.0], true);
-    assert_eq!(visited, vec![0, 2], "its gaps were seen from (28, 5.5)");
-    assert!((next[0] - 35.0).abs() < 1.0, "next stop {next:?}");
-    let (visited, next) = run(&[], true);
-    assert_eq!(visited, vec![0], "nothing on the way saw its gaps");
-    assert!((next[0] - 30.0).abs() < 1.0, "next stop {next:?}");
-    let (visited, _) = run(&[28.0], false);
-    assert_eq!(visited, vec![0], "skip_seen off keeps every stop");
-}
-
-#[test]
-fn the_stop_driven_to_is_given_up_once_its_gaps_are_in_view() {
-    let mut p = Planner::new(PlannerConfig {
-        graph: GraphParams::default(),
-        route: RouteParams {
-            skip_seen: true,
-            ..RouteParams::default()
-        },
-        block_retries: 2,
-        targets: TargetParams::default(),
-    });
-    let (xyz, labels) = flat_ground(160, 40, 0.25);
-    p.handle(PlannerEvent::Cloud { xyz, labels });
-    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
-    // The stop at (10, 5) looks at gaps of a west-facing wall at x = 28,
-    // 18 m away: within the 20 m a stop sees.
+fn stops_whose_gaps_the_route_sees_anyway_are_left_off_and_stay_off() {
+    // Gaps on a west-facing wall at x = 28, 2 m up. The stops at (10, 5) and
+    // (20, 6) see them (18 and 8 m off); so does the way from (1, 5) to the
+    // stop at (35, 5), behind the wall, which sees none of them.
     let gaps = [4.5, 5.0, 5.5].map(|y| MissingPoint {
         xyz: [28.0, y, 2.0],
         building: 1,
         normal: [-1.0, 0.0],
         skeleton: [30.0, y],
     });
-    p.handle(PlannerEvent::Missing(gaps.to_vec()));
-    let out = points_only(&mut p, two_points(), 1);
-    let first = *legs(&out)[0].last().expect("pose");
-    assert!((first[0] - 10.0).abs() < 1.0, "first stop {first:?}");
-    let out = p.handle(PlannerEvent::Position([3.0, 5.5, 0.0]));
-    assert!(
-        legs(&out).is_empty(),
-        "from (3, 5.5) the gaps are 25 m away"
-    );
-    let out = p.handle(PlannerEvent::Position([8.5, 5.5, 0.0]));
-    let next = *legs(&out).first().expect("a new leg").last().expect("pose");
-    assert!((next[0] - 35.0).abs() < 1.0, "next stop {next:?}");
-    assert_eq!(p.status().visited.points, vec![0]);
+    let run = |skip_seen: bool| {
+        let mut p = Planner::new(PlannerConfig {
+            graph: GraphParams::default(),
+            route: RouteParams {
+                skip_seen,
+                ..RouteParams::default()
+            },
+            block_retries: 2,
+            targets: TargetParams::default(),
+        });
+        let (xyz, labels) = flat_ground(160, 40, 0.25);
+        p.handle(PlannerEvent::Cloud { xyz, labels });
+        p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+        p.handle(PlannerEvent::Missing(gaps.to_vec()));
+        let mut points = two_points();
+        points.push(TargetPoint {
+            xyz: [20.0, 6.0, 0.0],
+            building: 1,
+        });
+        let out = points_only(&mut p, points, 1);
+        let goal = *legs(&out)[0].last().expect("pose");
+        (p, goal)
+    };
+    let (p, goal) = run(false);
+    assert_eq!((p.status().stops, p.status().seen_on_the_way.len()), (3, 0));
+    assert!((goal[0] - 10.0).abs() < 1.0, "first stop {goal:?}");
+
+    let (mut p, goal) = run(true);
+    let s = p.status();
+    assert_eq!(s.seen_on_the_way, vec![0, 2]);
+    assert_eq!(s.stops, 1);
+    assert!((goal[0] - 35.0).abs() < 1.0, "the one stop left {goal:?}");
+    let back = PlannerStatus::from_wire(&s.to_wire()).expect("status reads back");
+    assert_eq!(back.seen_on_the_way, vec![0, 2]);
+    // Blocked on the way: the route made again leaves them off too.
+    p.handle(blocked(goal, [15.0, 5.0]));
+    let out = p.handle(PlannerEvent::Tick);
+    let again = *legs(&out)[0].last().expect("a new leg");
+    assert!((again[0] - 35.0).abs() < 1.0, "{again:?}");
+    assert_eq!(p.status().stops, 1);
+    // The mission ends with the two stops counted as seen, not reached.
+    p.handle(arrived(again));
+    assert_eq!(p.phase(), Phase::Done);
+    assert_eq!(p.status().visited.points, vec![1]);
 }

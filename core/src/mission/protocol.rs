@@ -209,6 +209,9 @@ pub struct PlannerStatus {
     pub target_regions: usize,
     /// Targets dealt with (indices into this round's set).
     pub visited: Visited,
+    /// Target points left off the route because the rest of it sees their
+    /// gaps anyway (`route.skip_seen`; indices into this round's set).
+    pub seen_on_the_way: Vec<usize>,
     /// Targets the route cannot reach.
     pub unreachable_points: usize,
     /// Regions the route cannot reach.
@@ -244,6 +247,8 @@ impl PlannerStatus {
         // Counts for readers that want no list (the demo's watch, scripts).
         w.put("points_done", self.visited.points.len());
         w.put("regions_done", self.visited.regions.len());
+        w.put("seen_points", join(&self.seen_on_the_way, ","));
+        w.put("points_seen", self.seen_on_the_way.len());
         w.put("unreachable_points", self.unreachable_points);
         w.put("unreachable_regions", self.unreachable_regions);
         w.put("stops", self.stops);
@@ -273,6 +278,7 @@ impl PlannerStatus {
                 points: w.list("visited_points", ',')?,
                 regions: w.list("visited_regions", ',')?,
             },
+            seen_on_the_way: w.list("seen_points", ',')?,
             unreachable_points: w.opt("unreachable_points")?.unwrap_or(0),
             unreachable_regions: w.opt("unreachable_regions")?.unwrap_or(0),
             stops: w.opt("stops")?.unwrap_or(0),
@@ -608,6 +614,7 @@ mod tests {
             tp in 0usize..1000, tr in 0usize..100,
             vp in prop::collection::vec(0usize..1000, 0..20),
             vr in prop::collection::vec(0usize..100, 0..5),
+            seen in prop::collection::vec(0usize..1000, 0..20),
             up in 0usize..50, ur in 0usize..50, stops in 0usize..1000,
             lens in (0.0f32..1e5, 0.0f32..1e5, 0.0f32..1e5),
             active in prop::option::of((0usize..100, 0u32..100)),
@@ -616,6 +623,7 @@ mod tests {
             PlannerStatus {
                 phase: phase.into(), round, target_points: tp, target_regions: tr,
                 visited: Visited { points: vp, regions: vr },
+                seen_on_the_way: seen,
                 unreachable_points: up, unreachable_regions: ur, stops,
                 route_m: lens.0, greedy_m: lens.1, tsp_m: lens.2,
                 active_region: active, blocked,

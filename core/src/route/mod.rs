@@ -7,10 +7,13 @@
 //! - [`RouteParams`] (`params`), [`RouteError`] (`error`);
 //! - `stops`: snapping targets ([`Stop`]); `tour`: the two tour builders on a cost matrix;
 //! - `plan`: [`plan`], [`replan`] → [`Route`];
+//! - `drive_by`: point stops whose gaps the rest of the route sees anyway,
+//!   taken out before the vehicle sets off ([`drop_seen_on_the_way`]);
 //! - `budget`: how long a route takes ([`route_budget`]), the demo's time
 //!   limit that follows the work ([`WorkLimit`]).
 
 mod budget;
+mod drive_by;
 mod error;
 mod params;
 mod plan;
@@ -18,7 +21,8 @@ mod stops;
 pub(crate) mod tour;
 
 pub use budget::{Budget, BudgetParams, PlannedWork, WorkLimit, route_budget};
+pub use drive_by::{DriveBy, ViewSlack, drop_seen_on_the_way};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
-pub use plan::{Route, Visited, in_order, plan, replan};
+pub use plan::{Route, Visited, plan, replan};
 pub use stops::Stop;

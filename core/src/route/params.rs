@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::drive_by::ViewSlack;
 use crate::params::{Checks, ParamError};
 
 /// Which tour the route follows.
@@ -28,15 +29,15 @@ pub struct RouteParams {
     pub tour: TourChoice,
     /// Improvement passes of 2-opt + Or-opt at most (each pass is O(n²)).
     pub max_passes: u32,
-    /// A point stop the vehicle has already driven past this close (xy, m)
-    /// is dropped: its 360° LiDAR saw from there what it would see at the
-    /// stop. 0 (the default: no gain measured) keeps every stop.
-    pub skip_passed_m: f32,
-    /// A point stop is dropped once every gap it would see was in view
-    /// from where the vehicle drove (the targets' `sees` test on the
-    /// driven positions); the rest of the round follows the planned order.
-    /// Off by default: on the reference it drove more (docs/profile.md).
+    /// A point stop is left off the route when every gap it would see is
+    /// in view from where the rest of the route drives anyway (the targets'
+    /// `sees` test along the route without it), decided when the route is made.
     pub skip_seen: bool,
+    /// With `skip_seen`, a view from the way counts for a gap only if it is
+    /// at most this many times farther from it than the stop.
+    pub seen_range_ratio: f32,
+    /// With `skip_seen`, and at most this many degrees more oblique than the stop's view.
+    pub seen_extra_incidence_deg: f32,
 }
 
 impl Default for RouteParams {
@@ -45,23 +46,39 @@ impl Default for RouteParams {
             max_snap_m: 3.0,
             tour: TourChoice::Shortest,
             max_passes: 100,
-            skip_passed_m: 0.0,
             skip_seen: false,
+            seen_range_ratio: 1.25,
+            seen_extra_incidence_deg: 15.0,
         }
     }
 }
 
 impl RouteParams {
+    /// How much worse than a stop's a view from the way may be (`skip_seen`).
+    pub fn view_slack(&self) -> ViewSlack {
+        ViewSlack {
+            range_ratio: self.seen_range_ratio,
+            extra_incidence_deg: self.seen_extra_incidence_deg,
+        }
+    }
+
     /// Checks every field's range.
     pub fn validate(&self) -> Result<(), ParamError> {
         let c = Checks("route");
         c.positive("max_snap_m", self.max_snap_m)?;
-        c.non_negative("skip_passed_m", self.skip_passed_m)?;
+        let ratio = self.seen_range_ratio;
         c.that(
-            self.max_passes <= 100_000,
-            "max_passes",
-            self.max_passes,
-            "must be at most 100000",
-        )
+            ratio.is_finite() && ratio >= 1.0,
+            "seen_range_ratio",
+            ratio,
+            "must be finite and ≥ 1",
+        )?;
+        c.within(
+            "seen_extra_incidence_deg",
+            self.seen_extra_incidence_deg,
+            0.0,
+            180.0,
+        )?;
+        c.within("max_passes", self.max_passes, 0, 100_000)
     }
 }

@@ -114,42 +114,6 @@ pub fn plan(
     })
 }
 
-/// A route from `start` over `order` (stops of `targets`) in that order, not
-/// toured again: the rest of a round after a stop was dropped on the way.
-/// Stops that cannot be reached from `start` are left out.
-pub fn in_order(
-    graph: &GroundGraph,
-    targets: &TargetSet,
-    order: &[Stop],
-    start: [f32; 3],
-    params: &RouteParams,
-) -> Result<Route, RouteError> {
-    let (start_node, snapped) = tie(graph, targets, start, params)?;
-    let stops: Vec<(Stop, Vec<usize>)> = order
-        .iter()
-        .filter_map(|s| snapped.stops.iter().find(|(t, _)| t == s).cloned())
-        .collect();
-    let trees: Vec<ShortestPaths> = stops
-        .par_iter()
-        .map(|(_, nodes)| graph.shortest_paths(nodes))
-        .collect();
-    let reached: Vec<usize> = (0..stops.len())
-        .filter(|&k| trees[k].dist[start_node].is_finite())
-        .collect();
-    let (length_m, nodes, arrivals) = drive(&trees, start_node, &reached);
-    Ok(Route {
-        order: reached.iter().map(|&k| stops[k].0).collect(),
-        waypoints: nodes.iter().map(|&n| graph.positions()[n]).collect(),
-        arrivals,
-        length_m,
-        unreachable_points: snapped.unreachable_points,
-        unreachable_regions: snapped.unreachable_regions,
-        greedy_length_m: length_m,
-        tsp_length_m: length_m,
-        streets_length_m: length_m,
-    })
-}
-
 /// The start's node and the targets tied to the graph, after checking `params`.
 fn tie(
     graph: &GroundGraph,

@@ -6,13 +6,11 @@
 //! - [`params`] — [`TargetParams`]; [`site`]: [`Site`], the grid of where a robot may stand.
 //! - [`generate`](mod@generate) — [`generate()`] → targets and [`Dropped`] counts.
 //! - [`consolidate`](mod@consolidate) — [`consolidate()`]: one stop for every gap it sees.
-//! - [`seen`] — [`SeenGaps`]: the gaps already in view from where the vehicle drove.
 
 pub mod consolidate;
 mod from_missing;
 pub mod generate;
 pub mod params;
-pub mod seen;
 pub mod site;
 mod types;
 
@@ -20,6 +18,5 @@ pub use consolidate::{Consolidation, consolidate};
 pub use from_missing::{BuildingPlan, generate_from_missing};
 pub use generate::{Dropped, generate};
 pub use params::TargetParams;
-pub use seen::SeenGaps;
 pub use site::{Site, SiteError};
 pub use types::{Region, TargetPoint, TargetSet};

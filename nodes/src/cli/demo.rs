@@ -192,6 +192,7 @@ fn node_args(name: &str, params: &[String]) -> Vec<String> {
 /// Every topic of the mission, as the recorder takes them.
 const TOPICS: &[&str] = &[
     "/aerial_cloud:sensor_msgs/msg/PointCloud2",
+    "/georeference:diagnostic_msgs/msg/DiagnosticArray",
     "/classified_cloud:sensor_msgs/msg/PointCloud2",
     "/missing_points:sensor_msgs/msg/PointCloud2",
     "/completeness:diagnostic_msgs/msg/DiagnosticArray",
@@ -226,9 +227,12 @@ struct Watch {
     planner_phase: String,
     stops: usize,
     done: (usize, usize),
+    /// Point stops of the round left off: the route sees their gaps anyway.
+    seen: usize,
     unreachable: (usize, usize),
-    /// Targets reached / unreachable summed over finished rounds.
+    /// Targets reached / left off as seen / unreachable summed over finished rounds.
     reached_total: usize,
+    seen_total: usize,
     unreachable_total: usize,
     /// Routes driven to the end: (round, stops reached).
     rounds_finished: Vec<(u32, usize)>,
@@ -480,6 +484,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 }
                 w.stops = s.target_points + s.target_regions;
                 w.done = (s.visited.points.len(), s.visited.regions.len());
+                w.seen = s.seen_on_the_way.len();
                 w.unreachable = (s.unreachable_points, s.unreachable_regions);
                 w.greedy_m = f64::from(s.greedy_m);
                 w.tsp_m = f64::from(s.tsp_m);
@@ -489,8 +494,9 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 if s.phase == Phase::Done.word() && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
                     w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
                     w.reached_total += w.done.0 + w.done.1;
+                    w.seen_total += w.seen;
                     w.unreachable_total += w.unreachable.0 + w.unreachable.1;
-                    eprintln!("  route of round {} done: {} points, {} regions; {} unreachable", w.planner_round, w.done.0, w.done.1, w.unreachable.0 + w.unreachable.1);
+                    eprintln!("  route of round {} done: {} points, {} regions; {} left off (seen on the way); {} unreachable", w.planner_round, w.done.0, w.done.1, w.seen, w.unreachable.0 + w.unreachable.1);
                 }
             },
             Some(Ok((arr, _))) = v_s.next() => if let Some(s) = first_status(&arr, VehicleStatus::from_wire) {
@@ -856,6 +862,7 @@ fn report(
         "rounds": w.rounds_driven(),
         "detected_completeness_by_round": w.detected,
         "targets_reached": w.reached_total,
+        "targets_seen_on_the_way": w.seen_total,
         "targets_unreachable": w.unreachable_total,
         "last_route": {"greedy_m": w.greedy_m, "tsp_m": w.tsp_m},
         "ground_points_added": scans,
@@ -881,8 +888,8 @@ fn report(
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
-        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / unreachable | {} / {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        a.prior.describe(), w.rounds_driven(), w.reached_total, w.unreachable_total, w.odometer,
+        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / left off (seen on the way) / unreachable | {} / {} / {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        a.prior.describe(), w.rounds_driven(), w.reached_total, w.seen_total, w.unreachable_total, w.odometer,
         if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s
     ));
     if a.field.field {

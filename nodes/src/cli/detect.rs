@@ -158,7 +158,13 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     missing.crs = cloud.crs.clone();
     write_cloud(&a.out.join("classified.las"), &cloud).map_err(err)?;
     write_cloud(&a.out.join("missing.las"), &missing).map_err(err)?;
-    let targets_json = json!({"origin": cloud.origin, "targets": targets});
+    // The gaps with their normals ride along, so `skyground plan` can tell
+    // which stops the route sees anyway (as the planner does from /missing_points).
+    let targets_json = json!({
+        "origin": cloud.origin,
+        "targets": targets,
+        "missing": detection.missing_points(),
+    });
     std::fs::write(a.out.join("targets.json"), format!("{targets_json:#}\n")).map_err(err)?;
     let field = super::field::write_detection(&a.out, &cloud, &detection, &targets)?;
     let png = a.out.join("detection.png");

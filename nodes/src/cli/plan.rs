@@ -8,8 +8,9 @@ use serde::Deserialize;
 use serde_json::json;
 use skyground_core::cloud::read_cloud;
 use skyground_core::graph::{GraphParams, GroundGraph};
-use skyground_core::route::{RouteParams, plan};
-use skyground_core::targets::TargetSet;
+use skyground_core::missing::MissingPoint;
+use skyground_core::route::{RouteParams, drop_seen_on_the_way, plan};
+use skyground_core::targets::{Site, TargetParams, TargetSet};
 
 use super::detect::section;
 use super::err;
@@ -44,6 +45,15 @@ struct PlannerParams {
 #[derive(Debug, Deserialize)]
 struct TargetsFile {
     targets: TargetSet,
+    /// The gaps (files from before they were written: none).
+    #[serde(default)]
+    missing: Vec<MissingPoint>,
+}
+
+#[derive(Debug, Deserialize, Default)]
+struct GeneratorParams {
+    #[serde(default)]
+    targets: TargetParams,
 }
 
 /// Builds the graph and the route; writes DIR/route.json.
@@ -64,7 +74,13 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         std::fs::read_to_string(&tpath).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
     let targets: TargetsFile =
         serde_json::from_str(&text).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
-    let targets = targets.targets;
+    let (targets, missing) = (targets.targets, targets.missing);
+    let pt: GeneratorParams = section(
+        "target_generator",
+        crate::node::target_generator::SPEC.default_params,
+        a.params_file.as_deref(),
+        &["targets"],
+    )?;
     let t0 = Instant::now();
     let given = a.start.as_ref().map(|s| [s[0], s[1], 0.0]);
     let graph = match given {
@@ -75,7 +91,22 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let start = given.unwrap_or_else(|| graph.positions()[graph.start_node()]);
     let graph_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let route = plan(&graph, &targets, start, &p.route).map_err(err)?;
+    let toured = plan(&graph, &targets, start, &p.route).map_err(err)?;
+    let (route, dropped) = if p.route.skip_seen && !missing.is_empty() {
+        let t = &pt.targets;
+        let site = Site::from_cloud(&cloud.xyz, &labels, t.cell, t.clearance).map_err(err)?;
+        let d = drop_seen_on_the_way(
+            &graph,
+            &toured,
+            &targets,
+            (&missing, &site),
+            t,
+            p.route.view_slack(),
+        );
+        (d.route, d.dropped)
+    } else {
+        (toured.clone(), Vec::new())
+    };
     let route_s = t1.elapsed().as_secs_f64();
     let out = json!({
         "input": a.input,
@@ -97,6 +128,8 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         "streets_length_m": route.streets_length_m,
         "route_length_m": route.length_m,
         "stops": route.order.len(),
+        "toured_length_m": toured.length_m,
+        "dropped_seen_on_the_way": dropped,
         "seconds": {"graph": graph_s, "matrix_and_tours": route_s, "total": graph_s + route_s},
     });
     let file = json!({"summary": out, "route": route});

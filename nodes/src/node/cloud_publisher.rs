@@ -1,13 +1,18 @@
 //! cloud_publisher: a LAS/LAZ/PLY file (or a synthetic cloud) → latched
-//! sensor_msgs/PointCloud2 on /aerial_cloud.
+//! sensor_msgs/PointCloud2 on /aerial_cloud, and the file's local frame and
+//! CRS on /georeference (PointCloud2 carries local metres only).
 
 use std::path::PathBuf;
 use std::time::Duration;
 
+use crate::convert::diagnostics::to_status;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
+use ros2_client::Publisher;
 use serde::Deserialize;
-use skyground_core::cloud::{self, synthetic};
+use skyground_core::cloud::{self, Cloud, synthetic};
+use skyground_core::mission::Georeference;
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 
 #[derive(Debug, Deserialize)]
@@ -17,6 +22,7 @@ struct Params {
     synthetic_points: usize,
     topic: String,
     frame_id: String,
+    georeference_topic: String,
     double: bool,
     count: u32,
     period_s: f64,
@@ -47,6 +53,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         cloud.origin
     ));
     let publisher = CloudPublisher::new(rt, &p.topic, qos::latched(1), p.transport)?;
+    // Held for the node's life: a latched sample lives as long as its writer.
+    let _georef = publish_georeference(rt, &p, &cloud).await?;
     if p.wait_for_subscribers > 0
         && !publisher
             .wait_for_subscriptions(
@@ -94,4 +102,41 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         rt.shutdown.wait().await;
     }
     Ok(())
+}
+
+/// The cloud's frame on `georeference_topic` (latched), so a subscriber or
+/// a bag can take the clouds back to the survey's CRS and unit.
+async fn publish_georeference(
+    rt: &mut NodeRuntime,
+    p: &Params,
+    cloud: &Cloud,
+) -> Result<Option<Publisher<DiagnosticArray>>, RuntimeError> {
+    if p.georeference_topic.is_empty() {
+        return Ok(None);
+    }
+    let georef = Georeference {
+        frame_id: p.frame_id.clone(),
+        frame: cloud.frame(),
+    };
+    let publisher = rt.publisher::<DiagnosticArray>(&p.georeference_topic, qos::latched(1))?;
+    let msg = DiagnosticArray {
+        header: rt.header(&p.frame_id),
+        status: vec![to_status(georef.to_wire())],
+    };
+    match publisher.async_publish(msg).await {
+        Ok(()) => rt.log.info(&format!(
+            "{}: frame `{}` at origin {:?} m, {}",
+            p.georeference_topic,
+            p.frame_id,
+            cloud.origin,
+            cloud
+                .crs
+                .as_ref()
+                .map_or("no CRS (metres assumed)".into(), |c| c.label())
+        )),
+        Err(e) => rt
+            .log
+            .warn(&format!("cannot publish {}: {e}", p.georeference_topic)),
+    }
+    Ok(Some(publisher))
 }
