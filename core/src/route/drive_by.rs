@@ -272,7 +272,7 @@ mod tests {
     /// Flat ground 0..70 × 0..45 at 0.5 m, a 10 m block at x 20..30,
     /// y 20..30 (walls and roof), gaps on its south face (normal −y) and on
     /// its north face (normal +y), 3 m up.
-    fn block() -> (Vec<[f32; 3]>, Vec<u8>, Vec<MissingPoint>) {
+    fn block_cloud() -> (Vec<[f32; 3]>, Vec<u8>, Vec<MissingPoint>) {
         let (mut xyz, mut labels) = (Vec::new(), Vec::new());
         for j in 0..90 {
             for i in 0..140 {
@@ -301,6 +301,19 @@ mod tests {
         (xyz, labels, gaps)
     }
 
+    /// Where the vehicle starts: on the street south of the block.
+    const START: [f32; 3] = [2.0, 12.0, 0.0];
+
+    /// The block's ground graph (from [`START`]), its site and its gaps.
+    fn block() -> (GroundGraph, Site, Vec<MissingPoint>) {
+        let (xyz, labels, gaps) = block_cloud();
+        let graph =
+            GroundGraph::build(&xyz, &labels, START, &GraphParams::default()).expect("graph");
+        let tp = TargetParams::default();
+        let site = Site::from_cloud(&xyz, &labels, tp.cell, tp.clearance).expect("site");
+        (graph, site, gaps)
+    }
+
     fn slack() -> ViewSlack {
         RouteParams::default().view_slack()
     }
@@ -314,19 +327,15 @@ mod tests {
 
     #[test]
     fn a_stop_the_route_passes_in_view_of_is_dropped_and_the_rest_stay() {
-        let (xyz, labels, gaps) = block();
-        let graph = GroundGraph::build(&xyz, &labels, [2.0, 12.0, 0.0], &GraphParams::default())
-            .expect("graph");
+        let (graph, site, gaps) = block();
         let tp = TargetParams::default();
-        let site = Site::from_cloud(&xyz, &labels, tp.cell, tp.clearance).expect("site");
         // 0: before the south face, on the street the route takes east
         // anyway; 1: far east, sees no gap.
         let targets = TargetSet {
             points: vec![point(25.0, 12.0), point(65.0, 12.0)],
             regions: Vec::new(),
         };
-        let route =
-            plan(&graph, &targets, [2.0, 12.0, 0.0], &RouteParams::default()).expect("route");
+        let route = plan(&graph, &targets, START, &RouteParams::default()).expect("route");
         assert_eq!(route.order, vec![Stop::Point(0), Stop::Point(1)]);
         let d = drop_seen_on_the_way(&graph, &route, &targets, (&gaps, &site), &tp, slack());
         assert_eq!(d.dropped, vec![0]);
@@ -365,18 +374,14 @@ mod tests {
 
     #[test]
     fn stops_whose_gaps_the_rest_of_the_route_misses_stay() {
-        let (xyz, labels, gaps) = block();
-        let graph = GroundGraph::build(&xyz, &labels, [2.0, 12.0, 0.0], &GraphParams::default())
-            .expect("graph");
+        let (graph, site, gaps) = block();
         let tp = TargetParams::default();
-        let site = Site::from_cloud(&xyz, &labels, tp.cell, tp.clearance).expect("site");
         // 0: before the north face (the way east runs south of the block).
         let targets = TargetSet {
             points: vec![point(25.0, 38.0), point(65.0, 12.0)],
             regions: Vec::new(),
         };
-        let route =
-            plan(&graph, &targets, [2.0, 12.0, 0.0], &RouteParams::default()).expect("route");
+        let route = plan(&graph, &targets, START, &RouteParams::default()).expect("route");
         let d = drop_seen_on_the_way(&graph, &route, &targets, (&gaps, &site), &tp, slack());
         assert!(d.dropped.is_empty());
         assert_eq!(d.route, route);
