@@ -27,20 +27,29 @@ def to_source(xyz, values):
     return (origin + xyz.astype(np.float64)) / to_metre
 
 
+class Sent:
+    """A real file published by cloud_publisher, as an rclpy subscriber gets it."""
+
+    def __init__(self, spawn, ros, name):
+        import laspy
+
+        path = real_file(name)
+        self.las = laspy.read(str(path))
+        self.want = np.stack([self.las.x, self.las.y, self.las.z], axis=1)
+        spawn("cloud_publisher", "--ros-args", "-p", f"file:={path}")
+        self.msg, self.state, self.values = receive_georeference(ros)
+        (self.tiles,) = receive_clouds(ros, "/aerial_cloud", "latched", 1)
+        self.xyz, _ = fields_of(self.tiles)
+
+
 def test_a_survey_in_us_feet_comes_back_in_its_crs_and_feet(spawn, ros):
-    import laspy
     import pyproj
 
-    path = real_file("laspy_nebraska_ftus.las")
-    las = laspy.read(str(path))
-    spawn("cloud_publisher", "--ros-args", "-p", f"file:={path}")
-    msg, state, values = receive_georeference(ros)
-    (tiles,) = receive_clouds(ros, "/aerial_cloud", "latched", 1)
-    xyz, _ = fields_of(tiles)
-    assert state == "georeferenced" and msg.header.frame_id == tiles[0].header.frame_id == "map"
+    s = Sent(spawn, ros, "laspy_nebraska_ftus.las")
+    las, values, xyz, want = s.las, s.values, s.xyz, s.want
+    assert s.state == "georeferenced" and s.msg.header.frame_id == s.tiles[0].header.frame_id == "map"
     assert values["epsg"] == "6880" and values["horizontal_unit"] == "US survey foot", values
     # Local metres are not feet: the cloud as sent is 3.28 × smaller than the file.
-    want = np.stack([las.x, las.y, las.z], axis=1)
     span = np.ptp(xyz[:, 0])
     assert abs(np.ptp(want[:, 0]) / span - 1 / 0.3048006096) < 1e-3, span
     # Every point back in the file's feet, to the file's 0.001 ft resolution.
@@ -58,17 +67,9 @@ def test_a_survey_in_us_feet_comes_back_in_its_crs_and_feet(spawn, ros):
 
 
 def test_a_survey_without_crs_says_so_and_keeps_its_coordinates(spawn, ros):
-    import laspy
-
-    path = real_file("sample_c.las")
-    las = laspy.read(str(path))
-    spawn("cloud_publisher", "--ros-args", "-p", f"file:={path}")
-    _, state, values = receive_georeference(ros)
-    (tiles,) = receive_clouds(ros, "/aerial_cloud", "latched", 1)
-    xyz, _ = fields_of(tiles)
-    assert state == "local metres, no CRS" and "wkt" not in values, (state, values)
-    want = np.stack([las.x, las.y, las.z], axis=1)
-    np.testing.assert_allclose(to_source(xyz, values), want, rtol=0, atol=1e-3)
+    s = Sent(spawn, ros, "sample_c.las")
+    assert s.state == "local metres, no CRS" and "wkt" not in s.values, (s.state, s.values)
+    np.testing.assert_allclose(to_source(s.xyz, s.values), s.want, rtol=0, atol=1e-3)
 
 
 def test_no_georeference_when_its_topic_is_empty(spawn, ros):
