@@ -42,6 +42,6 @@ pub fn classify(
         let c = classes.get(k).copied().unwrap_or(UNCLASSIFIED);
         out[i] = if c == GROUND { UNCLASSIFIED } else { c };
     }
-    check_roofs(xyz, hag, &mut out, &model.roof_check);
+    check_roofs(xyz, hag, &mut out, echoes, &model.roof_check);
     Ok(out)
 }

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::cloud::class::{BUILDING, VEGETATION};
+use crate::features::Echoes;
 use crate::reconstruct::ReconstructParams;
 use crate::reconstruct::normals::neighbourhoods;
 use crate::reconstruct::planes::{NO_PLANE, grow_planes_with};
@@ -58,8 +59,15 @@ pub struct RoofCheck {
     /// height (m) over the highest roof near it: chimneys, dormers, roof
     /// terraces' parapets and railings the planes miss, which producers
     /// label building. Chosen on Montpellier (0.2 / 1 / 2 / 3 m: building
-    /// F1 0.935 / 0.941 / 0.949 / 0.948).
+    /// F1 0.935 / 0.941 / 0.949 / 0.948). It holds over the roof cells
+    /// themselves; beside them, `beside_above_m` does.
     pub above_roof_m: f32,
+    /// In the band beside the roof cells (within `under_roof_m`), a point
+    /// of a pulse that gave several returns is building only up to this
+    /// height (m) over the roof: a parapet or gutter stops the beam, a
+    /// crown leaning over the edge lets it through, and calling the crown
+    /// building hides the wall gap beneath it from detection.
+    pub beside_above_m: f32,
 }
 
 impl Default for RoofCheck {
@@ -76,6 +84,7 @@ impl Default for RoofCheck {
             under_roof_m: 0.5,
             close_m: 0.0,
             above_roof_m: 2.0,
+            beside_above_m: 0.2,
         }
     }
 }
@@ -98,6 +107,7 @@ pub fn check_roofs(
     xyz: &[[f32; 3]],
     hag: &[f32],
     labels: &mut [u8],
+    echoes: Option<Echoes<'_>>,
     check: &RoofCheck,
 ) -> RoofCheckCounts {
     let mut counts = RoofCheckCounts::default();
@@ -151,7 +161,7 @@ pub fn check_roofs(
             counts.to_vegetation += 1;
         }
     }
-    counts.under_roof = walls_under_roofs(xyz, labels, &reps, &roof, check);
+    counts.under_roof = walls_under_roofs(xyz, labels, echoes, (&reps, &roof), check);
     counts
 }
 
@@ -162,8 +172,8 @@ pub fn check_roofs(
 fn walls_under_roofs(
     xyz: &[[f32; 3]],
     labels: &mut [u8],
-    reps: &[[f32; 3]],
-    roof: &[bool],
+    echoes: Option<Echoes<'_>>,
+    (reps, roof): (&[[f32; 3]], &[bool]),
     check: &RoofCheck,
 ) -> usize {
     const CELL: f32 = 0.5;
@@ -196,19 +206,23 @@ fn walls_under_roofs(
             }
         }
     }
-    let above = if check.above_roof_m.is_finite() {
-        check.above_roof_m
-    } else {
-        0.0
-    };
+    let finite = |v: f32| if v.is_finite() { v } else { 0.0 };
+    let (over, beside) = (finite(check.above_roof_m), finite(check.beside_above_m));
     let mut n = 0;
-    for (p, l) in xyz.iter().zip(labels.iter_mut()) {
+    for (i, (p, l)) in xyz.iter().zip(labels.iter_mut()).enumerate() {
         if *l != VEGETATION {
             continue;
         }
         // A crown over a roof stands above it (more than a chimney does);
         // what is under is the house.
-        if top.get(&cell_of(p)).is_some_and(|&z| p[2] <= z + above) {
+        let c = cell_of(p);
+        let crown_like = echoes.as_ref().is_some_and(|e| e.is_multiple(i));
+        let above = if crown_like && !closed.contains(&c) {
+            beside
+        } else {
+            over
+        };
+        if top.get(&c).is_some_and(|&z| p[2] <= z + above) {
             *l = BUILDING;
             n += 1;
         }
@@ -380,7 +394,7 @@ mod tests {
     #[test]
     fn roofs_become_building_and_roofless_objects_vegetation() {
         let (xyz, hag, mut lab) = scene();
-        let counts = check_roofs(&xyz, &hag, &mut lab, &on());
+        let counts = check_roofs(&xyz, &hag, &mut lab, None, &on());
         assert!(counts.roofs >= 2, "{counts:?}");
         let roof_building = lab[..1280].iter().filter(|l| **l == BUILDING).count();
         // Half the roof came in as vegetation; the ridge line, whose normals
@@ -399,12 +413,12 @@ mod tests {
             ..RoofCheck::default()
         };
         assert_eq!(
-            check_roofs(&xyz, &hag, &mut lab, &off),
+            check_roofs(&xyz, &hag, &mut lab, None, &off),
             RoofCheckCounts::default()
         );
         assert_eq!(lab, lab0);
         assert_eq!(
-            check_roofs(&xyz, &hag[1..], &mut lab, &on()),
+            check_roofs(&xyz, &hag[1..], &mut lab, None, &on()),
             RoofCheckCounts::default()
         );
         assert_eq!(lab, lab0);
@@ -428,7 +442,7 @@ mod tests {
             hag.push(10.5);
             lab.push(VEGETATION);
         }
-        let counts = check_roofs(&xyz, &hag, &mut lab, &on());
+        let counts = check_roofs(&xyz, &hag, &mut lab, None, &on());
         let wall = &lab[n0..n0 + 400];
         assert!(wall.iter().all(|l| *l == BUILDING), "{counts:?}");
         assert!(
@@ -491,7 +505,7 @@ mod tests {
         // Defaults: the chimney 1.5 m up is building, the courtyard (2 m
         // from either roof) is not.
         let mut lab = lab0.clone();
-        check_roofs(&xyz, &hag, &mut lab, &on());
+        check_roofs(&xyz, &hag, &mut lab, None, &on());
         assert_eq!(veg(&lab, &chimney), 0);
         assert_eq!(veg(&lab, &yard), yard.len());
         // The old tolerance (0.2 m) leaves the chimney as it came.
@@ -500,7 +514,7 @@ mod tests {
             above_roof_m: 0.2,
             ..on()
         };
-        check_roofs(&xyz, &hag, &mut lab, &flat);
+        check_roofs(&xyz, &hag, &mut lab, None, &flat);
         assert_eq!(veg(&lab, &chimney), chimney.len());
         // Closed by 1.5 m, the 2 m gap between the roofs is footprint.
         let mut lab = lab0;
@@ -508,8 +522,59 @@ mod tests {
             close_m: 1.5,
             ..on()
         };
-        check_roofs(&xyz, &hag, &mut lab, &closed);
+        check_roofs(&xyz, &hag, &mut lab, None, &closed);
         assert_eq!(veg(&lab, &yard), 0);
+    }
+
+    /// One 6 × 8 m flat roof at 6 m and, 0.3 m beyond its east edge, 1 m
+    /// over it, a column of points the forest called vegetation; returns
+    /// (cloud, hag, labels, the column's rows).
+    fn edge_column() -> (Vec<[f32; 3]>, Vec<f32>, Vec<u8>, std::ops::Range<usize>) {
+        let (mut xyz, mut hag, mut lab) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..24 {
+            for j in 0..32 {
+                xyz.push([i as f32 * 0.25, j as f32 * 0.25, 6.0]);
+                hag.push(6.0);
+                lab.push(BUILDING);
+            }
+        }
+        let column = xyz.len();
+        for j in 0..20 {
+            xyz.push([6.05, 2.0 + j as f32 * 0.2, 7.0]);
+            hag.push(7.0);
+            lab.push(VEGETATION);
+        }
+        let end = xyz.len();
+        (xyz, hag, lab, column..end)
+    }
+
+    #[test]
+    fn beside_a_roof_a_crown_stays_vegetation_and_a_parapet_is_building() {
+        let (xyz, hag, lab0, column) = edge_column();
+        let run = |returns: u8| {
+            let rn = vec![1u8; xyz.len()];
+            let nr: Vec<u8> = (0..xyz.len())
+                .map(|i| if column.contains(&i) { returns } else { 1 })
+                .collect();
+            let echoes = Echoes {
+                return_number: &rn,
+                number_of_returns: &nr,
+            };
+            let mut lab = lab0.clone();
+            check_roofs(&xyz, &hag, &mut lab, Some(echoes), &on());
+            lab[column.clone()]
+                .iter()
+                .filter(|l| **l == BUILDING)
+                .count()
+        };
+        // One return a pulse: the beam stopped on it (a parapet, a gutter).
+        assert_eq!(run(1), column.len());
+        // Several: the beam went through (a crown leaning over the edge).
+        assert_eq!(run(3), 0);
+        // Without echoes, as before this rule: building.
+        let mut lab = lab0;
+        check_roofs(&xyz, &hag, &mut lab, None, &on());
+        assert!(lab[column].iter().all(|l| *l == BUILDING));
     }
 
     #[test]
