@@ -325,17 +325,23 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_stop_the_route_passes_in_view_of_is_dropped_and_the_rest_stay() {
+    /// The block's world and the route from `START` over point stops at `xy`.
+    fn planned(xy: &[(f32, f32)]) -> (GroundGraph, Site, Vec<MissingPoint>, TargetSet, Route) {
         let (graph, site, gaps) = block();
-        let tp = TargetParams::default();
-        // 0: before the south face, on the street the route takes east
-        // anyway; 1: far east, sees no gap.
         let targets = TargetSet {
-            points: vec![point(25.0, 12.0), point(65.0, 12.0)],
+            points: xy.iter().map(|&(x, y)| point(x, y)).collect(),
             regions: Vec::new(),
         };
         let route = plan(&graph, &targets, START, &RouteParams::default()).expect("route");
+        (graph, site, gaps, targets, route)
+    }
+
+    #[test]
+    fn a_stop_the_route_passes_in_view_of_is_dropped_and_the_rest_stay() {
+        // 0: before the south face, on the street the route takes east
+        // anyway; 1: far east, sees no gap.
+        let (graph, site, gaps, targets, route) = planned(&[(25.0, 12.0), (65.0, 12.0)]);
+        let tp = TargetParams::default();
         assert_eq!(route.order, vec![Stop::Point(0), Stop::Point(1)]);
         let d = drop_seen_on_the_way(&graph, &route, &targets, (&gaps, &site), &tp, slack());
         assert_eq!(d.dropped, vec![0]);
@@ -374,14 +380,9 @@ mod tests {
 
     #[test]
     fn stops_whose_gaps_the_rest_of_the_route_misses_stay() {
-        let (graph, site, gaps) = block();
-        let tp = TargetParams::default();
         // 0: before the north face (the way east runs south of the block).
-        let targets = TargetSet {
-            points: vec![point(25.0, 38.0), point(65.0, 12.0)],
-            regions: Vec::new(),
-        };
-        let route = plan(&graph, &targets, START, &RouteParams::default()).expect("route");
+        let (graph, site, gaps, targets, route) = planned(&[(25.0, 38.0), (65.0, 12.0)]);
+        let tp = TargetParams::default();
         let d = drop_seen_on_the_way(&graph, &route, &targets, (&gaps, &site), &tp, slack());
         assert!(d.dropped.is_empty());
         assert_eq!(d.route, route);
