@@ -127,6 +127,7 @@ mod tests {
         let route = Route {
             order: vec![Stop::Point(0)],
             waypoints: vec![[0.0, -5.0, 0.0], [28.0, -5.0, 0.0], [28.0, 10.0, 0.0]],
+            nodes: vec![],
             arrivals: vec![2],
             length_m: 43.0,
             unreachable_points: vec![],

@@ -352,7 +352,7 @@ impl Planner {
             &self.targets,
             (&self.missing, site),
             &self.config.targets,
-            self.config.route.view_slack(),
+            &self.config.route,
         );
         if !d.dropped.is_empty() {
             self.out.push(PlannerCommand::Info(format!(

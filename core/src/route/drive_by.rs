@@ -5,6 +5,7 @@
 //! so nothing turns back: dropping a stop on the way (once the trail had
 //! seen its gaps) came too late to save metres (docs/profile.md).
 
+use super::params::RouteParams;
 use super::plan::Route;
 use super::stops::Stop;
 use crate::graph::GroundGraph;
@@ -27,31 +28,28 @@ pub struct DriveBy {
 
 /// Takes out, in route order, every point stop that sees at least one gap
 /// and whose every gap is seen (the targets' `sees` test, about as well as
-/// from the stop: `slack`) from the positions of the route as it would be
-/// without it; each drop joins the legs either side by the graph's
-/// shortest way. Regions stay.
+/// from the stop: `route_params`' `seen_*` slack) from the positions of the
+/// route as it would be without it; each drop joins the legs either side by
+/// the graph's shortest way. Regions stay.
 pub fn drop_seen_on_the_way(
     graph: &GroundGraph,
     route: &Route,
     targets: &TargetSet,
     (missing, site): (&[MissingPoint], &Site),
     params: &TargetParams,
-    slack: ViewSlack,
+    route_params: &RouteParams,
 ) -> DriveBy {
-    let mut nodes: Vec<usize> = route
-        .waypoints
-        .iter()
-        .filter_map(|p| graph.nearest_node([p[0], p[1]]).map(|(n, _)| n))
-        .collect();
-    if nodes.len() != route.waypoints.len() {
-        return DriveBy {
-            route: route.clone(),
-            dropped: Vec::new(),
-        };
+    let unchanged = || DriveBy {
+        route: route.clone(),
+        dropped: Vec::new(),
+    };
+    // A route not made on this graph (or by hand) has no nodes to re-join.
+    if route.nodes.len() != route.waypoints.len() {
+        return unchanged();
     }
+    let mut nodes = route.nodes.clone();
     let mut order = route.order.clone();
     let mut arrivals = route.arrivals.clone();
-    let mut length_m = route.length_m;
     let mut dropped = Vec::new();
     let mut k = 0;
     while k < order.len() {
@@ -59,58 +57,37 @@ pub fn drop_seen_on_the_way(
             k += 1;
             continue;
         };
-        let Some(target) = targets.points.get(i) else {
+        let (Some(target), Some((joined, joined_arrivals))) = (
+            targets.points.get(i),
+            without_stop(graph, &nodes, &arrivals, k),
+        ) else {
             k += 1;
             continue;
         };
-        let Some(joined) = without_stop(graph, &nodes, &arrivals, k) else {
-            k += 1;
-            continue;
-        };
-        let positions: Vec<[f32; 2]> = joined.nodes.iter().map(|&n| xy(graph, n)).collect();
-        if seen_without(site, missing, target.xyz, &positions, params, slack) {
-            length_m += joined.change(graph).unwrap_or(0.0);
-            (nodes, arrivals) = (joined.nodes, joined.arrivals);
+        let positions: Vec<[f32; 2]> = joined.iter().map(|&n| xy(graph, n)).collect();
+        if seen_without(site, missing, target.xyz, &positions, params, route_params) {
+            (nodes, arrivals) = (joined, joined_arrivals);
             order.remove(k);
             dropped.push(i);
         } else {
             k += 1;
         }
     }
+    if dropped.is_empty() {
+        return unchanged();
+    }
     let waypoints: Vec<[f32; 3]> = nodes.iter().map(|&n| graph.positions()[n]).collect();
     DriveBy {
         route: Route {
-            length_m,
+            // An edge weighs its 3D length, so the path's length is the route's.
+            length_m: length_3d(&waypoints),
             waypoints,
+            nodes,
             arrivals,
             order,
             ..route.clone()
         },
         dropped,
-    }
-}
-
-/// The route with one stop left out.
-struct Joined {
-    nodes: Vec<usize>,
-    arrivals: Vec<usize>,
-    /// Graph distance of the new way between the stops either side (0 when
-    /// the stop was the last).
-    direct: f32,
-    /// The nodes of the stop before, the stop, and the stop after.
-    ends: (usize, usize, Option<usize>),
-}
-
-impl Joined {
-    /// The change in route length the drop makes, metres.
-    fn change(&self, graph: &GroundGraph) -> Option<f32> {
-        let (from, here, to) = self.ends;
-        let (to_here, _) = graph.shortest_path(from, here)?;
-        let on = match to {
-            Some(to) => graph.shortest_path(here, to)?.0,
-            None => 0.0,
-        };
-        Some(self.direct - to_here - on)
     }
 }
 
@@ -121,21 +98,15 @@ fn without_stop(
     nodes: &[usize],
     arrivals: &[usize],
     k: usize,
-) -> Option<Joined> {
+) -> Option<(Vec<usize>, Vec<usize>)> {
     let from = if k == 0 { 0 } else { *arrivals.get(k - 1)? };
-    let here = *nodes.get(*arrivals.get(k)?)?;
     let Some(&to) = arrivals.get(k + 1) else {
         // The last stop: the route ends at the one before.
         let mut a = arrivals.to_vec();
         a.pop();
-        return Some(Joined {
-            nodes: nodes.get(..=from)?.to_vec(),
-            arrivals: a,
-            direct: 0.0,
-            ends: (*nodes.get(from)?, here, None),
-        });
+        return Some((nodes.get(..=from)?.to_vec(), a));
     };
-    let (direct, way) = graph.shortest_path(*nodes.get(from)?, *nodes.get(to)?)?;
+    let (_, way) = graph.shortest_path(*nodes.get(from)?, *nodes.get(to)?)?;
     let mut out: Vec<usize> = nodes.get(..from)?.to_vec();
     out.extend_from_slice(&way);
     let shift = out.len() as isize - 1 - to as isize;
@@ -146,38 +117,33 @@ fn without_stop(
             .iter()
             .map(|&x| (x as isize + shift) as usize),
     );
-    Some(Joined {
-        nodes: out,
-        arrivals: a,
-        direct,
-        ends: (*nodes.get(from)?, here, Some(*nodes.get(to)?)),
-    })
+    Some((out, a))
 }
 
-/// How much worse than the stop's a view from the way may be and still
-/// count: farther by this factor at most, and this many degrees more
-/// oblique. A drive-by that merely "sees" a gap from 20 m at 70° lays a
-/// few sparse beam rows on the wall where the stop, chosen at a standoff
-/// before it, covers it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ViewSlack {
-    /// Distance to the gap over the stop's, at most.
-    pub range_ratio: f32,
-    /// Angle off the gap's normal beyond the stop's, at most, degrees.
-    pub extra_incidence_deg: f32,
+fn length_3d(p: &[[f32; 3]]) -> f32 {
+    p.windows(2)
+        .map(|w| {
+            let d = [w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        })
+        .sum()
 }
 
 /// Whether a stop at `stop` sees a gap and every gap it sees is seen from
 /// `positions` (a node path, looked from every `LOOK_STEP_M` along it)
-/// about as well as from the stop (`slack`).
+/// about as well as from the stop (`route_params`' `seen_*` slack).
 fn seen_without(
     site: &Site,
     missing: &[MissingPoint],
     stop: [f32; 3],
     positions: &[[f32; 2]],
     params: &TargetParams,
-    slack: ViewSlack,
+    route_params: &RouteParams,
 ) -> bool {
+    let (ratio, extra_deg) = (
+        route_params.seen_range_ratio,
+        route_params.seen_extra_incidence_deg,
+    );
     let gaps: Vec<(&MissingPoint, View)> = missing
         .iter()
         .filter(|m| sees(site, stop, m, params))
@@ -186,7 +152,7 @@ fn seen_without(
     if gaps.is_empty() {
         return false;
     }
-    let reach = params.stop_range * slack.range_ratio.max(1.0) + LOOK_STEP_M;
+    let reach = params.stop_range * ratio.max(1.0) + LOOK_STEP_M;
     let near = |p: &[f32; 2]| {
         gaps.iter()
             .any(|(m, _)| (p[0] - m.xyz[0]).hypot(p[1] - m.xyz[1]) <= reach)
@@ -211,8 +177,8 @@ fn seen_without(
     gaps.iter().all(|(m, at_stop)| {
         looks.iter().any(|&p| {
             let v = View::of([p[0], p[1]], m);
-            v.distance <= at_stop.distance * slack.range_ratio
-                && v.incidence_deg <= at_stop.incidence_deg + slack.extra_incidence_deg
+            v.distance <= at_stop.distance * ratio
+                && v.incidence_deg <= at_stop.incidence_deg + extra_deg
                 && sees(site, p, m, params)
                 && !through_trees(site, [p[0], p[1]], m)
         })
@@ -314,10 +280,6 @@ mod tests {
         (graph, site, gaps)
     }
 
-    fn slack() -> ViewSlack {
-        RouteParams::default().view_slack()
-    }
-
     fn point(x: f32, y: f32) -> TargetPoint {
         TargetPoint {
             xyz: [x, y, 0.0],
@@ -336,14 +298,25 @@ mod tests {
         (graph, site, gaps, targets, route)
     }
 
+    /// The drop with default target and route params.
+    fn drive_by(
+        graph: &GroundGraph,
+        route: &Route,
+        targets: &TargetSet,
+        gaps: &[MissingPoint],
+        site: &Site,
+    ) -> DriveBy {
+        let (tp, rp) = (TargetParams::default(), RouteParams::default());
+        drop_seen_on_the_way(graph, route, targets, (gaps, site), &tp, &rp)
+    }
+
     #[test]
     fn a_stop_the_route_passes_in_view_of_is_dropped_and_the_rest_stay() {
         // 0: before the south face, on the street the route takes east
         // anyway; 1: far east, sees no gap.
         let (graph, site, gaps, targets, route) = planned(&[(25.0, 12.0), (65.0, 12.0)]);
-        let tp = TargetParams::default();
         assert_eq!(route.order, vec![Stop::Point(0), Stop::Point(1)]);
-        let d = drop_seen_on_the_way(&graph, &route, &targets, (&gaps, &site), &tp, slack());
+        let d = drive_by(&graph, &route, &targets, &gaps, &site);
         assert_eq!(d.dropped, vec![0]);
         assert_eq!(d.route.order, vec![Stop::Point(1)]);
         assert!(!d.route.order.contains(&Stop::Point(0)));
@@ -382,11 +355,10 @@ mod tests {
     fn stops_whose_gaps_the_rest_of_the_route_misses_stay() {
         // 0: before the north face (the way east runs south of the block).
         let (graph, site, gaps, targets, route) = planned(&[(25.0, 38.0), (65.0, 12.0)]);
-        let tp = TargetParams::default();
-        let d = drop_seen_on_the_way(&graph, &route, &targets, (&gaps, &site), &tp, slack());
+        let d = drive_by(&graph, &route, &targets, &gaps, &site);
         assert!(d.dropped.is_empty());
         assert_eq!(d.route, route);
-        let none = drop_seen_on_the_way(&graph, &route, &targets, (&[], &site), &tp, slack());
+        let none = drive_by(&graph, &route, &targets, &[], &site);
         assert_eq!(none.route, route, "a stop that sees no gap is kept");
     }
 }

@@ -21,7 +21,7 @@ mod stops;
 pub(crate) mod tour;
 
 pub use budget::{Budget, BudgetParams, PlannedWork, WorkLimit, route_budget};
-pub use drive_by::{DriveBy, ViewSlack, drop_seen_on_the_way};
+pub use drive_by::{DriveBy, drop_seen_on_the_way};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
 pub use plan::{Route, Visited, plan, replan};

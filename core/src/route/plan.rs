@@ -17,6 +17,9 @@ pub struct Route {
     pub order: Vec<Stop>,
     /// The node path through the graph, start first (node positions, ground height).
     pub waypoints: Vec<[f32; 3]>,
+    /// The graph node of each way-point (the route's own graph; not written out).
+    #[serde(skip)]
+    pub nodes: Vec<usize>,
     /// For each stop in `order`, the index in `waypoints` where it is reached.
     pub arrivals: Vec<usize>,
     /// Length of `waypoints`, metres.
@@ -104,6 +107,7 @@ pub fn plan(
     Ok(Route {
         order: chosen.iter().map(|&k| stops[k].0).collect(),
         waypoints: nodes.iter().map(|&n| graph.positions()[n]).collect(),
+        nodes,
         arrivals,
         length_m,
         unreachable_points,

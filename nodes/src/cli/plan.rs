@@ -26,7 +26,7 @@ pub struct PlanArgs {
     /// the largest piece of drivable ground, where a robot reaches most).
     #[arg(long, value_delimiter = ',', num_args = 2)]
     pub start: Option<Vec<f32>>,
-    /// A params file (section global_planner: graph, route).
+    /// A params file (section global_planner: graph, route, targets).
     #[arg(long)]
     pub params_file: Option<PathBuf>,
     /// Print the summary as JSON on stdout.
@@ -40,6 +40,9 @@ struct PlannerParams {
     graph: GraphParams,
     #[serde(default)]
     route: RouteParams,
+    /// The view model `route.skip_seen` judges by, as the planner node reads it.
+    #[serde(default)]
+    targets: TargetParams,
 }
 
 #[derive(Debug, Deserialize)]
@@ -50,19 +53,13 @@ struct TargetsFile {
     missing: Vec<MissingPoint>,
 }
 
-#[derive(Debug, Deserialize, Default)]
-struct GeneratorParams {
-    #[serde(default)]
-    targets: TargetParams,
-}
-
 /// Builds the graph and the route; writes DIR/route.json.
 pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let p: PlannerParams = section(
         "global_planner",
         crate::node::global_planner::SPEC.default_params,
         a.params_file.as_deref(),
-        &["graph", "route"],
+        &["graph", "route", "targets"],
     )?;
     let cloud = read_cloud(&a.input.join("classified.las")).map_err(err)?;
     let labels = cloud
@@ -75,12 +72,6 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let targets: TargetsFile =
         serde_json::from_str(&text).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
     let (targets, missing) = (targets.targets, targets.missing);
-    let pt: GeneratorParams = section(
-        "target_generator",
-        crate::node::target_generator::SPEC.default_params,
-        a.params_file.as_deref(),
-        &["targets"],
-    )?;
     let t0 = Instant::now();
     let given = a.start.as_ref().map(|s| [s[0], s[1], 0.0]);
     let graph = match given {
@@ -92,20 +83,14 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let graph_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let toured = plan(&graph, &targets, start, &p.route).map_err(err)?;
+    let toured_length_m = toured.length_m;
     let (route, dropped) = if p.route.skip_seen && !missing.is_empty() {
-        let t = &pt.targets;
+        let t = &p.targets;
         let site = Site::from_cloud(&cloud.xyz, &labels, t.cell, t.clearance).map_err(err)?;
-        let d = drop_seen_on_the_way(
-            &graph,
-            &toured,
-            &targets,
-            (&missing, &site),
-            t,
-            p.route.view_slack(),
-        );
+        let d = drop_seen_on_the_way(&graph, &toured, &targets, (&missing, &site), t, &p.route);
         (d.route, d.dropped)
     } else {
-        (toured.clone(), Vec::new())
+        (toured, Vec::new())
     };
     let route_s = t1.elapsed().as_secs_f64();
     let out = json!({
@@ -128,7 +113,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         "streets_length_m": route.streets_length_m,
         "route_length_m": route.length_m,
         "stops": route.order.len(),
-        "toured_length_m": toured.length_m,
+        "toured_length_m": toured_length_m,
         "dropped_seen_on_the_way": dropped,
         "seconds": {"graph": graph_s, "matrix_and_tours": route_s, "total": graph_s + route_s},
     });

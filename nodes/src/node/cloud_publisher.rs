@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::convert::diagnostics::to_status;
+use crate::convert::diagnostics::array;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
 use ros2_client::Publisher;
@@ -119,10 +119,7 @@ async fn publish_georeference(
         frame: cloud.frame(),
     };
     let publisher = rt.publisher::<DiagnosticArray>(&p.georeference_topic, qos::latched(1))?;
-    let msg = DiagnosticArray {
-        header: rt.header(&p.frame_id),
-        status: vec![to_status(georef.to_wire())],
-    };
+    let msg = array(rt.header(&p.frame_id), georef.to_wire());
     match publisher.async_publish(msg).await {
         Ok(()) => rt.log.info(&format!(
             "{}: frame `{}` at origin {:?} m, {}",
