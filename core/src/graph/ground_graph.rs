@@ -56,6 +56,9 @@ pub struct GraphReport {
 pub struct GroundGraph {
     /// Node positions (the node's index is its position here).
     pub(super) positions: Vec<[f32; 3]>,
+    /// Candidate nodes of the other components: ground the vehicle fits on
+    /// but cannot reach from the start (for pictures and reports).
+    unreachable: Vec<[f32; 3]>,
     /// Distance (xy) from each node to the nearest obstacle, metres (capped at 8).
     clearance: Vec<f32>,
     /// The node grid and which kept node (if any) sits in each stored cell.
@@ -130,6 +133,7 @@ impl GroundGraph {
             low: params.clearance_m,
             high: params.vehicle_height_m,
             canopy: params.canopy_is_obstacle,
+            trunk_radius: params.canopy_trunk_radius_m,
         };
         let ground = GroundHeights {
             grid: &grid,
@@ -185,6 +189,7 @@ impl GroundGraph {
         let mut other = std::collections::HashSet::new();
         let mut new_index = vec![u32::MAX; cand_pos.len()];
         let mut positions = Vec::new();
+        let mut unreachable = Vec::new();
         let mut cell_node = vec![u32::MAX; grid.len()];
         for (i, &l) in labels_cc.iter().enumerate() {
             if l == keep_label {
@@ -193,6 +198,7 @@ impl GroundGraph {
                 positions.push(cand_pos[i]);
             } else {
                 other.insert(l);
+                unreachable.push(cand_pos[i]);
             }
         }
         let mut kept_edges = Vec::new();
@@ -222,10 +228,11 @@ impl GroundGraph {
             bytes: 0,
         };
         let mut report = report;
-        report.bytes = kept_bytes(&positions, &adj, &grid, &obstacles);
+        report.bytes = kept_bytes(&positions, &adj, &grid, &obstacles) + 12 * unreachable.len();
         Ok(Self {
             start: new_index[start_node] as usize,
             positions,
+            unreachable,
             clearance,
             grid,
             cell_node,
@@ -243,6 +250,12 @@ impl GroundGraph {
     /// Node positions; node `i` is at `positions()[i]`.
     pub fn positions(&self) -> &[[f32; 3]] {
         &self.positions
+    }
+
+    /// Ground the vehicle fits on but cannot reach from the start: the
+    /// candidate nodes of the other components.
+    pub fn unreachable_positions(&self) -> &[[f32; 3]] {
+        &self.unreachable
     }
 
     /// Number of nodes.

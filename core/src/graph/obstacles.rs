@@ -2,6 +2,8 @@
 //! vehicle's top, as a 2D grid with the distance to the nearest obstacle, and
 //! the ground's height per cell; built once and asked for every edge.
 
+use std::collections::HashMap;
+
 use super::cells::drivable;
 use crate::cloud::class;
 use crate::geom::grid::GridFrame;
@@ -51,7 +53,20 @@ pub struct Band {
     pub high: f32,
     /// Vegetation blocks at any height.
     pub canopy: bool,
+    /// With `canopy`: above the height band only a disc of this radius
+    /// about each crown's top blocks (the trunk beneath it) instead of the
+    /// whole crown; 0 or less: the whole crown.
+    pub trunk_radius: f32,
 }
+
+/// Crown heights are compared on cells this wide, metres.
+const CROWN_CELL: f64 = 0.5;
+/// A crown top is the highest crown cell within this radius, metres: one
+/// per tree of street-tree size (crowns 4–10 m across).
+const CROWN_TOP_RADIUS: f64 = 2.0;
+/// Vegetation at least this high above the ground is a crown (lower: a
+/// bush, which the height band blocks where it stands), metres.
+const CROWN_MIN_HEIGHT: f32 = 2.5;
 
 impl ObstacleMap {
     /// Marks the cells (of side `resolution` over `frame`'s extent) that hold
@@ -82,6 +97,7 @@ impl ObstacleMap {
         let mut occ = vec![false; stored];
         let mut occupied = 0;
         let mut z_sum = vec![(0.0f64, 0u32); stored];
+        let mut crowns = Crowns::default();
         for (p, &l) in xyz.iter().zip(labels) {
             if l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
@@ -96,26 +112,30 @@ impl ObstacleMap {
                 continue;
             }
             let canopy = class::fold(l) == class::VEGETATION && l != class::LOW_VEGETATION;
-            let blocks = if band.canopy && canopy {
-                true
-            } else {
-                match ground
-                    .grid
-                    .index_of(f64::from(p[0]), f64::from(p[1]))
-                    .map(|k| ground.z[k])
-                {
-                    Some(z0) if z0.is_finite() => {
-                        let h = p[2] - z0;
-                        h >= band.low && h <= band.high
+            let h = ground
+                .grid
+                .index_of(f64::from(p[0]), f64::from(p[1]))
+                .map(|k| p[2] - ground.z[k])
+                .filter(|h| h.is_finite());
+            let blocks = match h {
+                Some(h) if band.canopy && canopy && band.trunk_radius > 0.0 => {
+                    if h >= CROWN_MIN_HEIGHT {
+                        crowns.add(p, h);
                     }
-                    // No ground known nearby: inside a large roofed area, keep out.
-                    _ => true,
+                    h >= band.low && h <= band.high
                 }
+                _ if band.canopy && canopy => true,
+                Some(h) => h >= band.low && h <= band.high,
+                // No ground known nearby: inside a large roofed area, keep out.
+                None => true,
             };
             if blocks && !occ[cell] {
                 occ[cell] = true;
                 occupied += 1;
             }
+        }
+        for top in crowns.tops() {
+            occupied += block_disc(&grid, &mut occ, top, band.trunk_radius, resolution);
         }
         let distance = tiled_distance(&grid, &occ);
         let ground_z = z_sum
@@ -291,4 +311,73 @@ fn distance_field(frame: &GridFrame, occ: &[bool]) -> Vec<f32> {
             }
         })
         .collect()
+}
+
+/// The highest crown point per [`CROWN_CELL`] cell, to find crown tops.
+#[derive(Default)]
+struct Crowns {
+    top: HashMap<(i64, i64), f32>,
+}
+
+impl Crowns {
+    fn key(x: f64, y: f64) -> (i64, i64) {
+        (
+            (x / CROWN_CELL).floor() as i64,
+            (y / CROWN_CELL).floor() as i64,
+        )
+    }
+
+    fn add(&mut self, p: &[f32; 3], h: f32) {
+        let e = self
+            .top
+            .entry(Self::key(f64::from(p[0]), f64::from(p[1])))
+            .or_insert(h);
+        *e = e.max(h);
+    }
+
+    /// Cells higher than every other within [`CROWN_TOP_RADIUS`] (ties
+    /// broken by key, so a flat top gives one): where the trunks stand.
+    fn tops(&self) -> Vec<[f64; 2]> {
+        let r = (CROWN_TOP_RADIUS / CROWN_CELL).ceil() as i64;
+        let mut out = Vec::new();
+        for (&(i, j), &h) in &self.top {
+            let highest = (-r..=r).all(|di| {
+                (-r..=r).all(|dj| {
+                    if (di, dj) == (0, 0) || di * di + dj * dj > r * r {
+                        return true;
+                    }
+                    match self.top.get(&(i + di, j + dj)) {
+                        Some(&o) => o < h || (o == h && (i + di, j + dj) > (i, j)),
+                        None => true,
+                    }
+                })
+            });
+            if highest {
+                out.push([(i as f64 + 0.5) * CROWN_CELL, (j as f64 + 0.5) * CROWN_CELL]);
+            }
+        }
+        out
+    }
+}
+
+/// Marks the stored cells within `radius` of `c` occupied; returns how many were new.
+fn block_disc(grid: &TiledFrame, occ: &mut [bool], c: [f64; 2], radius: f32, res: f32) -> usize {
+    let (r, res) = (f64::from(radius), f64::from(res));
+    let n = (r / res).ceil() as i64;
+    let mut added = 0;
+    for di in -n..=n {
+        for dj in -n..=n {
+            let (dx, dy) = (di as f64 * res, dj as f64 * res);
+            if dx * dx + dy * dy > r * r {
+                continue;
+            }
+            if let Some(k) = grid.index_of(c[0] + dx, c[1] + dy)
+                && !occ[k]
+            {
+                occ[k] = true;
+                added += 1;
+            }
+        }
+    }
+    added
 }

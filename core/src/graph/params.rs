@@ -40,6 +40,10 @@ pub struct GraphParams {
     pub occupancy_resolution_m: f32,
     /// Vegetation blocks its whole column: aerial scans see crowns but rarely the trunks beneath.
     pub canopy_is_obstacle: bool,
+    /// With `canopy_is_obstacle`: above the vehicle's height band only a
+    /// disc of this radius about each crown's top blocks (its trunk), so a
+    /// street under tree crowns stays open; 0: the whole crown, metres.
+    pub canopy_trunk_radius_m: f32,
     /// The start must lie within this distance (xy) of a ground node, metres.
     pub max_start_snap_m: f32,
 }
@@ -55,6 +59,7 @@ impl Default for GraphParams {
             clearance_m: 0.2,
             occupancy_resolution_m: 0.25,
             canopy_is_obstacle: true,
+            canopy_trunk_radius_m: 0.0,
             max_start_snap_m: 5.0,
         }
     }
@@ -114,6 +119,12 @@ impl GraphParams {
         )?;
         c.positive("vehicle_height_m", height)?;
         c.non_negative("vehicle_radius_m", self.vehicle_radius_m)?;
+        c.within(
+            "canopy_trunk_radius_m",
+            self.canopy_trunk_radius_m,
+            0.0,
+            5.0,
+        )?;
         let slope_ok = (0.0..90.0).contains(&self.max_slope_deg);
         c.that(
             slope_ok,

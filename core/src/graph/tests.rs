@@ -2,21 +2,28 @@
 
 use super::*;
 
-/// Flat ground 0..40 × 0..20 at 0.25 m, a 3 m wall along x = 20 for
-/// y < 14 (open above), and a closed 6 m square pen around (8, 10).
-fn cloud() -> (Vec<[f32; 3]>, Vec<u8>) {
+/// Ground points on a 0.25 m grid, x 0..40 and rows `rows` (×0.25 m), where `keep` holds.
+fn ground_grid(
+    rows: std::ops::Range<i32>,
+    keep: impl Fn(f32, f32) -> bool,
+) -> (Vec<[f32; 3]>, Vec<u8>) {
     let mut xyz = Vec::new();
-    let mut lab = Vec::new();
     for i in 0..160 {
-        for j in 0..80 {
+        for j in rows.clone() {
             let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
-            let in_wall = (19.8..20.2).contains(&x) && y < 14.0;
-            if !in_wall {
+            if keep(x, y) {
                 xyz.push([x, y, 0.0]);
-                lab.push(2);
             }
         }
     }
+    let lab = vec![2; xyz.len()];
+    (xyz, lab)
+}
+
+/// Flat ground 0..40 × 0..20 at 0.25 m, a 3 m wall along x = 20 for
+/// y < 14 (open above), and a closed 6 m square pen around (8, 10).
+fn cloud() -> (Vec<[f32; 3]>, Vec<u8>) {
+    let (mut xyz, mut lab) = ground_grid(0..80, |x, y| !((19.8..20.2).contains(&x) && y < 14.0));
     let mut wall = |x0: f32, y0: f32, x1: f32, y1: f32| {
         let n = (((x1 - x0).abs() + (y1 - y0).abs()) / 0.1) as usize;
         for s in 0..=n {
@@ -93,6 +100,17 @@ fn bad_input_gives_errors() {
         bad.validate(),
         Err(crate::params::ParamError {
             field: "d_threshold_m",
+            ..
+        })
+    ));
+    let trunk = GraphParams {
+        canopy_trunk_radius_m: -1.0,
+        ..p.clone()
+    };
+    assert!(matches!(
+        trunk.validate(),
+        Err(crate::params::ParamError {
+            field: "canopy_trunk_radius_m",
             ..
         })
     ));
@@ -233,6 +251,59 @@ fn without_a_start_the_largest_component_is_kept() {
         GroundGraph::build_largest(&xyz[..0], &lab[..0], &p),
         Err(GraphError::NoGround)
     ));
+}
+
+/// A street 8 m wide between walls at y = 1 and y = 9, x 0..40, and a
+/// tree over it whose crown (a dome 3.5 m in radius, 4.2–6 m up, top over
+/// (20, 5)) spans the street; as from the air, no trunk points, but ground
+/// returns beneath the crown.
+fn street_under_a_crown() -> (Vec<[f32; 3]>, Vec<u8>) {
+    let (mut xyz, mut lab) = ground_grid(4..36, |_, _| true);
+    for i in 0..400 {
+        for y in [1.0f32, 9.0] {
+            for h in 0..30 {
+                xyz.push([i as f32 * 0.1, y, h as f32 * 0.1]);
+                lab.push(6);
+            }
+        }
+    }
+    for i in 0..70 {
+        for j in 0..70 {
+            let (x, y) = (16.5 + i as f32 * 0.1, 1.5 + j as f32 * 0.1);
+            let d = (x - 20.0).hypot(y - 5.0);
+            if d < 3.5 {
+                xyz.push([x, y, 6.0 - 0.15 * d * d]);
+                lab.push(5);
+            }
+        }
+    }
+    (xyz, lab)
+}
+
+#[test]
+fn a_crown_over_measured_ground_blocks_only_its_trunk() {
+    let start = [2.0, 5.0, 0.0];
+    let far = |g: &GroundGraph| g.positions().iter().any(|p| p[0] > 35.0);
+    let column = GraphParams::default();
+    let trunks = GraphParams {
+        canopy_trunk_radius_m: 0.5,
+        ..GraphParams::default()
+    };
+    let (xyz, lab) = street_under_a_crown();
+    let g = GroundGraph::build(&xyz, &lab, start, &column).unwrap();
+    assert!(!far(&g), "the whole crown cuts the street");
+    let g = GroundGraph::build(&xyz, &lab, start, &trunks).unwrap();
+    assert!(far(&g), "under the crown the street stays open");
+    let near_trunk = g
+        .positions()
+        .iter()
+        .map(|p| (p[0] - 20.0).hypot(p[1] - 5.0))
+        .fold(f32::INFINITY, f32::min);
+    assert!(near_trunk > 0.9, "a node {near_trunk} m from the trunk");
+    for (a, b, _) in g.edges() {
+        let (p, q) = (g.positions()[a], g.positions()[b]);
+        assert!(g.segment_free([p[0], p[1]], [q[0], q[1]]));
+    }
 }
 
 /// Ground of kind Ground: a 50 m × 30 m plain at z = 0, a 3 m high

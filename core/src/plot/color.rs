@@ -5,6 +5,14 @@ pub type Rgb = [u8; 3];
 
 /// White.
 pub const WHITE: Rgb = [255, 255, 255];
+/// Building points.
+pub(super) const GREY: Rgb = [200, 200, 200];
+/// Missing wall points; what is out of reach.
+pub(super) const MISSING: Rgb = [220, 30, 30];
+/// Ground targets and the route's stops.
+pub(super) const TARGET: Rgb = [150, 40, 200];
+/// The route.
+pub(super) const ROUTE: Rgb = [0, 150, 150];
 
 /// Maps `t` in 0..=1 to a blue → green → yellow → red ramp (clamped; NaN is grey).
 pub fn ramp(t: f64) -> Rgb {

@@ -9,10 +9,12 @@ mod color;
 mod font;
 mod furniture;
 mod models;
+mod plan;
 mod scene;
 
 pub use canvas::{Canvas, PlotError};
 pub use color::{Rgb, ramp};
 pub use furniture::nice_length;
 pub use models::{ModelView, models_picture};
+pub use plan::{PlanView, plan_picture};
 pub use scene::{BuildingGain, detection_picture, mission_picture};

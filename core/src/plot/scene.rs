@@ -9,14 +9,12 @@ use crate::crs::LinearUnit;
 use crate::missing::Detection;
 use crate::targets::TargetSet;
 
-const GREY: Rgb = [200, 200, 200];
+use super::color::{GREY, MISSING, ROUTE, TARGET};
+
 const CONTOUR: Rgb = [20, 20, 20];
 const SKELETON: Rgb = [30, 80, 220];
 const COLLECTED: Rgb = [40, 170, 60];
-const MISSING: Rgb = [220, 30, 30];
-const TARGET: Rgb = [150, 40, 200];
 const REGION: Rgb = [255, 140, 0];
-const ROUTE: Rgb = [0, 150, 150];
 
 fn rings(mp: &MultiPolygon<f64>) -> Vec<Vec<[f64; 2]>> {
     mp.0.iter()
@@ -25,7 +23,8 @@ fn rings(mp: &MultiPolygon<f64>) -> Vec<Vec<[f64; 2]>> {
         .collect()
 }
 
-fn bounds(points: impl Iterator<Item = [f64; 2]>) -> Option<([f64; 2], [f64; 2])> {
+/// The xy extent of `points` (None when it has no area).
+pub(super) fn bounds(points: impl Iterator<Item = [f64; 2]>) -> Option<([f64; 2], [f64; 2])> {
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for p in points.filter(|p| p[0].is_finite() && p[1].is_finite()) {

@@ -168,12 +168,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     std::fs::write(a.out.join("targets.json"), format!("{targets_json:#}\n")).map_err(err)?;
     let field = super::field::write_detection(&a.out, &cloud, &detection, &targets)?;
     let png = a.out.join("detection.png");
-    let unit = cloud
-        .crs
-        .as_ref()
-        .map_or(skyground_core::crs::LinearUnit::Metre, |c| {
-            c.horizontal_unit.clone()
-        });
+    let unit = cloud.frame().unit();
     detection_picture(&bpts, &detection, Some(&targets), 2400, &unit)
         .and_then(|c| c.save(&png))
         .map_err(err)?;

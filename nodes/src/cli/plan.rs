@@ -9,6 +9,7 @@ use serde_json::json;
 use skyground_core::cloud::read_cloud;
 use skyground_core::graph::{GraphParams, GroundGraph};
 use skyground_core::missing::MissingPoint;
+use skyground_core::plot::{PlanView, plan_picture};
 use skyground_core::route::{RouteParams, drop_seen_on_the_way, plan};
 use skyground_core::targets::{Site, TargetParams, TargetSet};
 
@@ -53,7 +54,7 @@ struct TargetsFile {
     missing: Vec<MissingPoint>,
 }
 
-/// Builds the graph and the route; writes DIR/route.json.
+/// Builds the graph and the route; writes DIR/route.json, route.geojson and plan.png.
 pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let p: PlannerParams = section(
         "global_planner",
@@ -120,6 +121,17 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let file = json!({"summary": out, "route": route});
     std::fs::write(a.input.join("route.json"), format!("{file:#}\n")).map_err(err)?;
     super::field::write_route(&a.input, &cloud, &route, &targets)?;
+    let unit = cloud.frame().unit();
+    let view = PlanView {
+        xyz: &cloud.xyz,
+        labels: &labels,
+        graph: &graph,
+        route: &route,
+        targets: &targets,
+    };
+    plan_picture(&view, 2400, &unit)
+        .and_then(|c| c.save(&a.input.join("plan.png")))
+        .map_err(err)?;
     if !a.json {
         eprintln!(
             "graph: {} nodes, {} edges ({:.2} s); targets reachable: {} of {} points, {} of {} regions; tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), streets {:.0} m ({:.2} s)",
