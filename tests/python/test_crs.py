@@ -112,3 +112,9 @@ def test_footprints_and_plan_in_feet(tmp_path):
     assert lines, "no route line"
     for x, y, *_ in lines[0]["geometry"]["coordinates"]:
         assert hdr.mins[0] - 1 <= x <= hdr.maxs[0] + 1 and hdr.mins[1] - 1 <= y <= hdr.maxs[1] + 1, (x, y)
+    # The plan's picture: a PNG as wide as the survey is long (2,400 px on
+    # its longer side, autzen_trim is 1,178 × 563 ft).
+    png = (tmp_path / "a" / "plan.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+    assert width == 2400 and 1000 < height < 1300, (width, height)
