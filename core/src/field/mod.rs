@@ -144,6 +144,26 @@ mod tests {
         let stop = &fc["features"][1];
         assert_eq!(stop["properties"]["order"], 1);
         assert_eq!(stop["properties"]["building"], 3);
+        let why = stop["properties"]["why"].as_str().unwrap();
+        assert!(
+            why.contains("stop 1 of 1") && why.contains("building 3"),
+            "{why}"
+        );
+        // The region out of reach, as a closed ring in feet.
+        let lost = &fc["features"][2];
+        assert_eq!(lost["properties"]["reachable"], false);
+        assert_eq!(lost["properties"]["target"], "region");
+        assert!(
+            lost["properties"]["why"]
+                .as_str()
+                .unwrap()
+                .contains("plan.png")
+        );
+        let ring = lost["geometry"]["coordinates"][0].as_array().unwrap();
+        assert_eq!(ring.len(), 5);
+        let x = ring[0][0].as_f64().unwrap();
+        assert!((x - (636_000.0 + 18.0 / FT)).abs() < 1e-3, "{x}");
+        assert_eq!(fc["features"].as_array().unwrap().len(), 3);
     }
 
     #[test]
