@@ -117,25 +117,21 @@ impl ObstacleMap {
                 .index_of(f64::from(p[0]), f64::from(p[1]))
                 .map(|k| p[2] - ground.z[k])
                 .filter(|h| h.is_finite());
-            let blocks = match h {
-                Some(h) if band.canopy && canopy && band.trunk_radius > 0.0 => {
-                    if h >= CROWN_MIN_HEIGHT {
-                        crowns.add(p, h);
-                    }
-                    h >= band.low && h <= band.high
-                }
-                _ if band.canopy && canopy => true,
-                Some(h) => h >= band.low && h <= band.high,
-                // No ground known nearby: inside a large roofed area, keep out.
-                None => true,
-            };
+            let trunks = band.trunk_radius > 0.0;
+            if let Some(h) = h.filter(|&h| band.canopy && canopy && trunks && h >= CROWN_MIN_HEIGHT)
+            {
+                crowns.add(p, h);
+            }
+            let whole_crown = band.canopy && canopy && !trunks;
+            // No ground known nearby: inside a large roofed area, keep out.
+            let blocks = whole_crown || h.is_none_or(|h| h >= band.low && h <= band.high);
             if blocks && !occ[cell] {
                 occ[cell] = true;
                 occupied += 1;
             }
         }
         for top in crowns.tops() {
-            occupied += block_disc(&grid, &mut occ, top, band.trunk_radius, resolution);
+            occupied += block_disc(&grid, &mut occ, top, band.trunk_radius);
         }
         let distance = tiled_distance(&grid, &occ);
         let ground_z = z_sum
@@ -361,8 +357,8 @@ impl Crowns {
 }
 
 /// Marks the stored cells within `radius` of `c` occupied; returns how many were new.
-fn block_disc(grid: &TiledFrame, occ: &mut [bool], c: [f64; 2], radius: f32, res: f32) -> usize {
-    let (r, res) = (f64::from(radius), f64::from(res));
+fn block_disc(grid: &TiledFrame, occ: &mut [bool], c: [f64; 2], radius: f32) -> usize {
+    let (r, res) = (f64::from(radius), grid.frame.cell);
     let n = (r / res).ceil() as i64;
     let mut added = 0;
     for di in -n..=n {

@@ -55,7 +55,8 @@ pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<
     let mut c = Canvas::new(lo, hi, 5.0, max_px)?;
     // A node stands for its cell: drawn that wide, reached ground reads as
     // an area and a gap between areas as the obstacle that cuts it.
-    let cell_px = (0.5 * f64::from(v.graph.params().node_spacing()) * c.scale()).floor() as i64;
+    let cell_px =
+        ((0.5 * f64::from(v.graph.params().node_spacing()) * c.scale()).floor() as i64).max(1);
     for (p, &l) in v.xyz.iter().zip(v.labels) {
         match l {
             VEGETATION => c.dot(xy(p), 0, VEGETATION_PTS),
@@ -64,10 +65,10 @@ pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<
         }
     }
     for p in v.graph.positions() {
-        c.dot(xy(p), cell_px.max(1), REACHED);
+        c.dot(xy(p), cell_px, REACHED);
     }
     for p in v.graph.unreachable_positions() {
-        c.dot(xy(p), cell_px.max(1), CUT_OFF);
+        c.dot(xy(p), cell_px, CUT_OFF);
     }
     for w in v.route.waypoints.windows(2) {
         c.line(xy(&w[0]), xy(&w[1]), 3, ROUTE);
