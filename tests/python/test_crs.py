@@ -110,8 +110,18 @@ def test_footprints_and_plan_in_feet(tmp_path):
     hdr = __import__("laspy").read(str(src)).header
     lines = [f for f in route["features"] if f["geometry"]["type"] == "LineString"]
     assert lines, "no route line"
+    inside = lambda x, y: hdr.mins[0] - 1 <= x <= hdr.maxs[0] + 1 and hdr.mins[1] - 1 <= y <= hdr.maxs[1] + 1
     for x, y, *_ in lines[0]["geometry"]["coordinates"]:
-        assert hdr.mins[0] - 1 <= x <= hdr.maxs[0] + 1 and hdr.mins[1] - 1 <= y <= hdr.maxs[1] + 1, (x, y)
+        assert inside(x, y), (x, y)
+    # One route per set-down; each set-down after the first is a Point in
+    # feet where the team puts the robot down, and reaches targets.
+    assert [f["properties"]["set_down"] for f in lines] == list(range(1, len(plan["set_downs"]) + 1))
+    puts = [f for f in route["features"] if f["properties"]["kind"] == "set_down"]
+    assert len(puts) == len(plan["set_downs"]) - 1
+    for f in puts:
+        assert inside(*f["geometry"]["coordinates"][:2]), f
+        assert f["properties"]["stops"] > 0 and "set the robot down here" in f["properties"]["why"]
+    assert sum(s["stops"] for s in plan["set_downs"]) == plan["stops"]
     # The plan's picture: a PNG as wide as the survey is long (2,400 px on
     # its longer side, autzen_trim is 1,178 × 563 ft).
     png = (tmp_path / "a" / "plan.png").read_bytes()

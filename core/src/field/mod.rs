@@ -12,7 +12,7 @@ pub use completeness::{
     BuildingFigures, DetectedFigures, completeness_csv, completeness_geojson, detection_figures,
 };
 pub use geojson::feature_collection;
-pub use route::{path_geojson, route_geojson};
+pub use route::{FieldRoute, Leg, path_geojson, route_geojson};
 pub use targets::targets_geojson;
 
 #[cfg(test)]
@@ -122,21 +122,37 @@ mod tests {
         assert!((r["properties"]["area"].as_f64().unwrap() - 70.0 / (FT * FT)).abs() < 1e-2);
     }
 
+    fn route(order: Vec<Stop>, waypoints: Vec<[f32; 3]>, length_m: f32) -> Route {
+        Route {
+            arrivals: vec![waypoints.len() - 1; order.len()],
+            order,
+            waypoints,
+            nodes: vec![],
+            length_m,
+            unreachable_points: vec![],
+            unreachable_regions: vec![],
+            greedy_length_m: length_m,
+            tsp_length_m: length_m,
+            streets_length_m: length_m,
+        }
+    }
+
     #[test]
     fn route_is_a_linestring_in_feet_with_ordered_stops() {
-        let route = Route {
-            order: vec![Stop::Point(0)],
-            waypoints: vec![[0.0, -5.0, 0.0], [28.0, -5.0, 0.0], [28.0, 10.0, 0.0]],
-            nodes: vec![],
-            arrivals: vec![2],
-            length_m: 43.0,
-            unreachable_points: vec![],
-            unreachable_regions: vec![0],
-            greedy_length_m: 43.0,
-            tsp_length_m: 43.0,
-            streets_length_m: 43.0,
+        let r = route(
+            vec![Stop::Point(0)],
+            vec![[0.0, -5.0, 0.0], [28.0, -5.0, 0.0], [28.0, 10.0, 0.0]],
+            43.0,
+        );
+        let plan = FieldRoute {
+            legs: vec![Leg {
+                start: r.waypoints[0],
+                route: &r,
+            }],
+            unreachable_points: &[],
+            unreachable_regions: &[0],
         };
-        let fc = route_geojson(&route, &targets(), &frame());
+        let fc = route_geojson(&plan, &targets(), &frame());
         let line = &fc["features"][0];
         assert_eq!(line["geometry"]["type"], "LineString");
         assert_eq!(line["geometry"]["coordinates"].as_array().unwrap().len(), 3);
@@ -146,7 +162,7 @@ mod tests {
         assert_eq!(stop["properties"]["building"], 3);
         let why = stop["properties"]["why"].as_str().unwrap();
         assert!(
-            why.contains("stop 1 of 1") && why.contains("building 3"),
+            why.contains("stop 1 of 1") && why.contains("building 3") && !why.contains("set-down"),
             "{why}"
         );
         // The region out of reach, as a closed ring in feet.
@@ -164,6 +180,59 @@ mod tests {
         let x = ring[0][0].as_f64().unwrap();
         assert!((x - (636_000.0 + 18.0 / FT)).abs() < 1e-3, "{x}");
         assert_eq!(fc["features"].as_array().unwrap().len(), 3);
+    }
+
+    #[test]
+    fn a_second_set_down_is_a_point_with_its_own_route_and_stops() {
+        let a = route(
+            vec![Stop::Point(0)],
+            vec![[0.0, -5.0, 0.0], [28.0, 10.0, 0.0]],
+            33.0,
+        );
+        let b = route(
+            vec![Stop::Region(0)],
+            vec![[20.0, 8.0, 0.0], [21.0, 8.0, 0.0]],
+            1.0,
+        );
+        let plan = FieldRoute {
+            legs: vec![
+                Leg {
+                    start: a.waypoints[0],
+                    route: &a,
+                },
+                Leg {
+                    start: b.waypoints[0],
+                    route: &b,
+                },
+            ],
+            unreachable_points: &[],
+            unreachable_regions: &[],
+        };
+        let fc = route_geojson(&plan, &targets(), &frame());
+        let f = fc["features"].as_array().unwrap();
+        let kinds: Vec<&str> = f
+            .iter()
+            .map(|f| f["properties"]["kind"].as_str().unwrap())
+            .collect();
+        assert_eq!(kinds, ["route", "stop", "set_down", "route", "stop"]);
+        let put = &f[2];
+        assert_eq!(put["properties"]["set_down"], 2);
+        assert!(
+            put["properties"]["why"]
+                .as_str()
+                .unwrap()
+                .starts_with("set-down 2 of 2"),
+            "{put}"
+        );
+        let x = put["geometry"]["coordinates"][0].as_f64().unwrap();
+        assert!((x - (636_000.0 + 20.0 / FT)).abs() < 1e-3, "{x}");
+        assert_eq!(f[3]["properties"]["set_down"], 2);
+        let why = f[4]["properties"]["why"].as_str().unwrap();
+        assert!(
+            why.contains("stop 1 of 1 of set-down 2") && why.contains("explore"),
+            "{why}"
+        );
+        assert_eq!(f[1]["properties"]["set_down"], 1);
     }
 
     #[test]

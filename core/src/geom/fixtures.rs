@@ -21,3 +21,28 @@ pub(crate) fn flat_ground(ni: usize, nj: usize, step: f32) -> (Vec<[f32; 3]>, Ve
     let labels = vec![crate::cloud::class::GROUND; xyz.len()];
     (xyz, labels)
 }
+
+/// Flat ground 0..40 × 0..20 m (0.25 m apart) with a closed 3 m wall of
+/// building points around each `(lower, upper)` corner pair: pens the
+/// ground graph cannot drive into.
+pub(crate) fn pens(pens: &[([f32; 2], [f32; 2])]) -> (Vec<[f32; 3]>, Vec<u8>) {
+    let (mut xyz, mut labels) = flat_ground(160, 80, 0.25);
+    for &(lo, hi) in pens {
+        let corners = [lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]];
+        for k in 0..4 {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            for s in 0..=100 {
+                let t = s as f32 / 100.0;
+                for h in 0..30 {
+                    xyz.push([
+                        a[0] + t * (b[0] - a[0]),
+                        a[1] + t * (b[1] - a[1]),
+                        0.1 * h as f32,
+                    ]);
+                    labels.push(crate::cloud::class::BUILDING);
+                }
+            }
+        }
+    }
+    (xyz, labels)
+}

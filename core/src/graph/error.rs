@@ -36,4 +36,12 @@ pub enum GraphError {
         /// The allowed distance.
         max: f32,
     },
+    /// Fewer pieces of ground than the rank asked for.
+    #[error("the ground graph has {pieces} pieces; piece {rank} (0 = the largest) does not exist")]
+    NoSuchPiece {
+        /// The rank asked for.
+        rank: usize,
+        /// Pieces there are.
+        pieces: usize,
+    },
 }

@@ -87,7 +87,7 @@ impl GroundGraph {
         start: [f32; 3],
         params: &GraphParams,
     ) -> Result<Self, GraphError> {
-        Self::build_from(xyz, labels, Some(start), params)
+        Self::build_from(xyz, labels, Start::Near(start), params)
     }
 
     /// Builds the graph and keeps its largest component, starting at that
@@ -99,13 +99,25 @@ impl GroundGraph {
         labels: &[u8],
         params: &GraphParams,
     ) -> Result<Self, GraphError> {
-        Self::build_from(xyz, labels, None, params)
+        Self::build_from(xyz, labels, Start::Piece(0), params)
+    }
+
+    /// Builds the graph and keeps its `rank`-th largest component (0: the
+    /// largest), starting at that component's node nearest its middle: the
+    /// ground a field team reaches by setting the robot down there.
+    pub fn build_piece(
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+        params: &GraphParams,
+        rank: usize,
+    ) -> Result<Self, GraphError> {
+        Self::build_from(xyz, labels, Start::Piece(rank), params)
     }
 
     fn build_from(
         xyz: &[[f32; 3]],
         labels: &[u8],
-        start: Option<[f32; 3]>,
+        start: Start,
         params: &GraphParams,
     ) -> Result<Self, GraphError> {
         params.validate()?;
@@ -157,12 +169,17 @@ impl GroundGraph {
         }
         let edges = candidate_edges(&grid, &cell_cand, &cand_cell, &cand_pos, &obstacles, params);
 
-        // The nearest node at any distance: it is the start when close enough
-        // and says how far off the start was when not.
-        let snapped = match start {
-            Some(s) => {
+        let mut uf = UnionFind::<usize>::new(cand_pos.len());
+        for &(a, b, _) in &edges {
+            uf.union(a as usize, b as usize);
+        }
+        let labels_cc = uf.into_labeling();
+        let start_node = match start {
+            // The nearest node at any distance: it is the start when close
+            // enough and says how far off the start was when not.
+            Start::Near(s) => {
                 match nearest_in(&grid, &cell_cand, &cand_pos, [s[0], s[1]], f32::INFINITY) {
-                    Some((n, d)) if d <= params.max_start_snap_m => Some(n),
+                    Some((n, d)) if d <= params.max_start_snap_m => n,
                     near => {
                         return Err(GraphError::StartOffGraph {
                             x: s[0],
@@ -173,17 +190,7 @@ impl GroundGraph {
                     }
                 }
             }
-            None => None,
-        };
-
-        let mut uf = UnionFind::<usize>::new(cand_pos.len());
-        for &(a, b, _) in &edges {
-            uf.union(a as usize, b as usize);
-        }
-        let labels_cc = uf.into_labeling();
-        let start_node = match snapped {
-            Some(n) => n,
-            None => middle_of_largest(&labels_cc, &cand_pos).ok_or(GraphError::NoGround)?,
+            Start::Piece(rank) => middle_of_piece(&labels_cc, &cand_pos, rank)?,
         };
         let keep_label = labels_cc[start_node];
         let mut other = std::collections::HashSet::new();
@@ -534,20 +541,39 @@ fn csr(n: usize, edges: &[(u32, u32, f32)]) -> (Vec<usize>, Vec<u32>, Vec<f32>) 
     (deg, adj, w)
 }
 
-/// The node of the largest component (ties: the lowest label) nearest
-/// (xy) that component's mean position.
-fn middle_of_largest(labels: &[usize], pos: &[[f32; 3]]) -> Option<usize> {
+/// Where the kept component comes from.
+#[derive(Debug, Clone, Copy)]
+enum Start {
+    /// The component of the node nearest this point.
+    Near([f32; 3]),
+    /// The component of this rank by size (0: the largest).
+    Piece(usize),
+}
+
+/// The node of the `rank`-th largest component (ties: the lower label
+/// first) nearest (xy) that component's mean position.
+fn middle_of_piece(labels: &[usize], pos: &[[f32; 3]], rank: usize) -> Result<usize, GraphError> {
     // Union-find labels are node indices, so a count per index will do.
     let mut count = vec![0usize; labels.len()];
     for &l in labels {
         count[l] += 1;
     }
-    let largest = (0..count.len()).max_by(|a, b| count[*a].cmp(&count[*b]).then(b.cmp(a)))?;
-    let members = || (0..labels.len()).filter(move |&i| labels[i] == largest);
-    let n = count[largest] as f32;
+    let mut pieces: Vec<usize> = (0..count.len()).filter(|&l| count[l] > 0).collect();
+    if pieces.is_empty() {
+        return Err(GraphError::NoGround);
+    }
+    pieces.sort_by(|a, b| count[*b].cmp(&count[*a]).then(a.cmp(b)));
+    let &piece = pieces.get(rank).ok_or(GraphError::NoSuchPiece {
+        rank,
+        pieces: pieces.len(),
+    })?;
+    let members = || (0..labels.len()).filter(move |&i| labels[i] == piece);
+    let n = count[piece] as f32;
     let mean = members().fold([0.0f32; 2], |m, i| {
         [m[0] + pos[i][0] / n, m[1] + pos[i][1] / n]
     });
     let d = |i: &usize| (pos[*i][0] - mean[0]).powi(2) + (pos[*i][1] - mean[1]).powi(2);
-    members().min_by(|a, b| d(a).total_cmp(&d(b)))
+    members()
+        .min_by(|a, b| d(a).total_cmp(&d(b)))
+        .ok_or(GraphError::NoGround)
 }

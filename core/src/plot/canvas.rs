@@ -17,6 +17,9 @@ pub enum PlotError {
         /// Upper corner.
         max: [f64; 2],
     },
+    /// A plan picture was asked for without a ground graph to draw.
+    #[error("nothing to draw: the plan has no set-down (no ground graph)")]
+    NoGraph,
     /// The PNG could not be written.
     #[error("cannot write {path}: {source}")]
     Write {

@@ -8,8 +8,7 @@ use super::color::{GREY as BUILDING_PTS, MISSING as OUT_OF_REACH, ROUTE, Rgb, TA
 use super::scene::bounds;
 use crate::cloud::class::{BUILDING, VEGETATION};
 use crate::crs::LinearUnit;
-use crate::graph::GroundGraph;
-use crate::route::{Route, Stop};
+use crate::route::{SetDowns, Stop};
 use crate::targets::TargetSet;
 
 const VEGETATION_PTS: Rgb = [120, 200, 120];
@@ -25,7 +24,7 @@ const LEGEND: [(Rgb, &str); 8] = [
     (ROUTE, "route"),
     (STOP, "stop"),
     (OUT_OF_REACH, "target out of reach"),
-    (START, "start"),
+    (START, "set-down (start)"),
 ];
 
 /// What [`plan_picture`] draws.
@@ -34,17 +33,16 @@ pub struct PlanView<'a> {
     pub xyz: &'a [[f32; 3]],
     /// LAS classes of `xyz`.
     pub labels: &'a [u8],
-    /// The ground graph the route was made on.
-    pub graph: &'a GroundGraph,
-    /// The route.
-    pub route: &'a Route,
-    /// The targets the route serves.
+    /// The set-downs: each one's piece of ground and route.
+    pub set_downs: &'a SetDowns,
+    /// The targets the routes serve.
     pub targets: &'a TargetSet,
 }
 
 /// The plan from above: building and vegetation points, the ground the
 /// graph reaches (blue) and the ground cut off from it (orange), one cell
-/// per node; the route, its stops, the targets out of reach and the start;
+/// per node; each set-down's piece, route, stops and start; the targets
+/// no set-down reaches;
 /// legend, north arrow and a scale bar in `unit` (the input's).
 pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<Canvas, PlotError> {
     let xy = |p: &[f32; 3]| [f64::from(p[0]), f64::from(p[1])];
@@ -53,10 +51,11 @@ pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<
         max: [0.0; 2],
     })?;
     let mut c = Canvas::new(lo, hi, 5.0, max_px)?;
+    let first = v.set_downs.set_downs.first().ok_or(PlotError::NoGraph)?;
     // A node stands for its cell: drawn that wide, reached ground reads as
     // an area and a gap between areas as the obstacle that cuts it.
     let cell_px =
-        ((0.5 * f64::from(v.graph.params().node_spacing()) * c.scale()).floor() as i64).max(1);
+        ((0.5 * f64::from(first.graph.params().node_spacing()) * c.scale()).floor() as i64).max(1);
     for (p, &l) in v.xyz.iter().zip(v.labels) {
         match l {
             VEGETATION => c.dot(xy(p), 0, VEGETATION_PTS),
@@ -64,29 +63,32 @@ pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<
             _ => {}
         }
     }
-    for p in v.graph.positions() {
-        c.dot(xy(p), cell_px, REACHED);
-    }
-    for p in v.graph.unreachable_positions() {
+    // Every piece but the first's is cut off from it; the later set-downs'
+    // pieces are then drawn over as reached.
+    for p in first.graph.unreachable_positions() {
         c.dot(xy(p), cell_px, CUT_OFF);
     }
-    for w in v.route.waypoints.windows(2) {
-        c.line(xy(&w[0]), xy(&w[1]), 3, ROUTE);
+    for s in &v.set_downs.set_downs {
+        for p in s.graph.positions() {
+            c.dot(xy(p), cell_px, REACHED);
+        }
     }
-    for (k, s) in v.route.order.iter().enumerate() {
-        let at = v
-            .route
-            .arrivals
-            .get(k)
-            .and_then(|&a| v.route.waypoints.get(a));
-        if let Some(at) = at {
-            // A region's stop is where its exploration starts.
-            let r = if matches!(s, Stop::Point(_)) { 4 } else { 6 };
-            c.dot(xy(at), r, STOP);
+    for s in &v.set_downs.set_downs {
+        let route = &s.route;
+        for w in route.waypoints.windows(2) {
+            c.line(xy(&w[0]), xy(&w[1]), 3, ROUTE);
+        }
+        for (k, stop) in route.order.iter().enumerate() {
+            let at = route.arrivals.get(k).and_then(|&a| route.waypoints.get(a));
+            if let Some(at) = at {
+                // A region's stop is where its exploration starts.
+                let r = if matches!(stop, Stop::Point(_)) { 4 } else { 6 };
+                c.dot(xy(at), r, STOP);
+            }
         }
     }
     for r in v
-        .route
+        .set_downs
         .unreachable_regions
         .iter()
         .filter_map(|&i| v.targets.regions.get(i))
@@ -94,15 +96,15 @@ pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<
         c.polyline(&r.polygon, true, 3, OUT_OF_REACH);
     }
     for t in v
-        .route
+        .set_downs
         .unreachable_points
         .iter()
         .filter_map(|&i| v.targets.points.get(i))
     {
         c.dot(xy(&t.xyz), 5, OUT_OF_REACH);
     }
-    if let Some(s) = v.graph.positions().get(v.graph.start_node()) {
-        c.dot(xy(s), 7, START);
+    for s in &v.set_downs.set_downs {
+        c.dot(xy(&s.start), 7, START);
     }
     c.furnish(&LEGEND, unit);
     Ok(c)
@@ -111,43 +113,17 @@ pub fn plan_picture(v: &PlanView<'_>, max_px: u32, unit: &LinearUnit) -> Result<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::graph::GraphParams;
-    use crate::route::{RouteParams, plan};
+    use crate::geom::fixtures::pens;
+    use crate::graph::{GraphParams, GroundGraph};
+    use crate::route::{Ground, RouteParams, plan_set_downs};
     use crate::targets::TargetPoint;
-
-    /// Flat ground 0..40 × 0..20 and a closed 3 m pen around (30, 10).
-    fn pen() -> (Vec<[f32; 3]>, Vec<u8>) {
-        let mut xyz = Vec::new();
-        let mut lab = Vec::new();
-        for i in 0..160 {
-            for j in 0..80 {
-                xyz.push([i as f32 * 0.25, j as f32 * 0.25, 0.0]);
-                lab.push(crate::cloud::class::GROUND);
-            }
-        }
-        let corners = [[25.0f32, 5.0], [35.0, 5.0], [35.0, 15.0], [25.0, 15.0]];
-        for k in 0..4 {
-            let (a, b) = (corners[k], corners[(k + 1) % 4]);
-            for s in 0..=100 {
-                let t = s as f32 / 100.0;
-                for h in 0..30 {
-                    xyz.push([
-                        a[0] + t * (b[0] - a[0]),
-                        a[1] + t * (b[1] - a[1]),
-                        0.1 * h as f32,
-                    ]);
-                    lab.push(BUILDING);
-                }
-            }
-        }
-        (xyz, lab)
-    }
 
     #[test]
     fn reached_and_cut_off_ground_route_and_lost_target_are_drawn() {
-        let (xyz, labels) = pen();
-        let graph =
-            GroundGraph::build(&xyz, &labels, [2.0, 2.0, 0.0], &GraphParams::default()).unwrap();
+        let (xyz, labels) = pens(&[([25.0, 5.0], [35.0, 15.0])]);
+        let params = GraphParams::default();
+        let start = [2.0, 2.0, 0.0];
+        let first = || GroundGraph::build(&xyz, &labels, start, &params).unwrap();
         let at = |x, y| TargetPoint {
             xyz: [x, y, 0.0],
             building: 1,
@@ -156,13 +132,19 @@ mod tests {
             points: vec![at(20.0, 10.0), at(30.0, 10.0)],
             regions: Vec::new(),
         };
-        let route = plan(&graph, &targets, [2.0, 2.0, 0.0], &RouteParams::default()).unwrap();
+        let ground = Ground {
+            xyz: &xyz,
+            labels: &labels,
+            params: &params,
+        };
+        let rp = RouteParams::default();
+        let one = plan_set_downs(&ground, &targets, (first(), start), &rp, 0).unwrap();
         assert_eq!(
-            route.unreachable_points,
+            one.unreachable_points,
             vec![1],
             "the pen's target is out of reach"
         );
-        let inside = graph.unreachable_positions();
+        let inside = one.set_downs[0].graph.unreachable_positions();
         assert!(!inside.is_empty());
         assert!(
             inside
@@ -173,24 +155,42 @@ mod tests {
         let v = PlanView {
             xyz: &xyz,
             labels: &labels,
-            graph: &graph,
-            route: &route,
+            set_downs: &one,
             targets: &targets,
         };
         let c = plan_picture(&v, 800, &LinearUnit::Metre).unwrap();
-        let px = |x: f64, y: f64| {
+        let px = |c: &Canvas, x: f64, y: f64| {
             let [col, row] = c.to_px([x, y]);
             c.pixel(col as u32, row as u32)
         };
-        assert_eq!(px(27.0, 12.5), Some(CUT_OFF), "inside the pen");
-        assert_eq!(px(10.0, 17.5), Some(REACHED), "open ground");
-        assert_eq!(px(30.0, 10.0), Some(OUT_OF_REACH), "the pen's target");
+        assert_eq!(px(&c, 27.0, 12.5), Some(CUT_OFF), "inside the pen");
+        assert_eq!(px(&c, 10.0, 17.5), Some(REACHED), "open ground");
+        assert_eq!(px(&c, 30.0, 10.0), Some(OUT_OF_REACH), "the pen's target");
+        let route = &one.set_downs[0].route;
         let stop = route.waypoints[route.arrivals[0]];
         assert!((stop[0] - 20.0).hypot(stop[1] - 10.0) < 1.0, "{stop:?}");
         assert_eq!(
-            px(f64::from(stop[0]), f64::from(stop[1])),
+            px(&c, f64::from(stop[0]), f64::from(stop[1])),
             Some(STOP),
             "the reachable target's stop"
+        );
+        // Set down in the pen as well: its ground is reached, its target a stop.
+        let two = plan_set_downs(&ground, &targets, (first(), start), &rp, 1).unwrap();
+        let c2 = plan_picture(
+            &PlanView {
+                set_downs: &two,
+                ..v
+            },
+            800,
+            &LinearUnit::Metre,
+        )
+        .unwrap();
+        assert_eq!(px(&c2, 27.0, 12.5), Some(REACHED), "inside the pen");
+        let pen = two.set_downs[1].start;
+        assert_eq!(
+            px(&c2, f64::from(pen[0]), f64::from(pen[1])),
+            Some(START),
+            "the pen's set-down"
         );
         let empty = PlanView {
             xyz: &[],

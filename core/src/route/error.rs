@@ -18,4 +18,7 @@ pub enum RouteError {
         /// The allowed distance.
         max: f32,
     },
+    /// A piece of ground for a set-down could not be built.
+    #[error(transparent)]
+    Graph(#[from] crate::graph::GraphError),
 }

@@ -7,6 +7,8 @@
 //! - [`RouteParams`] (`params`), [`RouteError`] (`error`);
 //! - `stops`: snapping targets ([`Stop`]); `tour`: the two tour builders on a cost matrix;
 //! - `plan`: [`plan`], [`replan`] → [`Route`];
+//! - `set_downs`: more places to set the robot down when one piece of
+//!   ground does not reach every target ([`plan_set_downs`]);
 //! - `drive_by`: point stops whose gaps the rest of the route sees anyway,
 //!   taken out before the vehicle sets off ([`drop_seen_on_the_way`]);
 //! - `budget`: how long a route takes ([`route_budget`]), the demo's time
@@ -17,6 +19,7 @@ mod drive_by;
 mod error;
 mod params;
 mod plan;
+mod set_downs;
 mod stops;
 pub(crate) mod tour;
 
@@ -25,4 +28,5 @@ pub use drive_by::{DriveBy, drop_seen_on_the_way};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
 pub use plan::{Route, Visited, plan, replan};
+pub use set_downs::{Ground, PIECES_TRIED, SetDown, SetDowns, plan_set_downs};
 pub use stops::Stop;

@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use skyground_core::cloud::Cloud;
 use skyground_core::crs::SourceFrame;
 use skyground_core::field::{
-    completeness_csv, completeness_geojson, detection_figures, route_geojson, targets_geojson,
+    FieldRoute, completeness_csv, completeness_geojson, detection_figures, route_geojson,
+    targets_geojson,
 };
 use skyground_core::missing::Detection;
-use skyground_core::route::Route;
 use skyground_core::targets::TargetSet;
 
 use crate::runtime::RuntimeError;
@@ -50,13 +50,13 @@ pub fn write_detection(
 pub fn write_route(
     dir: &Path,
     cloud: &Cloud,
-    route: &Route,
+    plan: &FieldRoute<'_>,
     targets: &TargetSet,
 ) -> Result<PathBuf, RuntimeError> {
     let frame = cloud.frame();
     write(
         dir.join("route.geojson"),
-        format!("{:#}\n", route_geojson(route, targets, &frame)),
+        format!("{:#}\n", route_geojson(plan, targets, &frame)),
     )
 }
 

@@ -7,10 +7,13 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::cloud::read_cloud;
+use skyground_core::field::FieldRoute;
 use skyground_core::graph::{GraphParams, GroundGraph};
 use skyground_core::missing::MissingPoint;
 use skyground_core::plot::{PlanView, plan_picture};
-use skyground_core::route::{RouteParams, drop_seen_on_the_way, plan};
+use skyground_core::route::{
+    Ground, Route, RouteParams, SetDown, Stop, drop_seen_on_the_way, plan_set_downs,
+};
 use skyground_core::targets::{Site, TargetParams, TargetSet};
 
 use super::detect::section;
@@ -30,6 +33,12 @@ pub struct PlanArgs {
     /// A params file (section global_planner: graph, route, targets).
     #[arg(long)]
     pub params_file: Option<PathBuf>,
+    /// Where the ground comes in pieces no drivable way joins (a canal, a
+    /// courtyard), plan up to this many more set-downs: the field team puts
+    /// the robot down on the largest other pieces that reach targets the
+    /// earlier set-downs do not; 0: one route from the start.
+    #[arg(long, default_value_t = 3)]
+    pub set_downs: usize,
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -54,7 +63,8 @@ struct TargetsFile {
     missing: Vec<MissingPoint>,
 }
 
-/// Builds the graph and the route; writes DIR/route.json, route.geojson and plan.png.
+/// Builds the graph and the route from the start, then more set-downs
+/// where targets remain; writes DIR/route.json, route.geojson and plan.png.
 pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let p: PlannerParams = section(
         "global_planner",
@@ -83,50 +93,71 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let start = given.unwrap_or_else(|| graph.positions()[graph.start_node()]);
     let graph_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let toured = plan(&graph, &targets, start, &p.route).map_err(err)?;
-    let toured_length_m = toured.length_m;
-    let (route, dropped) = if p.route.skip_seen && !missing.is_empty() {
+    let ground = Ground {
+        xyz: &cloud.xyz,
+        labels: &labels,
+        params: &p.graph,
+    };
+    let mut plan =
+        plan_set_downs(&ground, &targets, (graph, start), &p.route, a.set_downs).map_err(err)?;
+    let toured_length_m = plan.length_m();
+    let mut dropped = Vec::new();
+    if p.route.skip_seen && !missing.is_empty() {
         let t = &p.targets;
         let site = Site::from_cloud(&cloud.xyz, &labels, t.cell, t.clearance).map_err(err)?;
-        let d = drop_seen_on_the_way(&graph, &toured, &targets, (&missing, &site), t, &p.route);
-        (d.route, d.dropped)
-    } else {
-        (toured, Vec::new())
-    };
+        for s in &mut plan.set_downs {
+            let d =
+                drop_seen_on_the_way(&s.graph, &s.route, &targets, (&missing, &site), t, &p.route);
+            s.route = d.route;
+            dropped.extend(d.dropped);
+        }
+    }
     let route_s = t1.elapsed().as_secs_f64();
+    let first = &plan.set_downs[0];
+    let (graph, route) = (&first.graph, &first.route);
+    let report = graph.report();
+    let set_down_nodes: usize = plan.set_downs.iter().map(|s| s.graph.len()).sum();
+    let sum = |f: fn(&Route) -> f32| plan.set_downs.iter().map(|s| f(&s.route)).sum::<f32>();
+    let greedy_length_m = sum(|r| r.greedy_length_m);
+    let tsp_length_m = sum(|r| r.tsp_length_m);
+    let stops: usize = plan.set_downs.iter().map(|s| s.route.order.len()).sum();
     let out = json!({
         "input": a.input,
         "start": start,
-        "graph": graph.report(),
+        "graph": report,
         "graph_params": graph.params(),
-        "reachable_node_share": graph.report().nodes as f64 / graph.report().candidate_nodes.max(1) as f64,
+        "reachable_node_share": report.nodes as f64 / report.candidate_nodes.max(1) as f64,
+        "set_down_node_share": set_down_nodes as f64 / report.candidate_nodes.max(1) as f64,
         "nodes": graph.len(),
         "edges": graph.edges().len(),
         "target_points": targets.points.len(),
         "target_regions": targets.regions.len(),
-        "reachable_points": targets.points.len() - route.unreachable_points.len(),
-        "reachable_regions": targets.regions.len() - route.unreachable_regions.len(),
-        "unreachable_points": route.unreachable_points,
-        "unreachable_regions": route.unreachable_regions,
-        "greedy_length_m": route.greedy_length_m,
-        "tsp_length_m": route.tsp_length_m,
-        "tsp_over_greedy": route.tsp_length_m / route.greedy_length_m.max(1e-6),
-        "streets_length_m": route.streets_length_m,
-        "route_length_m": route.length_m,
-        "stops": route.order.len(),
+        "reachable_points": targets.points.len() - plan.unreachable_points.len(),
+        "reachable_regions": targets.regions.len() - plan.unreachable_regions.len(),
+        "reachable_points_first": targets.points.len() - route.unreachable_points.len(),
+        "reachable_regions_first": targets.regions.len() - route.unreachable_regions.len(),
+        "unreachable_points": plan.unreachable_points,
+        "unreachable_regions": plan.unreachable_regions,
+        "greedy_length_m": greedy_length_m,
+        "tsp_length_m": tsp_length_m,
+        "tsp_over_greedy": tsp_length_m / greedy_length_m.max(1e-6),
+        "streets_length_m": sum(|r| r.streets_length_m),
+        "route_length_m": plan.length_m(),
+        "stops": stops,
         "toured_length_m": toured_length_m,
         "dropped_seen_on_the_way": dropped,
+        "set_downs": plan.set_downs.iter().map(set_down_summary).collect::<Vec<_>>(),
         "seconds": {"graph": graph_s, "matrix_and_tours": route_s, "total": graph_s + route_s},
     });
-    let file = json!({"summary": out, "route": route});
+    let routes: Vec<&Route> = plan.set_downs.iter().map(|s| &s.route).collect();
+    let file = json!({"summary": out, "route": route, "set_down_routes": &routes[1..]});
     std::fs::write(a.input.join("route.json"), format!("{file:#}\n")).map_err(err)?;
-    super::field::write_route(&a.input, &cloud, &route, &targets)?;
+    super::field::write_route(&a.input, &cloud, &FieldRoute::from(&plan), &targets)?;
     let unit = cloud.frame().unit();
     let view = PlanView {
         xyz: &cloud.xyz,
         labels: &labels,
-        graph: &graph,
-        route: &route,
+        set_downs: &plan,
         targets: &targets,
     };
     plan_picture(&view, 2400, &unit)
@@ -134,20 +165,41 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         .map_err(err)?;
     if !a.json {
         eprintln!(
-            "graph: {} nodes, {} edges ({:.2} s); targets reachable: {} of {} points, {} of {} regions; tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), streets {:.0} m ({:.2} s)",
+            "graph: {} nodes, {} edges ({:.2} s); {} set-down(s); targets reachable: {} of {} points, {} of {} regions (from the start: {} and {}); tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), driven {:.0} m ({:.2} s)",
             graph.len(),
             graph.edges().len(),
             graph_s,
-            targets.points.len() - route.unreachable_points.len(),
+            plan.set_downs.len(),
+            targets.points.len() - plan.unreachable_points.len(),
             targets.points.len(),
-            targets.regions.len() - route.unreachable_regions.len(),
+            targets.regions.len() - plan.unreachable_regions.len(),
             targets.regions.len(),
-            route.greedy_length_m,
-            route.tsp_length_m,
-            route.tsp_length_m / route.greedy_length_m.max(1e-6),
-            route.streets_length_m,
+            targets.points.len() - route.unreachable_points.len(),
+            targets.regions.len() - route.unreachable_regions.len(),
+            greedy_length_m,
+            tsp_length_m,
+            tsp_length_m / greedy_length_m.max(1e-6),
+            plan.length_m(),
             route_s
         );
     }
     Ok(out)
+}
+
+/// One set-down in the summary: where, how much ground, what it reaches.
+fn set_down_summary(s: &SetDown) -> serde_json::Value {
+    let points = s
+        .route
+        .order
+        .iter()
+        .filter(|o| matches!(o, Stop::Point(_)))
+        .count();
+    json!({
+        "start": s.start,
+        "nodes": s.graph.len(),
+        "stops": s.route.order.len(),
+        "points": points,
+        "regions": s.route.order.len() - points,
+        "route_length_m": s.route.length_m,
+    })
 }

@@ -1,0 +1,224 @@
+//! Set-downs: where a field team puts the robot down when one piece of
+//! ground does not reach every target (a canal without a drivable bridge,
+//! a courtyard behind a gate), and the route it drives from each.
+
+use super::error::RouteError;
+use super::params::RouteParams;
+use super::plan::{Route, Visited, plan, replan};
+use super::stops::Stop;
+use crate::graph::{GraphError, GraphParams, GroundGraph};
+use crate::targets::TargetSet;
+
+/// Pieces of ground tried for a set-down after the first, largest first:
+/// beyond these the pieces are yards and gardens a team rarely enters.
+pub const PIECES_TRIED: usize = 12;
+
+/// One place the robot is set down and the route it drives from there.
+#[derive(Debug, Clone)]
+pub struct SetDown {
+    /// Where the robot is set down (a node of `graph`, or the caller's start for the first).
+    pub start: [f32; 3],
+    /// The piece of ground it can drive from there.
+    pub graph: GroundGraph,
+    /// The route over the targets this piece reaches that no earlier set-down did.
+    pub route: Route,
+}
+
+/// Every set-down of a plan, and the targets none of them reaches.
+#[derive(Debug, Clone)]
+pub struct SetDowns {
+    /// The first is the caller's; the others in the order they were found.
+    pub set_downs: Vec<SetDown>,
+    /// Target points no set-down reaches (indices into the target set).
+    pub unreachable_points: Vec<usize>,
+    /// Regions no set-down reaches (indices into the target set).
+    pub unreachable_regions: Vec<usize>,
+}
+
+impl SetDowns {
+    /// Total route length over all set-downs, metres.
+    pub fn length_m(&self) -> f32 {
+        self.set_downs.iter().map(|s| s.route.length_m).sum()
+    }
+}
+
+/// The cloud the pieces are cut from.
+pub struct Ground<'a> {
+    /// Points, local metres.
+    pub xyz: &'a [[f32; 3]],
+    /// Their LAS classes.
+    pub labels: &'a [u8],
+    /// How the graph is built.
+    pub params: &'a GraphParams,
+}
+
+/// Plans the route from `first` (a graph and its start), then, while targets
+/// remain and fewer than `more` set-downs were added, tries the other pieces
+/// of ground largest first ([`PIECES_TRIED`] at most) and keeps each piece
+/// whose route reaches a target no earlier set-down reached.
+pub fn plan_set_downs(
+    ground: &Ground<'_>,
+    targets: &TargetSet,
+    first: (GroundGraph, [f32; 3]),
+    params: &RouteParams,
+    more: usize,
+) -> Result<SetDowns, RouteError> {
+    let (graph, start) = first;
+    let route = plan(&graph, targets, start, params)?;
+    let mut visited = Visited::default();
+    mark(&mut visited, &route);
+    let first_piece = graph.positions().get(graph.start_node()).copied();
+    let mut set_downs = vec![SetDown {
+        start,
+        graph,
+        route,
+    }];
+    let remaining = |v: &Visited| {
+        v.points.len() < targets.points.len() || v.regions.len() < targets.regions.len()
+    };
+    for rank in 0..PIECES_TRIED {
+        if set_downs.len() > more || !remaining(&visited) {
+            break;
+        }
+        let graph = match GroundGraph::build_piece(ground.xyz, ground.labels, ground.params, rank) {
+            Ok(g) => g,
+            Err(GraphError::NoSuchPiece { .. }) => break,
+            Err(e) => return Err(e.into()),
+        };
+        let Some(&start) = graph.positions().get(graph.start_node()) else {
+            continue;
+        };
+        // The first set-down's own piece (by any rank) adds nothing.
+        if first_piece.is_some_and(|p| graph.nodes_near([p[0], p[1]], 1e-3, 1).len() == 1) {
+            continue;
+        }
+        let route = replan(&graph, targets, &visited, start, params)?;
+        if route.order.is_empty() {
+            continue;
+        }
+        mark(&mut visited, &route);
+        set_downs.push(SetDown {
+            start,
+            graph,
+            route,
+        });
+    }
+    let unreachable_points = (0..targets.points.len())
+        .filter(|i| !visited.points.contains(i))
+        .collect();
+    let unreachable_regions = (0..targets.regions.len())
+        .filter(|i| !visited.regions.contains(i))
+        .collect();
+    Ok(SetDowns {
+        set_downs,
+        unreachable_points,
+        unreachable_regions,
+    })
+}
+
+/// Adds the route's stops to `visited`.
+fn mark(visited: &mut Visited, route: &Route) {
+    for s in &route.order {
+        match *s {
+            Stop::Point(i) => visited.points.push(i),
+            Stop::Region(i) => visited.regions.push(i),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::fixtures::pens;
+    use crate::targets::TargetPoint;
+
+    /// A large pen around (30, 10) and a small one around (8, 10).
+    fn two_pens() -> (Vec<[f32; 3]>, Vec<u8>) {
+        pens(&[([25.0, 5.0], [35.0, 15.0]), ([5.0, 7.0], [11.0, 13.0])])
+    }
+
+    fn at(x: f32, y: f32) -> TargetPoint {
+        TargetPoint {
+            xyz: [x, y, 0.0],
+            building: 1,
+        }
+    }
+
+    #[test]
+    fn each_pen_gets_a_set_down_only_when_it_holds_a_target() {
+        let (xyz, labels) = two_pens();
+        let params = GraphParams::default();
+        let ground = Ground {
+            xyz: &xyz,
+            labels: &labels,
+            params: &params,
+        };
+        let start = [2.0, 2.0, 0.0];
+        let first = || GroundGraph::build(&xyz, &labels, start, &params).unwrap();
+        // Open ground, the large pen, open ground again.
+        let targets = TargetSet {
+            points: vec![at(20.0, 10.0), at(30.0, 10.0), at(38.0, 18.0)],
+            regions: Vec::new(),
+        };
+        let rp = RouteParams::default();
+
+        let none = plan_set_downs(&ground, &targets, (first(), start), &rp, 0).unwrap();
+        assert_eq!(none.set_downs.len(), 1);
+        assert_eq!(none.unreachable_points, vec![1], "the pen's target");
+
+        let s = plan_set_downs(&ground, &targets, (first(), start), &rp, 3).unwrap();
+        assert_eq!(
+            s.set_downs.len(),
+            2,
+            "the small pen holds no target: no set-down there"
+        );
+        assert!(s.unreachable_points.is_empty());
+        let pen = &s.set_downs[1];
+        assert_eq!(pen.route.order, vec![Stop::Point(1)]);
+        let [x, y, _] = pen.start;
+        assert!(
+            (25.0..35.0).contains(&x) && (5.0..15.0).contains(&y),
+            "{:?}",
+            pen.start
+        );
+        assert!(
+            pen.graph
+                .positions()
+                .iter()
+                .all(|p| (25.0..35.0).contains(&p[0]) && (5.0..15.0).contains(&p[1])),
+            "the second piece is the pen"
+        );
+        // The first route's stops are not driven again.
+        let first_stops = &s.set_downs[0].route.order;
+        assert!(first_stops.contains(&Stop::Point(0)) && first_stops.contains(&Stop::Point(2)));
+        assert_eq!(
+            s.length_m(),
+            s.set_downs[0].route.length_m + pen.route.length_m
+        );
+    }
+
+    #[test]
+    fn a_missing_piece_is_an_error_naming_how_many_there_are() {
+        let (xyz, labels) = two_pens();
+        let params = GraphParams::default();
+        let err = GroundGraph::build_piece(&xyz, &labels, &params, 50).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                GraphError::NoSuchPiece {
+                    rank: 50,
+                    pieces: 3
+                }
+            ),
+            "{err}"
+        );
+        let largest = GroundGraph::build_piece(&xyz, &labels, &params, 0).unwrap();
+        let third = GroundGraph::build_piece(&xyz, &labels, &params, 2).unwrap();
+        assert!(
+            largest.len() > 10 * third.len(),
+            "{} vs {}",
+            largest.len(),
+            third.len()
+        );
+    }
+}
