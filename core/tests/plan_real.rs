@@ -18,7 +18,7 @@ use std::path::PathBuf;
 
 use skyground_core::classify::{Model, SceneClassifier};
 use skyground_core::cloud::{Cloud, read_cloud};
-use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::graph::{GraphParams, GroundGraph, drivable};
 use skyground_core::ground::CsfParams;
 use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::route::{Ground, RouteParams, plan_set_downs};
@@ -26,9 +26,6 @@ use skyground_core::targets::{Site, TargetParams, generate};
 
 mod common;
 use common::real_file;
-
-/// AHN3's bridges and civil structures, which a vehicle drives on.
-const AHN_STRUCTURE: u8 = 26;
 
 fn shipped() -> Model {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
@@ -54,7 +51,7 @@ fn nodes(cloud: &Cloud, labels: &[u8], params: &GraphParams) -> usize {
         .len()
 }
 
-/// Producer classes of the points within 1 m (xy) of `p`: (ground or bridge, all).
+/// Points within 1 m (xy) of `p`: (producer ground or bridge, all).
 fn ground_near(cloud: &Cloud, producer: &[u8], p: [f32; 3]) -> (usize, usize) {
     let near = cloud
         .xyz
@@ -62,7 +59,7 @@ fn ground_near(cloud: &Cloud, producer: &[u8], p: [f32; 3]) -> (usize, usize) {
         .zip(producer)
         .filter(|(q, _)| (q[0] - p[0]).hypot(q[1] - p[1]) <= 1.0);
     near.fold((0, 0), |(g, n), (_, &l)| {
-        (g + usize::from(l == 2 || l == AHN_STRUCTURE), n + 1)
+        (g + usize::from(drivable(l)), n + 1)
     })
 }
 

@@ -5,7 +5,7 @@
 //! reachable from the start.
 //!
 //! - [`GraphParams`] (`params`), [`GraphError`] (`error`);
-//! - `cells`: ground binning on [`crate::geom::tiled::TiledFrame`]; `obstacles`: the obstacle map;
+//! - `cells`: ground binning on [`crate::geom::tiled::TiledFrame`], [`drivable`] classes; `obstacles`: the obstacle map;
 //! - [`GroundGraph`] (`ground_graph`, adjacency in compressed rows), its
 //!   searches ([`ShortestPaths`], `search`: multi-source Dijkstra with
 //!   predecessors and roots, which `petgraph::algo` does not offer; petgraph
@@ -22,6 +22,7 @@ mod search;
 
 /// Point-in-polygon for region rings (the shared [`crate::geom::ring::contains`]).
 pub use crate::geom::ring::contains as polygon_contains;
+pub use cells::drivable;
 pub use error::GraphError;
 pub use ground_graph::{GraphReport, GroundGraph};
 pub use params::{GraphParams, MAX_OCCUPANCY_CELLS};

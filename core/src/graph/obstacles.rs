@@ -98,6 +98,9 @@ impl ObstacleMap {
         let mut occupied = 0;
         let mut z_sum = vec![(0.0f64, 0u32); stored];
         let mut crowns = Crowns::default();
+        // Crowns block through their tops' trunks, or their whole column, or not at all.
+        let trunks = band.canopy && band.trunk_radius > 0.0;
+        let whole_crown = band.canopy && !trunks;
         for (p, &l) in xyz.iter().zip(labels) {
             if l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
                 continue;
@@ -117,14 +120,12 @@ impl ObstacleMap {
                 .index_of(f64::from(p[0]), f64::from(p[1]))
                 .map(|k| p[2] - ground.z[k])
                 .filter(|h| h.is_finite());
-            let trunks = band.trunk_radius > 0.0;
-            if let Some(h) = h.filter(|&h| band.canopy && canopy && trunks && h >= CROWN_MIN_HEIGHT)
-            {
+            if let Some(h) = h.filter(|&h| canopy && trunks && h >= CROWN_MIN_HEIGHT) {
                 crowns.add(p, h);
             }
-            let whole_crown = band.canopy && canopy && !trunks;
             // No ground known nearby: inside a large roofed area, keep out.
-            let blocks = whole_crown || h.is_none_or(|h| h >= band.low && h <= band.high);
+            let blocks =
+                (canopy && whole_crown) || h.is_none_or(|h| h >= band.low && h <= band.high);
             if blocks && !occ[cell] {
                 occ[cell] = true;
                 occupied += 1;

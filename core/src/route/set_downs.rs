@@ -88,8 +88,13 @@ pub fn plan_set_downs(
         let Some(&start) = graph.positions().get(graph.start_node()) else {
             continue;
         };
-        // The first set-down's own piece (by any rank) adds nothing.
-        if first_piece.is_some_and(|p| graph.nodes_near([p[0], p[1]], 1e-3, 1).len() == 1) {
+        // The first set-down's own piece (by any rank) adds nothing: it holds the first's start node.
+        let holds = |p: [f32; 3]| {
+            graph
+                .nearest_node([p[0], p[1]])
+                .is_some_and(|(_, d)| d == 0.0)
+        };
+        if first_piece.is_some_and(holds) {
             continue;
         }
         let route = replan(&graph, targets, &visited, start, params)?;

@@ -121,6 +121,16 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let greedy_length_m = sum(|r| r.greedy_length_m);
     let tsp_length_m = sum(|r| r.tsp_length_m);
     let stops: usize = plan.set_downs.iter().map(|s| s.route.order.len()).sum();
+    let (points, regions) = (targets.points.len(), targets.regions.len());
+    // Targets reached by all set-downs, and by the first alone.
+    let (reach_points, reach_regions) = (
+        points - plan.unreachable_points.len(),
+        regions - plan.unreachable_regions.len(),
+    );
+    let (first_points, first_regions) = (
+        points - route.unreachable_points.len(),
+        regions - route.unreachable_regions.len(),
+    );
     let out = json!({
         "input": a.input,
         "start": start,
@@ -129,13 +139,13 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         "reachable_node_share": report.nodes as f64 / report.candidate_nodes.max(1) as f64,
         "set_down_node_share": set_down_nodes as f64 / report.candidate_nodes.max(1) as f64,
         "nodes": graph.len(),
-        "edges": graph.edges().len(),
-        "target_points": targets.points.len(),
-        "target_regions": targets.regions.len(),
-        "reachable_points": targets.points.len() - plan.unreachable_points.len(),
-        "reachable_regions": targets.regions.len() - plan.unreachable_regions.len(),
-        "reachable_points_first": targets.points.len() - route.unreachable_points.len(),
-        "reachable_regions_first": targets.regions.len() - route.unreachable_regions.len(),
+        "edges": report.edges,
+        "target_points": points,
+        "target_regions": regions,
+        "reachable_points": reach_points,
+        "reachable_regions": reach_regions,
+        "reachable_points_first": first_points,
+        "reachable_regions_first": first_regions,
         "unreachable_points": plan.unreachable_points,
         "unreachable_regions": plan.unreachable_regions,
         "greedy_length_m": greedy_length_m,
@@ -167,15 +177,15 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         eprintln!(
             "graph: {} nodes, {} edges ({:.2} s); {} set-down(s); targets reachable: {} of {} points, {} of {} regions (from the start: {} and {}); tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), driven {:.0} m ({:.2} s)",
             graph.len(),
-            graph.edges().len(),
+            report.edges,
             graph_s,
             plan.set_downs.len(),
-            targets.points.len() - plan.unreachable_points.len(),
-            targets.points.len(),
-            targets.regions.len() - plan.unreachable_regions.len(),
-            targets.regions.len(),
-            targets.points.len() - route.unreachable_points.len(),
-            targets.regions.len() - route.unreachable_regions.len(),
+            reach_points,
+            points,
+            reach_regions,
+            regions,
+            first_points,
+            first_regions,
             greedy_length_m,
             tsp_length_m,
             tsp_length_m / greedy_length_m.max(1e-6),
