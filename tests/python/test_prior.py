@@ -27,6 +27,11 @@ def test_the_mission_on_ahn3_delft_2_finishes_and_gains(tmp_path, env):
     assert report["prior"] == str(prior)
     assert report["coverage_after"] > report["coverage_before"]
     assert report["rounds"] >= 1 and report["path_length_m"] > 10
+    # A canal cuts the tile's northern third off the start's ground: the
+    # planner asks for set-downs there and vehicle_sim carries the vehicle.
+    assert report["set_downs"] >= 1, p.stderr[-4000:]
+    carried = (out / "vehicle_sim.log").read_text().count("set down at (")
+    assert carried >= report["set_downs"], carried
     # The mission is about the area the prior covers, not the whole model.
     assert 0 < report["crop"]["buildings_kept"] < report["crop"]["buildings_total"] == 160
     assert "| prior | " + str(prior) in (out / "report.md").read_text()

@@ -163,3 +163,40 @@ def test_a_path_on_local_path_is_followed_in_order(sim, ros):
                           odom[-1].twist.twist.linear.x == 0.0, 60), proc.stderr()[-2000:]
     # It passed near the middle pose on the way.
     assert min(math.dist(xy(o), (10.0, 20.0)) for o in odom) < 1.0
+
+
+def test_set_down_carries_the_vehicle_without_driving(sim, ros):
+    """A latched /set_down from rclpy puts the vehicle there at once (a field
+    team's carry): no simulated metres on the odometer, and one off the
+    terrain is refused with the vehicle left where it was."""
+    from diagnostic_msgs.msg import DiagnosticArray
+    from geometry_msgs.msg import PointStamped
+
+    proc, odom = sim
+    status = []
+    ros.node.create_subscription(DiagnosticArray, "/vehicle_status", status.append, qos("reliable", 10))
+    pub = ros.node.create_publisher(PointStamped, "/set_down", qos("latched", 1))
+    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 20)
+
+    def set_down(x, y):
+        m = PointStamped()
+        m.header.frame_id = "map"
+        m.point.x, m.point.y = float(x), float(y)
+        pub.publish(m)
+
+    set_down(-40.0, 30.0)
+    assert ros.spin_until(lambda: math.dist(xy(odom[-1]), (-40.0, 30.0)) < 0.1, 20), proc.stderr()[-2000:]
+    ros.spin_until(lambda: False, 1.0)
+    assert math.dist(xy(odom[-1]), (-40.0, 30.0)) < 0.1, "a carried vehicle stays where it was put"
+    assert "set down at (-40.0, 30.0)" in proc.stderr()
+    # It drives on from there: a way-point 10 m away puts 10 m on the odometer, not 60.
+    way_point(ros, -30.0, 30.0)
+
+    def odometer():
+        return [float(kv.value) for a in status for s in a.status for kv in s.values if kv.key == "odometer_m"]
+
+    assert ros.spin_until(lambda: any("arrived" in s.message for a in status for s in a.status), 30), proc.stderr()[-2000:]
+    assert 9.0 < odometer()[-1] < 11.5, odometer()
+    set_down(500.0, 500.0)
+    assert ros.spin_until(lambda: "cannot set down at (500.0, 500.0): off the terrain" in proc.stderr(), 20)
+    assert math.dist(xy(odom[-1]), (-30.0, 30.0)) < 1.0

@@ -17,7 +17,7 @@ use crate::targets::Region;
 
 use super::ground;
 use super::protocol::{
-    BlockedSpot, ExplorerState, ExplorerStatus, PlannerStatus, VehicleEvent, VehicleStatus,
+    BlockedSpot, ExplorerState, ExplorerStatus, Phase, PlannerStatus, VehicleEvent, VehicleStatus,
 };
 
 /// What the explorer needs to know.
@@ -230,6 +230,10 @@ impl ExplorerMachine {
         self.assigned = s.active_region.map(|(i, b)| (i, b, s.round));
         if s.blocked.len() > self.blocked.len() {
             self.blocked = s.blocked;
+        }
+        // The robot goes to another piece of ground: the graph is built again there.
+        if s.phase == Phase::Carrying.word() {
+            self.graph = None;
         }
         if s.phase == "done" && !self.published_rounds.contains(&s.round) {
             self.published_rounds.push(s.round);

@@ -2,12 +2,16 @@
 //! target set and a position, plans a route (a new target set is a new
 //! round), drives it leg by leg, hands regions to the explorer, takes
 //! blocked spots out of the ground graph and replans, gives a stop up after
-//! `block_retries` blocked tries, and goes on after a restart from its own
-//! latched status.
+//! `block_retries` blocked tries, asks for the robot to be set down on
+//! another piece of ground when targets remain that this piece does not
+//! reach (up to `set_downs` a round), and goes on after a restart from its
+//! own latched status.
 
 use crate::graph::{GraphParams, GroundGraph};
 use crate::missing::MissingPoint;
-use crate::route::{Route, RouteParams, Stop, Visited, drop_seen_on_the_way, replan};
+use crate::route::{
+    Ground, Route, RouteParams, Stop, Visited, drop_seen_on_the_way, next_set_down, replan,
+};
 use crate::targets::{Region, Site, TargetParams, TargetPoint, TargetSet};
 
 use super::ground;
@@ -18,6 +22,10 @@ use super::protocol::{
 /// How far beyond the vehicle's radius the obstacle that blocked it is
 /// looked for: the vehicle stops when its body is within one step of it.
 pub const BLOCK_AHEAD_M: f32 = 0.4;
+
+/// How near (in plan, metres) the robot must be to the set-down asked for
+/// before the planner takes it as set down: a field team puts it down by eye.
+pub const SET_DOWN_TOLERANCE_M: f32 = 3.0;
 
 /// What the planner needs to know.
 #[derive(Debug, Clone)]
@@ -31,6 +39,9 @@ pub struct PlannerConfig {
     /// What a sensor on the ground sees (range, facing, field of view), for
     /// `route.skip_seen`: the target generator's settings.
     pub targets: TargetParams,
+    /// Set-downs a round may ask for once the route is done and targets
+    /// remain on other pieces of ground (0: never).
+    pub set_downs: usize,
 }
 
 /// What happens to the planner.
@@ -88,6 +99,9 @@ pub enum PlannerCommand {
     ActiveRegion(Option<Region>),
     /// Publish the status.
     Status(PlannerStatus),
+    /// Ask for the robot to be carried to this spot (a node of another
+    /// piece of ground); the plan goes on once it is there.
+    SetDown([f32; 3]),
 }
 
 /// The global planner's state machine.
@@ -115,6 +129,12 @@ pub struct Planner {
     missing: Vec<MissingPoint>,
     /// Point stops of this round left off because the route sees their gaps anyway.
     seen_on_the_way: Vec<usize>,
+    /// A start node of each piece of ground driven this round, and the
+    /// set-downs asked for this round.
+    pieces: Vec<[f32; 3]>,
+    set_downs: usize,
+    /// Where the robot is being carried to.
+    carry_to: Option<[f32; 3]>,
     out: Vec<PlannerCommand>,
 }
 
@@ -141,6 +161,9 @@ impl Planner {
             site: None,
             missing: Vec::new(),
             seen_on_the_way: Vec::new(),
+            pieces: Vec::new(),
+            set_downs: 0,
+            carry_to: None,
             out: Vec::new(),
         }
     }
@@ -180,7 +203,7 @@ impl Planner {
                 self.regions = Some((regions, stamp));
                 self.need_plan = true;
             }
-            PlannerEvent::Position(p) => self.position = Some(p),
+            PlannerEvent::Position(p) => self.on_position(p),
             PlannerEvent::Missing(m) => self.missing = m,
             PlannerEvent::Restore(s) => self.restore(s),
             PlannerEvent::Vehicle(v) => self.on_vehicle(&v),
@@ -220,6 +243,7 @@ impl Planner {
             tsp_m: route.map_or(0.0, |r| r.tsp_length_m),
             active_region,
             blocked: self.blocked.clone(),
+            set_downs: self.set_downs,
         }
     }
 
@@ -263,12 +287,14 @@ impl Planner {
             return;
         };
         // The generator stamps both halves of a target set alike: wait for the pair;
-        // while the explorer has the vehicle, plan when it hands back.
-        if t_points != t_regions || matches!(self.phase, Phase::Exploring(_)) {
+        // while the explorer has the vehicle, plan when it hands back; while
+        // the robot is carried, when it is set down.
+        if t_points != t_regions || matches!(self.phase, Phase::Exploring(_) | Phase::Carrying) {
             return;
         }
         self.need_plan = false;
-        if self.graph.is_none() {
+        let built = self.graph.is_none();
+        if built {
             match ground::build(xyz, labels, position, &self.config.graph, &self.blocked) {
                 Ok(g) => {
                     self.out.push(PlannerCommand::Info(format!(
@@ -295,6 +321,9 @@ impl Planner {
         let Some(graph) = self.graph.as_ref() else {
             return;
         };
+        if built && let Some(&p) = graph.positions().get(graph.start_node()) {
+            self.pieces.push(p);
+        }
         // Stops left off stay off when the route is made again (after a block).
         let dealt_with = Visited {
             points: [&self.visited.points[..], &self.seen_on_the_way[..]].concat(),
@@ -373,6 +402,13 @@ impl Planner {
         self.visited = Visited::default();
         self.seen_on_the_way.clear();
         self.retries = 0;
+        self.set_downs = 0;
+        // The piece the robot stands on is driven again in the new round.
+        self.pieces.truncate(0);
+        if let Some(g) = self.graph.as_ref() {
+            self.pieces
+                .extend(g.positions().get(g.start_node()).copied());
+        }
         self.round += 1;
         if let Some(s) = self.restored.take()
             && s.target_points == targets.points.len()
@@ -381,6 +417,7 @@ impl Planner {
             self.round = s.round;
             self.visited = s.visited;
             self.seen_on_the_way = s.seen_on_the_way;
+            self.set_downs = s.set_downs;
         }
         self.targets = targets;
     }
@@ -391,16 +428,98 @@ impl Planner {
             return;
         };
         if k >= route.order.len() {
-            self.phase = Phase::Done;
-            self.out.push(PlannerCommand::Info(format!(
-                "round {}: route done",
-                self.round
-            )));
-            self.out.push(PlannerCommand::Status(self.status()));
+            self.route_done();
             return;
         }
         self.phase = Phase::Driving(k);
         self.out.push(PlannerCommand::Leg(leg(route, k)));
+    }
+
+    /// Asks for a set-down if one helps, else ends the round's driving.
+    fn route_done(&mut self) {
+        if self.ask_set_down() {
+            return;
+        }
+        self.phase = Phase::Done;
+        self.out.push(PlannerCommand::Info(format!(
+            "round {}: route done",
+            self.round
+        )));
+        self.out.push(PlannerCommand::Status(self.status()));
+    }
+
+    /// The route is done: when set-downs are left this round and another
+    /// piece of ground reaches a target not yet dealt with, asks for the
+    /// robot there. True when it asked.
+    fn ask_set_down(&mut self) -> bool {
+        if self.set_downs >= self.config.set_downs {
+            return false;
+        }
+        let Some((xyz, labels)) = self.cloud.as_ref() else {
+            return false;
+        };
+        let ground = Ground {
+            xyz,
+            labels,
+            params: &self.config.graph,
+        };
+        let done = Visited {
+            points: [&self.visited.points[..], &self.seen_on_the_way[..]].concat(),
+            regions: self.visited.regions.clone(),
+        };
+        let next = next_set_down(
+            &ground,
+            &self.targets,
+            &done,
+            (&self.pieces, 0),
+            &self.config.route,
+        );
+        let (_, set_down) = match next {
+            Ok(Some(n)) => n,
+            Ok(None) => return false,
+            Err(e) => {
+                self.out.push(PlannerCommand::Warn(format!(
+                    "no set-down: the other pieces of ground cannot be planned: {e}"
+                )));
+                return false;
+            }
+        };
+        self.set_downs += 1;
+        let [x, y, _] = set_down.start;
+        self.out.push(PlannerCommand::Warn(format!(
+            "round {}: route done, {} more stops on another piece of ground: carry the robot to ({x:.1}, {y:.1}) (set-down {} of at most {})",
+            self.round,
+            set_down.route.order.len(),
+            self.set_downs,
+            self.config.set_downs
+        )));
+        self.pieces.push(set_down.start);
+        self.phase = Phase::Carrying;
+        self.carry_to = Some(set_down.start);
+        self.out.push(PlannerCommand::ActiveRegion(None));
+        self.out.push(PlannerCommand::SetDown(set_down.start));
+        self.out.push(PlannerCommand::Status(self.status()));
+        true
+    }
+
+    /// A new position; while the robot is carried, one near the set-down
+    /// asked for ends the carry and the graph is built where it stands.
+    fn on_position(&mut self, p: [f32; 3]) {
+        self.position = Some(p);
+        let (Phase::Carrying, Some(to)) = (self.phase, self.carry_to) else {
+            return;
+        };
+        if (p[0] - to[0]).hypot(p[1] - to[1]) > SET_DOWN_TOLERANCE_M {
+            return;
+        }
+        self.out.push(PlannerCommand::Info(format!(
+            "robot set down at ({:.1}, {:.1}): planning on its piece of ground",
+            p[0], p[1]
+        )));
+        self.carry_to = None;
+        self.phase = Phase::Waiting;
+        self.graph = None;
+        self.need_plan = true;
     }
 
     fn on_explorer(&mut self, e: &ExplorerStatus) {
@@ -428,6 +547,19 @@ impl Planner {
     }
 
     fn on_vehicle(&mut self, v: &VehicleStatus) {
+        // The robot cannot be put down there (vehicle_sim: off its terrain): the next piece, or done.
+        if let (Phase::Carrying, Some(to), VehicleEvent::Blocked(why)) =
+            (self.phase, self.carry_to, &v.event)
+            && v.is_for(to)
+        {
+            self.out.push(PlannerCommand::Warn(format!(
+                "set-down at ({:.1}, {:.1}) failed: {why}",
+                to[0], to[1]
+            )));
+            self.carry_to = None;
+            self.route_done();
+            return;
+        }
         let Phase::Driving(k) = self.phase else {
             return;
         };

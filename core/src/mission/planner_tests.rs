@@ -20,6 +20,7 @@ fn planner(block_retries: u32) -> Planner {
         route: RouteParams::default(),
         block_retries,
         targets: TargetParams::default(),
+        set_downs: 0,
     })
 }
 
@@ -287,6 +288,7 @@ fn stops_whose_gaps_the_route_sees_anyway_are_left_off_and_stay_off() {
             },
             block_retries: 2,
             targets: TargetParams::default(),
+            set_downs: 0,
         });
         let (xyz, labels) = flat_ground(160, 40, 0.25);
         p.handle(PlannerEvent::Cloud { xyz, labels });
@@ -322,4 +324,89 @@ fn stops_whose_gaps_the_route_sees_anyway_are_left_off_and_stay_off() {
     p.handle(arrived(again));
     assert_eq!(p.phase(), Phase::Done);
     assert_eq!(p.status().visited.points, vec![1]);
+}
+
+/// Targets at (20, 10) on open ground and (30, 10) inside a walled pen:
+/// with `set_downs` 1, the planner drives the open one, asks for the robot
+/// in the pen, plans there once it stands there, and ends done with both.
+#[test]
+fn a_target_behind_walls_gets_a_set_down_and_is_driven_after_it() {
+    let run = |set_downs: usize| {
+        let mut p = Planner::new(PlannerConfig {
+            graph: GraphParams::default(),
+            route: RouteParams::default(),
+            block_retries: 2,
+            targets: TargetParams::default(),
+            set_downs,
+        });
+        let (xyz, labels) = crate::geom::fixtures::pens(&[([25.0, 5.0], [35.0, 15.0])]);
+        p.handle(PlannerEvent::Cloud { xyz, labels });
+        p.handle(PlannerEvent::Position([2.0, 2.0, 0.0]));
+        let points = [20.0, 30.0]
+            .map(|x| TargetPoint {
+                xyz: [x, 10.0, 0.0],
+                building: 1,
+            })
+            .to_vec();
+        let out = points_only(&mut p, points, 1);
+        (p, out)
+    };
+
+    let (mut p, out) = run(0);
+    drive(&mut p, out);
+    assert_eq!(p.phase(), Phase::Done, "no set-downs allowed: done at once");
+    assert_eq!(p.status().unreachable_points, 1);
+
+    // A set-down the robot cannot take (vehicle_sim: off its terrain) is
+    // given up: that piece is not asked for again, and the round is done.
+    let (mut p, out) = run(3);
+    let leg = legs(&out).pop().expect("a leg to the open target");
+    p.handle(arrived(*leg.last().expect("a leg has a pose")));
+    let to = p.carry_to.expect("a set-down asked for");
+    let refused = p.handle(blocked(to, [20.0, 10.0]));
+    assert!(
+        refused
+            .iter()
+            .any(|c| matches!(c, PlannerCommand::Warn(w) if w.contains("set-down at") && w.contains("failed"))),
+        "{refused:?}"
+    );
+    assert!(
+        !refused
+            .iter()
+            .any(|c| matches!(c, PlannerCommand::SetDown(_)))
+    );
+    assert_eq!(p.phase(), Phase::Done);
+
+    let (mut p, out) = run(1);
+    let leg = legs(&out).pop().expect("a leg to the open target");
+    let goal = *leg.last().expect("a leg has a pose");
+    assert!((goal[0] - 20.0).abs() < 2.0, "{goal:?}");
+    let ended = p.handle(arrived(goal));
+    assert_eq!(p.phase(), Phase::Carrying);
+    assert_eq!(p.status().phase, "carrying");
+    let to = ended
+        .iter()
+        .find_map(|c| match c {
+            PlannerCommand::SetDown(at) => Some(*at),
+            _ => None,
+        })
+        .expect("a set-down with the route's end");
+    assert!(
+        (25.0..35.0).contains(&to[0]) && (5.0..15.0).contains(&to[1]),
+        "the set-down is inside the pen: {to:?}"
+    );
+    // Still outside: nothing is planned.
+    assert!(legs(&p.handle(PlannerEvent::Position([2.0, 2.0, 0.0]))).is_empty());
+    p.handle(PlannerEvent::Tick);
+    assert_eq!(p.phase(), Phase::Carrying);
+    // Set down 1 m off the spot asked for: planned there, same round.
+    p.handle(PlannerEvent::Position([to[0] + 1.0, to[1], 0.0]));
+    let out = p.handle(PlannerEvent::Tick);
+    assert_eq!(p.round(), 1);
+    let log = drive(&mut p, out);
+    assert_eq!(log, vec!["point at 30"]);
+    assert_eq!(p.phase(), Phase::Done, "one set-down a round at most");
+    let s = p.status();
+    assert_eq!(s.visited.points.len(), 2);
+    assert_eq!(s.unreachable_points, 0);
 }

@@ -178,6 +178,9 @@ pub enum Phase {
     Driving(usize),
     /// The explorer works on the region of stop `k`.
     Exploring(usize),
+    /// The route is done; the robot is being set down on another piece of
+    /// ground for the targets this one does not reach.
+    Carrying,
     /// Every stop done.
     Done,
 }
@@ -189,6 +192,7 @@ impl Phase {
             Phase::Waiting => "waiting",
             Phase::Driving(_) => "driving",
             Phase::Exploring(_) => "exploring",
+            Phase::Carrying => "carrying",
             Phase::Done => "done",
         }
     }
@@ -199,7 +203,7 @@ impl Phase {
 /// explorer and the spots found blocked (so the explorer's graph drops them too).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct PlannerStatus {
-    /// Phase word: waiting, driving, exploring or done.
+    /// Phase word: waiting, driving, exploring, carrying or done.
     pub phase: String,
     /// Mission round, from 1 (0 before the first route).
     pub round: u32,
@@ -228,6 +232,8 @@ pub struct PlannerStatus {
     pub active_region: Option<(usize, u32)>,
     /// Spots found blocked so far.
     pub blocked: Vec<BlockedSpot>,
+    /// Set-downs asked for this round.
+    pub set_downs: usize,
 }
 
 /// Name of the planner's status.
@@ -260,6 +266,7 @@ impl PlannerStatus {
             w.put("active_building", b);
         }
         w.put("blocked_spots", join(&self.blocked, ";"));
+        w.put("set_downs", self.set_downs);
         w
     }
 
@@ -287,6 +294,7 @@ impl PlannerStatus {
             tsp_m: w.opt("tsp_m")?.unwrap_or(0.0),
             active_region: active,
             blocked: w.list("blocked_spots", ';')?,
+            set_downs: w.opt("set_downs")?.unwrap_or(0),
         })
     }
 }
@@ -619,6 +627,7 @@ mod tests {
             lens in (0.0f32..1e5, 0.0f32..1e5, 0.0f32..1e5),
             active in prop::option::of((0usize..100, 0u32..100)),
             blocked in prop::collection::vec(spot(), 0..6),
+            set_downs in 0usize..4,
         ) -> PlannerStatus {
             PlannerStatus {
                 phase: phase.into(), round, target_points: tp, target_regions: tr,
@@ -626,7 +635,7 @@ mod tests {
                 seen_on_the_way: seen,
                 unreachable_points: up, unreachable_regions: ur, stops,
                 route_m: lens.0, greedy_m: lens.1, tsp_m: lens.2,
-                active_region: active, blocked,
+                active_region: active, blocked, set_downs,
             }
         }
     }

@@ -28,5 +28,5 @@ pub use drive_by::{DriveBy, drop_seen_on_the_way};
 pub use error::RouteError;
 pub use params::{RouteParams, TourChoice};
 pub use plan::{Route, Visited, plan, replan};
-pub use set_downs::{Ground, PIECES_TRIED, SetDown, SetDowns, plan_set_downs};
+pub use set_downs::{Ground, PIECES_TRIED, SetDown, SetDowns, next_set_down, plan_set_downs};
 pub use stops::Stop;

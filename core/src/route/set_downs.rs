@@ -53,9 +53,8 @@ pub struct Ground<'a> {
 }
 
 /// Plans the route from `first` (a graph and its start), then, while targets
-/// remain and fewer than `more` set-downs were added, tries the other pieces
-/// of ground largest first ([`PIECES_TRIED`] at most) and keeps each piece
-/// whose route reaches a target no earlier set-down reached.
+/// remain and fewer than `more` set-downs were added, adds the
+/// [`next_set_down`] after the last.
 pub fn plan_set_downs(
     ground: &Ground<'_>,
     targets: &TargetSet,
@@ -67,46 +66,28 @@ pub fn plan_set_downs(
     let route = plan(&graph, targets, start, params)?;
     let mut visited = Visited::default();
     mark(&mut visited, &route);
-    let first_piece = graph.positions().get(graph.start_node()).copied();
+    let mut pieces: Vec<[f32; 3]> = graph
+        .positions()
+        .get(graph.start_node())
+        .copied()
+        .into_iter()
+        .collect();
     let mut set_downs = vec![SetDown {
         start,
         graph,
         route,
     }];
-    let remaining = |v: &Visited| {
-        v.points.len() < targets.points.len() || v.regions.len() < targets.regions.len()
-    };
-    for rank in 0..PIECES_TRIED {
-        if set_downs.len() > more || !remaining(&visited) {
+    let mut from = 0;
+    while set_downs.len() <= more {
+        let Some((rank, next)) = next_set_down(ground, targets, &visited, (&pieces, from), params)?
+        else {
             break;
-        }
-        let graph = match GroundGraph::build_piece(ground.xyz, ground.labels, ground.params, rank) {
-            Ok(g) => g,
-            Err(GraphError::NoSuchPiece { .. }) => break,
-            Err(e) => return Err(e.into()),
         };
-        let Some(&start) = graph.positions().get(graph.start_node()) else {
-            continue;
-        };
-        // The first set-down's own piece (by any rank) adds nothing: it holds the first's start node.
-        let holds = |p: [f32; 3]| {
-            graph
-                .nearest_node([p[0], p[1]])
-                .is_some_and(|(_, d)| d == 0.0)
-        };
-        if first_piece.is_some_and(holds) {
-            continue;
-        }
-        let route = replan(&graph, targets, &visited, start, params)?;
-        if route.order.is_empty() {
-            continue;
-        }
-        mark(&mut visited, &route);
-        set_downs.push(SetDown {
-            start,
-            graph,
-            route,
-        });
+        // Smaller pieces than this one reached nothing new and reach less now.
+        from = rank + 1;
+        mark(&mut visited, &next.route);
+        pieces.push(next.start);
+        set_downs.push(next);
     }
     let unreachable_points = (0..targets.points.len())
         .filter(|i| !visited.points.contains(i))
@@ -119,6 +100,56 @@ pub fn plan_set_downs(
         unreachable_points,
         unreachable_regions,
     })
+}
+
+/// The largest piece of ground, of rank `from` on among the
+/// [`PIECES_TRIED`] largest, that holds none of the nodes in `used` (where
+/// earlier set-downs stood) and whose route reaches a target not in `done`,
+/// with its rank; `None` when no piece does or every target is done. Its
+/// start is the piece's middle node.
+pub fn next_set_down(
+    ground: &Ground<'_>,
+    targets: &TargetSet,
+    done: &Visited,
+    (used, from): (&[[f32; 3]], usize),
+    params: &RouteParams,
+) -> Result<Option<(usize, SetDown)>, RouteError> {
+    let remaining = (0..targets.points.len()).any(|i| !done.points.contains(&i))
+        || (0..targets.regions.len()).any(|i| !done.regions.contains(&i));
+    if !remaining {
+        return Ok(None);
+    }
+    for rank in from..PIECES_TRIED {
+        let graph = match GroundGraph::build_piece(ground.xyz, ground.labels, ground.params, rank) {
+            Ok(g) => g,
+            Err(GraphError::NoSuchPiece { .. }) => break,
+            Err(e) => return Err(e.into()),
+        };
+        let Some(&start) = graph.positions().get(graph.start_node()) else {
+            continue;
+        };
+        // A piece that was driven already (by any rank) adds nothing: it holds that start node.
+        let holds = |p: &[f32; 3]| {
+            graph
+                .nearest_node([p[0], p[1]])
+                .is_some_and(|(_, d)| d == 0.0)
+        };
+        if used.iter().any(holds) {
+            continue;
+        }
+        let route = replan(&graph, targets, done, start, params)?;
+        if !route.order.is_empty() {
+            return Ok(Some((
+                rank,
+                SetDown {
+                    start,
+                    graph,
+                    route,
+                },
+            )));
+        }
+    }
+    Ok(None)
 }
 
 /// Adds the route's stops to `visited`.

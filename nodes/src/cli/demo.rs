@@ -78,6 +78,11 @@ pub struct DemoArgs {
     /// A round whose detected completeness gain is below this ends the loop.
     #[arg(long, default_value_t = 0.01)]
     pub min_round_gain: f64,
+    /// Set-downs a round may ask for when targets remain on another piece
+    /// of ground (vehicle_sim carries the vehicle there; a field team by
+    /// hand); default: global_planner's `set_downs` (3); 0: never.
+    #[arg(long)]
+    pub set_downs: Option<usize>,
     /// Give footprints to the detector: for a CityJSON scene, its own buildings.
     #[arg(long)]
     pub footprints: Option<PathBuf>,
@@ -176,6 +181,13 @@ async fn stop(p: &mut Proc) {
     }
 }
 
+/// global_planner's parameters from the demo's arguments.
+fn planner_params(a: &DemoArgs) -> Vec<String> {
+    let mut v = super::prior::graph_params(&a.prior);
+    v.extend(a.set_downs.map(|n| format!("set_downs:={n}")));
+    v
+}
+
 fn node_args(name: &str, params: &[String]) -> Vec<String> {
     let mut v = vec![
         "node".to_string(),
@@ -203,6 +215,7 @@ const TOPICS: &[&str] = &[
     "/local_path:nav_msgs/msg/Path",
     "/active_region:visualization_msgs/msg/MarkerArray",
     "/planner_status:diagnostic_msgs/msg/DiagnosticArray",
+    "/set_down:geometry_msgs/msg/PointStamped",
     "/explorer_status:diagnostic_msgs/msg/DiagnosticArray",
     "/state_estimation:nav_msgs/msg/Odometry",
     "/vehicle_status:diagnostic_msgs/msg/DiagnosticArray",
@@ -234,6 +247,9 @@ struct Watch {
     reached_total: usize,
     seen_total: usize,
     unreachable_total: usize,
+    /// The planner's set-downs this round, and over the finished rounds.
+    set_downs: usize,
+    set_downs_total: usize,
     /// Routes driven to the end: (round, stops reached).
     rounds_finished: Vec<(u32, usize)>,
     greedy_m: f64,
@@ -378,7 +394,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         ("scene_classifier", vec![]),
         ("completeness_detector", detector_params),
         ("target_generator", vec![]),
-        ("global_planner", super::prior::graph_params(&a.prior)),
+        ("global_planner", planner_params(&a)),
         ("local_explorer", super::prior::graph_params(&a.prior)),
         driver,
         (
@@ -478,7 +494,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 w.planner_phase = s.phase.clone();
                 if s.round > 0 {
                     prof.stage(&match s.phase.as_str() {
-                        "driving" | "exploring" => format!("round {} driving", s.round),
+                        "driving" | "exploring" | "carrying" => format!("round {} driving", s.round),
                         _ => format!("round {} done: merge, classification, detection, next route", s.round),
                     });
                 }
@@ -486,6 +502,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 w.done = (s.visited.points.len(), s.visited.regions.len());
                 w.seen = s.seen_on_the_way.len();
                 w.unreachable = (s.unreachable_points, s.unreachable_regions);
+                w.set_downs = s.set_downs;
                 w.greedy_m = f64::from(s.greedy_m);
                 w.tsp_m = f64::from(s.tsp_m);
                 if matches!(s.phase.as_str(), "driving" | "exploring") {
@@ -496,7 +513,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                     w.reached_total += w.done.0 + w.done.1;
                     w.seen_total += w.seen;
                     w.unreachable_total += w.unreachable.0 + w.unreachable.1;
-                    eprintln!("  route of round {} done: {} points, {} regions; {} left off (seen on the way); {} unreachable", w.planner_round, w.done.0, w.done.1, w.seen, w.unreachable.0 + w.unreachable.1);
+                    w.set_downs_total += w.set_downs;
+                    eprintln!("  route of round {} done: {} points, {} regions; {} left off (seen on the way); {} unreachable; {} set-downs", w.planner_round, w.done.0, w.done.1, w.seen, w.unreachable.0 + w.unreachable.1, w.set_downs);
                 }
             },
             Some(Ok((arr, _))) = v_s.next() => if let Some(s) = first_status(&arr, VehicleStatus::from_wire) {
@@ -864,6 +882,7 @@ fn report(
         "targets_reached": w.reached_total,
         "targets_seen_on_the_way": w.seen_total,
         "targets_unreachable": w.unreachable_total,
+        "set_downs": w.set_downs_total,
         "last_route": {"greedy_m": w.greedy_m, "tsp_m": w.tsp_m},
         "ground_points_added": scans,
         "bag_bytes": bag_bytes,
@@ -888,8 +907,8 @@ fn report(
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
-        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / left off (seen on the way) / unreachable | {} / {} / {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        a.prior.describe(), w.rounds_driven(), w.reached_total, w.seen_total, w.unreachable_total, w.odometer,
+        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / left off (seen on the way) / unreachable | {} / {} / {} |\n| set-downs (the robot carried to another piece of ground) | {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        a.prior.describe(), w.rounds_driven(), w.reached_total, w.seen_total, w.unreachable_total, w.set_downs_total, w.odometer,
         if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s
     ));
     if a.field.field {

@@ -5,7 +5,9 @@
 //! taken back when /explorer_status says it is done. Progress (what was
 //! visited, the region handed over, the spots found blocked) is on the latched
 //! /planner_status, so a restarted planner goes on and the explorer's graph
-//! drops the same spots. The executive is `skyground_core::mission::planner`.
+//! drops the same spots. When targets remain beyond the piece of ground the
+//! robot stands on, the spot to carry it to goes out on the latched /set_down.
+//! The executive is `skyground_core::mission::planner`.
 
 use std::time::Duration;
 
@@ -18,6 +20,7 @@ use skyground_core::route::RouteParams;
 use skyground_core::targets::{TargetParams, TargetPoint};
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
+use skyground_msgs::geometry_msgs::{Point, PointStamped};
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::visualization_msgs::MarkerArray;
 
@@ -40,6 +43,8 @@ struct Params {
     targets: TargetParams,
     /// Tries per stop before a blocked stop is given up.
     block_retries: u32,
+    /// Set-downs on other pieces of ground a round may ask for.
+    set_downs: usize,
     transport: TransportConfig,
 }
 
@@ -55,6 +60,7 @@ struct Outputs {
     leg: ros2_client::Publisher<Path>,
     region: ros2_client::Publisher<MarkerArray>,
     status: ros2_client::Publisher<DiagnosticArray>,
+    set_down: ros2_client::Publisher<PointStamped>,
 }
 
 /// Runs the node until asked to stop.
@@ -86,6 +92,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         leg: rt.publisher::<Path>("/local_path", qos::reliable(10))?,
         region: rt.publisher::<MarkerArray>("/active_region", qos::latched(1))?,
         status: rt.publisher::<DiagnosticArray>("/planner_status", qos::latched(1))?,
+        set_down: rt.publisher::<PointStamped>("/set_down", qos::latched(1))?,
     };
     let regions_s = regions_sub.async_stream();
     let odom_s = odom_sub.async_stream();
@@ -99,6 +106,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         route: p.route,
         block_retries: p.block_retries,
         targets: p.targets,
+        set_downs: p.set_downs,
     });
     rt.log.info(
         "waiting for /classified_cloud, /target_points, /target_regions and /state_estimation",
@@ -151,6 +159,14 @@ async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
         PlannerCommand::ActiveRegion(r) => {
             let markers = regions_to_markers(&h, r.as_slice());
             out.region.async_publish(markers).await.is_ok()
+        }
+        PlannerCommand::SetDown(at) => {
+            let [x, y, z] = at.map(f64::from);
+            let msg = PointStamped {
+                header: h,
+                point: Point { x, y, z },
+            };
+            out.set_down.async_publish(msg).await.is_ok()
         }
         PlannerCommand::Status(s) => out
             .status

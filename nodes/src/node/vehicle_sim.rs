@@ -1,4 +1,5 @@
-//! vehicle_sim: /way_point and paths (/local_path by default) → a simulated ground
+//! vehicle_sim: /way_point, paths (/local_path by default) and /set_down (the
+//! robot carried to a spot, as a field team does) → a simulated ground
 //! vehicle with a spinning LiDAR → /state_estimation, /registered_scan (and one
 //! scan in `throttle_every` on /registered_scan_throttle), /clock,
 //! /vehicle_status, /tf (map → base_link) and /tf_static (base_link → sensor).
@@ -9,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use serde::Deserialize;
 use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
-use skyground_core::mission::VehicleStatus;
+use skyground_core::mission::{VehicleEvent, VehicleStatus};
 use skyground_core::scene::load_scene;
 use skyground_core::vehicle::{
     Every, RobotClock, ScanSchedule, Step, Vehicle, VehicleConfig, start_spot,
@@ -111,6 +112,14 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         goal_tx,
         |m: &PointStamped| [m.point.x as f32, m.point.y as f32],
     )?;
+    let (carry_tx, mut carries) = mpsc::channel::<[f32; 2]>(4);
+    forward(
+        rt,
+        "/set_down",
+        qos::latched(1),
+        carry_tx,
+        |m: &PointStamped| [m.point.x as f32, m.point.y as f32],
+    )?;
     let mut odom_due = Every::new(p.odom_rate_hz);
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);
@@ -123,6 +132,36 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             rt.log
                 .info(&format!("way-point ({:.1}, {:.1})", g[0], g[1]));
             vehicle.set_goal(g);
+        }
+        while let Ok(to) = carries.try_recv() {
+            // Carried: no driving, so the odometer and the clock do not move.
+            let Some(mut v) = Vehicle::new(p.vehicle, &caster, to[0], to[1], vehicle.state.yaw)
+            else {
+                let why = "cannot set down here: off the terrain";
+                let at = format!("({:.1}, {:.1})", to[0], to[1]);
+                rt.log
+                    .warn(&format!("cannot set down at {at}: off the terrain"));
+                // The planner waits for the robot there: tell it, as a blocked goal.
+                let refused = VehicleStatus {
+                    name: "vehicle_sim".into(),
+                    event: VehicleEvent::Blocked(why.into()),
+                    goal: to,
+                    at: [vehicle.state.position[0], vehicle.state.position[1]],
+                    odometer_m: f64::from(vehicle.state.odometer),
+                };
+                let h = Header {
+                    stamp: Time::from_secs(clock.now()),
+                    frame_id: p.frame_id.clone(),
+                };
+                let r = status_pub.async_publish(array(h, refused.to_wire())).await;
+                rt.log.sent("/vehicle_status", r);
+                continue;
+            };
+            v.state.odometer = vehicle.state.odometer;
+            vehicle = v;
+            odom_due = Every::new(p.odom_rate_hz);
+            rt.log
+                .info(&format!("set down at ({:.1}, {:.1})", to[0], to[1]));
         }
         while let Ok(pts) = paths.try_recv() {
             rt.log.info(&format!("path of {} pose(s)", pts.len()));
