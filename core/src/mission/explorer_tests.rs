@@ -301,3 +301,35 @@ fn spots_blocked_after_the_graph_is_built_count_for_the_next_region() {
     let leg = legs(&out).pop().expect("a leg");
     assert!(min_distance(&leg, spot.at) > spot.radius, "{leg:?}");
 }
+
+#[test]
+fn a_set_down_drops_the_graph_so_the_next_region_builds_it_where_the_vehicle_stands() {
+    let mut e = ready(0);
+    e.handle(ExplorerEvent::ActiveRegion(Some(region())));
+    e.handle(ExplorerEvent::Planner(planner_status(
+        1,
+        Some((0, 7)),
+        vec![],
+    )));
+    assert!(e.graph().is_some());
+    e.handle(ExplorerEvent::ActiveRegion(None));
+    e.handle(ExplorerEvent::Planner(planner_status(1, None, vec![])));
+    assert!(e.graph().is_some(), "driving on: the graph stays");
+    let carrying = PlannerStatus {
+        phase: Phase::Carrying.word().into(),
+        round: 1,
+        ..PlannerStatus::default()
+    };
+    e.handle(ExplorerEvent::Planner(carrying));
+    assert!(
+        e.graph().is_none(),
+        "carried to another piece: built again there"
+    );
+    e.handle(ExplorerEvent::ActiveRegion(Some(region())));
+    e.handle(ExplorerEvent::Planner(planner_status(
+        1,
+        Some((1, 7)),
+        vec![],
+    )));
+    assert!(e.graph().is_some());
+}
