@@ -302,15 +302,20 @@ fn spots_blocked_after_the_graph_is_built_count_for_the_next_region() {
     assert!(min_distance(&leg, spot.at) > spot.radius, "{leg:?}");
 }
 
-#[test]
-fn a_set_down_drops_the_graph_so_the_next_region_builds_it_where_the_vehicle_stands() {
-    let mut e = ready(0);
+/// Hands the explorer region `index` (building 7) of round 1.
+fn hand_over(e: &mut ExplorerMachine, index: usize) -> Vec<ExplorerCommand> {
     e.handle(ExplorerEvent::ActiveRegion(Some(region())));
     e.handle(ExplorerEvent::Planner(planner_status(
         1,
-        Some((0, 7)),
+        Some((index, 7)),
         vec![],
-    )));
+    )))
+}
+
+#[test]
+fn a_set_down_drops_the_graph_so_the_next_region_builds_it_where_the_vehicle_stands() {
+    let mut e = ready(0);
+    hand_over(&mut e, 0);
     assert!(e.graph().is_some());
     e.handle(ExplorerEvent::ActiveRegion(None));
     e.handle(ExplorerEvent::Planner(planner_status(1, None, vec![])));
@@ -325,11 +330,6 @@ fn a_set_down_drops_the_graph_so_the_next_region_builds_it_where_the_vehicle_sta
         e.graph().is_none(),
         "carried to another piece: built again there"
     );
-    e.handle(ExplorerEvent::ActiveRegion(Some(region())));
-    e.handle(ExplorerEvent::Planner(planner_status(
-        1,
-        Some((1, 7)),
-        vec![],
-    )));
+    hand_over(&mut e, 1);
     assert!(e.graph().is_some());
 }

@@ -57,6 +57,20 @@ struct Params {
 
 crate::node_spec!("vehicle_sim");
 
+/// The plan positions of the PointStamped messages on `topic`, in order.
+fn spots(
+    rt: &mut NodeRuntime,
+    topic: &str,
+    qos: ros2_client::QosProfile,
+    depth: usize,
+) -> Result<mpsc::Receiver<[f32; 2]>, RuntimeError> {
+    let (tx, rx) = mpsc::channel(depth);
+    forward(rt, topic, qos, tx, |m: &PointStamped| {
+        [m.point.x as f32, m.point.y as f32]
+    })?;
+    Ok(rx)
+}
+
 /// Runs the node until it is asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
@@ -104,22 +118,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     );
     let (tx, mut paths) = mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
-    let (goal_tx, mut goals) = mpsc::channel::<[f32; 2]>(16);
-    forward(
-        rt,
-        "/way_point",
-        qos::reliable(10),
-        goal_tx,
-        |m: &PointStamped| [m.point.x as f32, m.point.y as f32],
-    )?;
-    let (carry_tx, mut carries) = mpsc::channel::<[f32; 2]>(4);
-    forward(
-        rt,
-        "/set_down",
-        qos::latched(1),
-        carry_tx,
-        |m: &PointStamped| [m.point.x as f32, m.point.y as f32],
-    )?;
+    let mut goals = spots(rt, "/way_point", qos::reliable(10), 16)?;
+    let mut carries = spots(rt, "/set_down", qos::latched(1), 4)?;
     let mut odom_due = Every::new(p.odom_rate_hz);
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);
