@@ -129,8 +129,8 @@ pub struct Planner {
     missing: Vec<MissingPoint>,
     /// Point stops of this round left off because the route sees their gaps anyway.
     seen_on_the_way: Vec<usize>,
-    /// A start node of each piece of ground driven this round, and the
-    /// set-downs asked for this round.
+    /// A node of each piece of ground this round's set-downs left or went
+    /// to, and the set-downs asked for this round.
     pieces: Vec<[f32; 3]>,
     set_downs: usize,
     /// Where the robot is being carried to.
@@ -293,8 +293,7 @@ impl Planner {
             return;
         }
         self.need_plan = false;
-        let built = self.graph.is_none();
-        if built {
+        if self.graph.is_none() {
             match ground::build(xyz, labels, position, &self.config.graph, &self.blocked) {
                 Ok(g) => {
                     self.out.push(PlannerCommand::Info(format!(
@@ -321,18 +320,11 @@ impl Planner {
         let Some(graph) = self.graph.as_ref() else {
             return;
         };
-        if built && let Some(&p) = graph.positions().get(graph.start_node()) {
-            self.pieces.push(p);
-        }
         // Stops left off stay off when the route is made again (after a block).
-        let dealt_with = Visited {
-            points: [&self.visited.points[..], &self.seen_on_the_way[..]].concat(),
-            regions: self.visited.regions.clone(),
-        };
         match replan(
             graph,
             &self.targets,
-            &dealt_with,
+            &self.dealt_with(),
             position,
             &self.config.route,
         ) {
@@ -403,12 +395,7 @@ impl Planner {
         self.seen_on_the_way.clear();
         self.retries = 0;
         self.set_downs = 0;
-        // The piece the robot stands on is driven again in the new round.
-        self.pieces.truncate(0);
-        if let Some(g) = self.graph.as_ref() {
-            self.pieces
-                .extend(g.positions().get(g.start_node()).copied());
-        }
+        self.pieces.clear();
         self.round += 1;
         if let Some(s) = self.restored.take()
             && s.target_points == targets.points.len()
@@ -463,14 +450,16 @@ impl Planner {
             labels,
             params: &self.config.graph,
         };
-        let done = Visited {
-            points: [&self.visited.points[..], &self.seen_on_the_way[..]].concat(),
-            regions: self.visited.regions.clone(),
-        };
+        // The piece driven now is not asked for again this round (rebuilt
+        // without its blocked spots, it might seem to reach what they cut off).
+        if let Some(g) = self.graph.as_ref() {
+            self.pieces
+                .extend(g.positions().get(g.start_node()).copied());
+        }
         let next = next_set_down(
             &ground,
             &self.targets,
-            &done,
+            &self.dealt_with(),
             (&self.pieces, 0),
             &self.config.route,
         );
@@ -500,6 +489,14 @@ impl Planner {
         self.out.push(PlannerCommand::SetDown(set_down.start));
         self.out.push(PlannerCommand::Status(self.status()));
         true
+    }
+
+    /// Targets reached, given up, or left off as seen on the way this round.
+    fn dealt_with(&self) -> Visited {
+        Visited {
+            points: [&self.visited.points[..], &self.seen_on_the_way[..]].concat(),
+            regions: self.visited.regions.clone(),
+        }
     }
 
     /// A new position; while the robot is carried, one near the set-down

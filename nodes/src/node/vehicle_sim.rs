@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use serde::Deserialize;
 use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
-use skyground_core::mission::{VehicleEvent, VehicleStatus};
+use skyground_core::mission::VehicleStatus;
 use skyground_core::scene::load_scene;
 use skyground_core::vehicle::{
     Every, RobotClock, ScanSchedule, Step, Vehicle, VehicleConfig, start_spot,
@@ -137,24 +137,22 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             // Carried: no driving, so the odometer and the clock do not move.
             let Some(mut v) = Vehicle::new(p.vehicle, &caster, to[0], to[1], vehicle.state.yaw)
             else {
-                let why = "cannot set down here: off the terrain";
                 let at = format!("({:.1}, {:.1})", to[0], to[1]);
                 rt.log
                     .warn(&format!("cannot set down at {at}: off the terrain"));
                 // The planner waits for the robot there: tell it, as a blocked goal.
-                let refused = VehicleStatus {
-                    name: "vehicle_sim".into(),
-                    event: VehicleEvent::Blocked(why.into()),
+                let refused = Step::Blocked {
                     goal: to,
-                    at: [vehicle.state.position[0], vehicle.state.position[1]],
-                    odometer_m: f64::from(vehicle.state.odometer),
+                    reason: "cannot set down here: off the terrain".into(),
                 };
-                let h = Header {
-                    stamp: Time::from_secs(clock.now()),
-                    frame_id: p.frame_id.clone(),
-                };
-                let r = status_pub.async_publish(array(h, refused.to_wire())).await;
-                rt.log.sent("/vehicle_status", r);
+                if let Some(s) = VehicleStatus::from_step("vehicle_sim", &refused, &vehicle.state) {
+                    let h = Header {
+                        stamp: Time::from_secs(clock.now()),
+                        frame_id: p.frame_id.clone(),
+                    };
+                    let r = status_pub.async_publish(array(h, s.to_wire())).await;
+                    rt.log.sent("/vehicle_status", r);
+                }
                 continue;
             };
             v.state.odometer = vehicle.state.odometer;
