@@ -270,6 +270,34 @@ impl Planner {
         self.restored = Some(s);
     }
 
+    /// What the planner still lacks before it can plan, as the topics a
+    /// user would check (`None` when it is not waiting or lacks nothing: a
+    /// finished round waits for a new target set, which is no fault).
+    pub fn waiting_for(&self) -> Option<String> {
+        if self.phase != Phase::Waiting {
+            return None;
+        }
+        let mut lacks: Vec<String> = [
+            (self.cloud.is_none(), "/classified_cloud"),
+            (self.points.is_none(), "/target_points"),
+            (self.regions.is_none(), "/target_regions"),
+            (self.position.is_none(), "/state_estimation"),
+        ]
+        .into_iter()
+        .filter(|(lacking, _)| *lacking)
+        .map(|(_, topic)| topic.to_owned())
+        .collect();
+        if let (Some((_, p)), Some((_, r))) = (&self.points, &self.regions)
+            && p != r
+        {
+            // One half of a target set was missed: the pair never matches.
+            lacks.push(format!(
+                "the other half of a target set (/target_points stamped {p}, /target_regions {r})"
+            ));
+        }
+        (!lacks.is_empty()).then(|| lacks.join(", "))
+    }
+
     /// (Re)plans when every input is there.
     fn plan(&mut self) {
         let (

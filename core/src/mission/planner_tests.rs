@@ -180,6 +180,39 @@ fn halves_of_different_target_sets_are_not_planned() {
 }
 
 #[test]
+fn a_waiting_planner_names_what_it_lacks() {
+    let mut p = planner(2);
+    assert_eq!(
+        p.waiting_for().as_deref(),
+        Some("/classified_cloud, /target_points, /target_regions, /state_estimation")
+    );
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position([1.0, 5.0, 0.0]));
+    p.handle(PlannerEvent::Regions {
+        regions: vec![],
+        stamp: 3,
+    });
+    assert_eq!(p.waiting_for().as_deref(), Some("/target_points"));
+    // A points half of another set: both halves are there but never pair.
+    p.handle(PlannerEvent::Points {
+        points: two_points(),
+        stamp: 4,
+    });
+    p.handle(PlannerEvent::Tick);
+    let said = p.waiting_for().unwrap_or_default();
+    assert!(
+        said.contains("stamped 4") && said.contains("/target_regions 3"),
+        "{said}"
+    );
+    // Once planned, nothing is lacking, also after the round is driven.
+    let (mut p, out) = ready(2, 1);
+    assert_eq!(p.waiting_for(), None);
+    drive(&mut p, out);
+    assert_eq!(p.waiting_for(), None);
+}
+
+#[test]
 fn new_targets_start_a_new_round() {
     let (mut p, out) = ready(2, 1);
     drive(&mut p, out);

@@ -686,6 +686,9 @@ impl TimeLimit {
     fn why(&self, t0: Instant) -> String {
         match self.fixed {
             Some(s) => format!("timed out after {s} s (--timeout)"),
+            None if self.routes == 0 => format!(
+                "no route within {FIRST_ROUTE_S:.0} s (global_planner.log names the inputs it waited for)"
+            ),
             None => format!(
                 "timed out after {:.0} s: the work of round {} took longer than its budget ({} routes budgeted)",
                 t0.elapsed().as_secs_f64(),

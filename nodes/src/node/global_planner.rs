@@ -50,6 +50,9 @@ struct Params {
 
 crate::node_spec!("global_planner");
 
+/// How often a planner that lacks an input says which.
+const WAITING_SAID_EVERY: Duration = Duration::from_secs(30);
+
 /// The target generator stamps both halves of a target set alike.
 fn stamp_key(t: Time) -> u64 {
     (u64::from(t.sec as u32) << 32) | u64::from(t.nanosec)
@@ -101,6 +104,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let own_s = own_status_sub.async_stream();
     futures::pin_mut!(regions_s, odom_s, vstatus_s, estatus_s, own_s);
     let mut tick = tokio::time::interval(Duration::from_millis(500));
+    // A latched input that never arrives (a publisher down, a sample lost
+    // to discovery) would otherwise leave the planner silent for good.
+    let (mut lacking_since, mut said) = (std::time::Instant::now(), Duration::ZERO);
     let mut planner = Planner::new(PlannerConfig {
         graph: p.graph,
         route: p.route,
@@ -143,6 +149,16 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             for c in planner.handle(e) {
                 perform(rt, &out, c).await;
             }
+        }
+        match planner.waiting_for() {
+            Some(what) if lacking_since.elapsed() >= said + WAITING_SAID_EVERY => {
+                let s = lacking_since.elapsed().as_secs();
+                rt.log
+                    .warn(&format!("no route after {s} s: still waiting for {what}"));
+                said += WAITING_SAID_EVERY;
+            }
+            Some(_) => {}
+            None => (lacking_since, said) = (std::time::Instant::now(), Duration::ZERO),
         }
     }
     Ok(())
