@@ -10,21 +10,21 @@ use crate::cloud::Cloud;
 use crate::crs::Crs;
 use crate::scene::Window;
 
-/// Why a survey cannot be the prior of a city model.
+/// Why tiles cannot be one survey, or a survey the prior of a city model.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum PriorError {
     /// No tile was given.
-    #[error("no prior tile given")]
+    #[error("no tile given")]
     NoTiles,
     /// A tile holds no points.
-    #[error("prior tile {tile} holds no points")]
+    #[error("tile {tile} holds no points")]
     EmptyTile {
         /// The tile's name.
         tile: String,
     },
     /// Two tiles name different horizontal CRSs.
     #[error(
-        "prior tiles {first} ({first_crs}) and {tile} ({tile_crs}) are in different horizontal CRSs: reproject them to one CRS first"
+        "tiles {first} ({first_crs}) and {tile} ({tile_crs}) are in different horizontal CRSs: reproject them to one CRS first"
     )]
     TileCrs {
         /// The first tile.

@@ -18,10 +18,12 @@ use crate::runtime::{RuntimeError, params::ParamSet};
 /// Options of `skyground classify`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ClassifyArgs {
-    /// The cloud to classify (LAS/LAZ/PLY). Its own labels, if any, are the
-    /// reference (scored on points whose label is 2–6).
-    #[arg(long = "in")]
-    pub input: PathBuf,
+    /// The cloud to classify (LAS/LAZ/PLY); several files (tiles of one
+    /// survey, one CRS) are classified as one cloud, each tile seeing its
+    /// neighbours across the seam. Its own labels, if any, are the reference
+    /// (scored on points whose label is 2–6).
+    #[arg(long = "in", num_args = 1.., required = true)]
+    pub inputs: Vec<PathBuf>,
     /// Where to write the classified cloud (.las/.laz/.ply).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -105,22 +107,26 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     )?;
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
     let t0 = Instant::now();
-    let mut cloud = a.units.read(&a.input)?;
+    let mut cloud = a.units.read_tiles(&a.inputs)?;
     let read_s = t0.elapsed().as_secs_f64();
+    let input = super::units::describe(&a.inputs);
     let classified = classifier
         .classify_cloud(&cloud)
-        .map_err(|e| err(format!("{}: {e}", a.input.display())))?;
+        .map_err(|e| err(format!("{input}: {e}")))?;
     let truth = cloud.label.take().filter(|l| l.iter().any(|&c| c > 1));
     let counts = classified.counts();
     let building = counts.get("building").copied().unwrap_or(0);
-    let name = a
-        .input
-        .file_name()
+    let names: Vec<String> = a
+        .inputs
+        .iter()
+        .filter_map(|p| p.file_name())
         .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let seen = classifier.model().training_files.contains(&name);
+        .filter(|n| classifier.model().training_files.contains(n))
+        .collect();
+    let seen = !names.is_empty();
     let mut out = serde_json::json!({
-        "input": a.input,
+        "input": input,
+        "inputs": a.inputs,
         "points": cloud.len(),
         "classes": counts,
         "building_share": building as f64 / cloud.len().max(1) as f64,
@@ -133,7 +139,8 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     });
     if seen {
         eprintln!(
-            "note: the model was trained on {name}: the figures below are not an accuracy claim"
+            "note: the model was trained on {}: the figures below are not an accuracy claim",
+            names.join(", ")
         );
     }
     if let Some(truth) = &truth {

@@ -1,10 +1,11 @@
 //! `--units`: the unit of a cloud whose file states none (or states it
 //! wrongly), shared by the subcommands that read a cloud.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::crs::LinearUnit;
+use skyground_core::prior::join_tiles;
 
 use crate::runtime::RuntimeError;
 
@@ -25,6 +26,26 @@ impl UnitsArg {
         }
         Ok(cloud)
     }
+
+    /// Reads the clouds at `paths` as one survey (tiles of one CRS side by
+    /// side, as producers deliver them), each taken in `--units` when given;
+    /// tiles in different CRSs are an error.
+    pub fn read_tiles(&self, paths: &[PathBuf]) -> Result<Cloud, RuntimeError> {
+        if let [one] = paths {
+            return self.read(one);
+        }
+        let mut tiles = Vec::with_capacity(paths.len());
+        for p in paths {
+            tiles.push((p.display().to_string(), self.read(p)?));
+        }
+        join_tiles(&tiles).map_err(super::err)
+    }
+}
+
+/// The input files as one line (`a.laz + b.laz`), for reports.
+pub fn describe(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    names.join(" + ")
 }
 
 /// Parses `--units` (m, ft, ftUS and their long names).

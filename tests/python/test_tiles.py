@@ -1,0 +1,68 @@
+"""Tiles of one survey as one cloud: `skyground classify` and `skyground
+detect` take several files, as producers deliver a survey (tiles side by
+side in one CRS). A building the seam cuts is found once, whole, the ground
+graph runs across the seam, and tiles in different CRSs are refused with
+both names. The two AHN3 Delft tiles meet at x = 85,000 m. No DDS."""
+import json
+import subprocess
+
+import pytest
+
+from conftest import BIN, real_file
+from test_crs import run
+
+
+def detect(tmp_path, name, *files):
+    out = tmp_path / name
+    summary = json.loads(run("detect", "--in", *files, "--out", out, "--json").stdout)
+    plan = json.loads(run("plan", "--in", out, "--json").stdout)
+    return summary, plan
+
+
+def test_adjacent_tiles_are_one_survey(tmp_path):
+    import laspy
+
+    d1, d2 = real_file("ahn3_delft_1.laz"), real_file("ahn3_delft_2.laz")
+    alone = [detect(tmp_path, f.stem, f) for f in (d1, d2)]
+    both, plan = detect(tmp_path, "both", d1, d2)
+    assert both["inputs"] == [str(d1), str(d2)]
+    assert both["points"] == sum(s["points"] for s, _ in alone)
+    # Buildings across the seam are counted once, not once per tile.
+    counts = [s["buildings"] for s, _ in alone]
+    assert max(counts) < both["buildings"] < sum(counts), (counts, both["buildings"])
+    # Joined at the seam, the start's piece of ground is larger than either tile's.
+    nodes = [p["graph"]["nodes"] for _, p in alone]
+    assert plan["graph"]["nodes"] > max(nodes) * 1.5, (nodes, plan["graph"]["nodes"])
+    # The targets still stand beside the producer's buildings.
+    check = both["producer_check"]
+    assert check["targets"] > 0 and check["targets_beyond_reach"] == 0, check
+    assert check["missing_on_outline_share"] >= 0.95, check
+    las = laspy.read(str(tmp_path / "both" / "classified.las"))
+    assert len(las.points) == both["points"]
+    assert las.x.min() < 85000.0 - 100 and las.x.max() > 85000.0 + 50
+
+
+def test_tiles_classified_together_and_scored(tmp_path):
+    import laspy
+
+    d1, d2 = real_file("ahn3_delft_1.laz"), real_file("ahn3_delft_2.laz")
+    out = tmp_path / "both.las"
+    r = json.loads(run("classify", "--in", d1, d2, "--out", out, "--json").stdout)
+    assert r["inputs"] == [str(d1), str(d2)] and not r["trained_on_this_file"]
+    las = laspy.read(str(out))
+    assert len(las.points) == r["points"] == 640_510 + 208_432
+    building = next(c for c in r["report"]["per_class"] if c["class"] == 6)
+    # The shipped model on each tile alone: 0.944 and 0.972 (README).
+    assert building["f1"] >= 0.93, building
+    assert r["ground"]["total_error"] <= 0.05, r["ground"]
+
+
+@pytest.mark.parametrize("cmd", ["classify", "detect"])
+def test_tiles_in_different_crs_are_refused(tmp_path, cmd):
+    d2, autzen = real_file("ahn3_delft_2.laz"), real_file("autzen_trim.las")
+    p = subprocess.run([str(BIN / "skyground"), cmd, "--in", d2, autzen, "--out", tmp_path / "x"],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode != 0
+    assert "different horizontal CRSs" in p.stderr and "EPSG:2994" in p.stderr, p.stderr
+    assert d2.name in p.stderr and autzen.name in p.stderr, p.stderr
+    assert not (tmp_path / "x").exists() or not any((tmp_path / "x").iterdir())
