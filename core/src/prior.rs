@@ -106,21 +106,61 @@ pub fn join_tiles(tiles: &[(String, Cloud)]) -> Result<Cloud, PriorError> {
             return Err(PriorError::EmptyTile { tile: name.clone() });
         }
     }
-    let h = |c: &Cloud| c.crs.as_ref().and_then(Crs::horizontal_epsg);
-    let label = |c: &Cloud| c.crs.as_ref().map_or("no CRS".to_string(), Crs::label);
     let mut out = first.clone();
     for (name, c) in rest {
-        if h(c) != h(first) {
-            return Err(PriorError::TileCrs {
-                first: first_name.clone(),
-                first_crs: label(first),
-                tile: name.clone(),
-                tile_crs: label(c),
-            });
-        }
+        same_crs((first_name, first), (name, c))?;
         append(&mut out, &to_frame(c, first.origin));
     }
     Ok(out)
+}
+
+/// Tiles of one survey name one horizontal CRS (or none).
+pub fn same_crs(first: (&str, &Cloud), tile: (&str, &Cloud)) -> Result<(), PriorError> {
+    let h = |c: &Cloud| c.crs.as_ref().and_then(Crs::horizontal_epsg);
+    let label = |c: &Cloud| c.crs.as_ref().map_or("no CRS".to_string(), Crs::label);
+    if h(tile.1) == h(first.1) {
+        return Ok(());
+    }
+    Err(PriorError::TileCrs {
+        first: first.0.to_owned(),
+        first_crs: label(first.1),
+        tile: tile.0.to_owned(),
+        tile_crs: label(tile.1),
+    })
+}
+
+/// `tile` followed by the points of `others` that lie within `buffer`
+/// metres of its xy extent (in plan) but outside it, in its frame: what is
+/// computed near its edges then sees across them, and a delivery whose
+/// tiles overlap gives no point twice. The tile's own points stay the first
+/// `tile.1.len()`; every other tile must name its horizontal CRS.
+pub fn with_buffer(
+    tile: &(String, Cloud),
+    others: &[(String, Cloud)],
+    buffer: f32,
+) -> Result<Cloud, PriorError> {
+    let (name, own) = tile;
+    let (lo, hi) = own
+        .bounds()
+        .ok_or_else(|| PriorError::EmptyTile { tile: name.clone() })?;
+    let within = |x: f32, y: f32, m: f32| {
+        x >= lo[0] - m && x <= hi[0] + m && y >= lo[1] - m && y <= hi[1] + m
+    };
+    let mut parts = vec![tile.clone()];
+    for (other_name, c) in others {
+        same_crs((name, own), (other_name, c))?;
+        let shift = [0, 1].map(|k| (c.origin[k] - own.origin[k]) as f32);
+        let rows: Vec<usize> = (0..c.len())
+            .filter(|&i| {
+                let [x, y] = [0, 1].map(|k| c.xyz[i][k] + shift[k]);
+                within(x, y, buffer) && !within(x, y, 0.0)
+            })
+            .collect();
+        if !rows.is_empty() {
+            parts.push((other_name.clone(), c.subset(&rows)));
+        }
+    }
+    join_tiles(&parts)
 }
 
 /// Appends `b`'s points (in `a`'s frame) to `a`; a column either lacks is
@@ -277,6 +317,33 @@ mod tests {
             Err(PriorError::EmptyTile { .. })
         ));
         assert_eq!(join_tiles(&[]), Err(PriorError::NoTiles));
+    }
+
+    #[test]
+    fn a_buffer_adds_the_neighbours_points_near_the_edge_once() {
+        // Tile a: x 0..10 m at origin 1000; b starts 5 m inside a (overlap)
+        // and runs to 40 m; c lies 200 m away.
+        let row = |xs: &[f32]| xs.iter().map(|&x| [x, 1.0, 0.0]).collect::<Vec<_>>();
+        let a = cloud([1000.0, 0.0, 0.0], row(&[0.0, 10.0]), None);
+        let b = cloud(
+            [1005.0, 0.0, 0.0],
+            row(&[0.0, 4.0, 6.0, 9.0, 14.0, 35.0]),
+            None,
+        );
+        let c = cloud([1200.0, 0.0, 0.0], row(&[0.0]), None);
+        let others = [("b".to_string(), b), ("c".to_string(), c)];
+        let j = with_buffer(&("a".into(), a.clone()), &others, 10.0).unwrap();
+        // a's own points first; b's at x 11, 14 and 19 (within 10 m beyond
+        // a's edge at 10); b's 5 and 9 are inside a, b's 40 and c too far.
+        let xs: Vec<f32> = j.xyz.iter().map(|p| p[0]).collect();
+        assert_eq!(xs, vec![0.0, 10.0, 11.0, 14.0, 19.0]);
+        assert_eq!(j.origin, a.origin);
+        let d = cloud([0.0; 3], row(&[0.0]), Some(Crs::from_epsg(2056).unwrap()));
+        let far = [("d".to_string(), d)];
+        assert!(matches!(
+            with_buffer(&("a".into(), a), &far, 10.0),
+            Err(PriorError::TileCrs { .. })
+        ));
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! `skyground classify` and `skyground train`: step 1 of the method offline.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use serde::Deserialize;
@@ -8,8 +8,9 @@ use skyground_core::classify::{
     ClassReport, FileRole, GroundReport, SceneClassifier, TrainParams, default_training_set,
     file_training_clouds, is_scored, train,
 };
-use skyground_core::cloud::{read_cloud, write_cloud};
+use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
 use skyground_core::ground::CsfParams;
+use skyground_core::prior::{same_crs, with_buffer};
 
 use super::err;
 use crate::node::scene_classifier::load_model;
@@ -27,6 +28,16 @@ pub struct ClassifyArgs {
     /// Where to write the classified cloud (.las/.laz/.ply).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Classify each --in file as a tile of its own, with the points of its
+    /// neighbours within `--buffer` around it, and write it to this
+    /// directory under its own name (as tiled surveys are processed: one
+    /// tile in memory with its neighbours' edges, not the whole survey).
+    #[arg(long, conflicts_with = "out")]
+    pub out_dir: Option<PathBuf>,
+    /// With --out-dir: how far (metres, in plan) beyond a tile's edge its
+    /// neighbours' points are classified with it (not written with it).
+    #[arg(long, default_value_t = 30.0)]
+    pub buffer: f32,
     /// A model file (default: the shipped config/classifier_model.json.gz).
     #[arg(long)]
     pub model: Option<PathBuf>,
@@ -96,7 +107,8 @@ fn csf_params(file: Option<&std::path::Path>) -> Result<CsfParams, RuntimeError>
     Ok(p.csf)
 }
 
-/// Classifies a file; compares with its own labels when it has any.
+/// Classifies a file (or tiles as one cloud, or tile by tile with
+/// `--out-dir`); compares with its own labels when it has any.
 pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     let csf = csf_params(a.params_file.as_deref())?;
     let model = load_model(
@@ -106,18 +118,56 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
             .unwrap_or_default(),
     )?;
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
+    if let Some(dir) = &a.out_dir {
+        return by_tile(a, &classifier, dir);
+    }
     let t0 = Instant::now();
-    let mut cloud = a.units.read_tiles(&a.inputs)?;
+    let cloud = a.units.read_tiles(&a.inputs)?;
     let read_s = t0.elapsed().as_secs_f64();
-    let input = super::units::describe(&a.inputs);
-    let classified = classifier
+    let job = Job {
+        files: &a.inputs,
+        own: cloud.len(),
+        out: a.out.as_deref(),
+        read_s,
+    };
+    classify_one(&classifier, cloud, &job, a.json)
+}
+
+/// One cloud to classify: the files it came from, how many of its points
+/// are its own (the rest a buffer from neighbouring tiles), where it goes.
+struct Job<'a> {
+    files: &'a [PathBuf],
+    own: usize,
+    out: Option<&'a Path>,
+    read_s: f64,
+}
+
+/// Classifies `cloud`, scores and writes its first `job.own` points.
+fn classify_one(
+    classifier: &SceneClassifier,
+    cloud: Cloud,
+    job: &Job,
+    json: bool,
+) -> Result<serde_json::Value, RuntimeError> {
+    let input = super::units::describe(job.files);
+    let mut classified = classifier
         .classify_cloud(&cloud)
         .map_err(|e| err(format!("{input}: {e}")))?;
+    let buffer_points = cloud.len() - job.own;
+    let mut cloud = match buffer_points {
+        0 => cloud,
+        _ => {
+            let own: Vec<usize> = (0..job.own).collect();
+            classified.labels.truncate(job.own);
+            classified.ground.is_ground.truncate(job.own);
+            cloud.subset(&own)
+        }
+    };
     let truth = cloud.label.take().filter(|l| l.iter().any(|&c| c > 1));
     let counts = classified.counts();
     let building = counts.get("building").copied().unwrap_or(0);
-    let names: Vec<String> = a
-        .inputs
+    let names: Vec<String> = job
+        .files
         .iter()
         .filter_map(|p| p.file_name())
         .map(|n| n.to_string_lossy().into_owned())
@@ -126,12 +176,13 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     let seen = !names.is_empty();
     let mut out = serde_json::json!({
         "input": input,
-        "inputs": a.inputs,
+        "inputs": job.files,
         "points": cloud.len(),
+        "buffer_points": buffer_points,
         "classes": counts,
         "building_share": building as f64 / cloud.len().max(1) as f64,
         "echoes": cloud.echoes().is_some(),
-        "seconds": {"read": read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
+        "seconds": {"read": job.read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
         "model": classifier.model().trained_on,
         "trained_on_this_file": seen,
         "density": classified.ground.density,
@@ -155,8 +206,8 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
             .map(|&i| classified.ground.is_ground[i])
             .collect();
         let ground = GroundReport::new(&t, &flags).map_err(err)?;
-        if !a.json {
-            eprintln!("{}", report.table());
+        if !json {
+            eprintln!("{input}:\n{}", report.table());
             eprintln!(
                 "ground vs non-ground: total error {:.2} %, type I {:.2} %, type II {:.2} %, kappa {:.3}",
                 ground.total_error * 100.0,
@@ -170,11 +221,89 @@ pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
         out["ground"] = serde_json::to_value(&ground).map_err(err)?;
     }
     cloud.label = Some(classified.labels);
-    if let Some(path) = &a.out {
+    if let Some(path) = job.out {
         write_cloud(path, &cloud).map_err(err)?;
         out["output"] = serde_json::json!(path);
     }
     Ok(out)
+}
+
+/// `--out-dir`: each tile classified with its neighbours' points within
+/// `--buffer` of its edge, and written under its own name.
+fn by_tile(
+    a: &ClassifyArgs,
+    classifier: &SceneClassifier,
+    dir: &Path,
+) -> Result<serde_json::Value, RuntimeError> {
+    std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
+    let here = |p: &Path| std::fs::canonicalize(p).ok();
+    for p in &a.inputs {
+        let parent = p.parent().map(|d| {
+            if d.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                d
+            }
+        });
+        if parent.and_then(here).is_some_and(|d| Some(d) == here(dir)) {
+            return Err(err(format!(
+                "--out-dir {} holds the input {}: writing there would overwrite it",
+                dir.display(),
+                p.display()
+            )));
+        }
+    }
+    // First pass: every tile's extent (metres, absolute) and one CRS for all.
+    let mut extents = Vec::with_capacity(a.inputs.len());
+    let mut first: Option<(String, Cloud)> = None;
+    for p in &a.inputs {
+        let c = a.units.read(p)?;
+        let name = p.display().to_string();
+        let (lo, hi) = c
+            .bounds()
+            .ok_or_else(|| err(format!("{name}: holds no points")))?;
+        let abs = |v: [f32; 3]| [0, 1].map(|k| c.origin[k] + f64::from(v[k]));
+        extents.push((abs(lo), abs(hi)));
+        match &first {
+            None => first = Some((name, c.subset(&[0]))),
+            Some((f, fc)) => same_crs((f, fc), (&name, &c)).map_err(err)?,
+        }
+    }
+    let b = f64::from(a.buffer.max(0.0));
+    let near = |i: usize, j: usize| {
+        let ((lo, hi), (olo, ohi)) = (extents[i], extents[j]);
+        (0..2).all(|k| olo[k] <= hi[k] + b && ohi[k] >= lo[k] - b)
+    };
+    let mut tiles = Vec::with_capacity(a.inputs.len());
+    for (i, p) in a.inputs.iter().enumerate() {
+        let t0 = Instant::now();
+        let tile = (p.display().to_string(), a.units.read(p)?);
+        let mut neighbours = Vec::new();
+        for (j, q) in a.inputs.iter().enumerate() {
+            if j != i && near(i, j) {
+                neighbours.push((q.display().to_string(), a.units.read(q)?));
+            }
+        }
+        let cloud = with_buffer(&tile, &neighbours, a.buffer.max(0.0)).map_err(err)?;
+        drop(neighbours);
+        let name = p
+            .file_name()
+            .ok_or_else(|| err(format!("{}: not a file name", p.display())))?;
+        let out = dir.join(name);
+        let job = Job {
+            files: std::slice::from_ref(p),
+            own: tile.1.len(),
+            out: Some(&out),
+            read_s: t0.elapsed().as_secs_f64(),
+        };
+        drop(tile);
+        tiles.push(classify_one(classifier, cloud, &job, a.json)?);
+    }
+    Ok(serde_json::json!({
+        "out_dir": dir,
+        "buffer_m": a.buffer,
+        "tiles": tiles,
+    }))
 }
 
 /// Trains a model on labelled files and/or simulated scenes and writes it.
