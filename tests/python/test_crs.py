@@ -45,6 +45,32 @@ def test_classify_output_keeps_crs_and_feet(tmp_path, name):
 
 
 @pytest.mark.parametrize("name", FEET)
+def test_classify_changes_the_classes_and_nothing_else(tmp_path, name):
+    """As a PDAL or LAStools classifier does: the producer's GPS time,
+    colour, flight line, scan angle, flags, version and point format stay."""
+    import laspy
+
+    src = real_file(name)
+    out = tmp_path / "classified.las"
+    r = json.loads(run("classify", "--in", src, "--out", out, "--json").stdout)
+    assert r["fields_kept"] is True
+    a, b = laspy.read(str(src)), laspy.read(str(out))
+    assert (b.header.version, b.point_format.id) == (a.header.version, a.point_format.id)
+    assert [v.record_id for v in b.header.vlrs] == [v.record_id for v in a.header.vlrs]
+    for dim in a.point_format.dimension_names:
+        if dim != "classification":
+            np.testing.assert_array_equal(np.asarray(b[dim]), np.asarray(a[dim]), err_msg=dim)
+    assert set(np.unique(np.asarray(b.classification))) <= {1, 2, 5, 6}
+    counts = {int(k): v for k, v in zip(*np.unique(np.asarray(b.classification), return_counts=True))}
+    assert counts.get(6, 0) == r["classes"].get("building", 0)
+    # Written over its own input, the file is replaced whole, not half-read.
+    again = tmp_path / "again.las"
+    again.write_bytes(out.read_bytes())
+    run("classify", "--in", again, "--out", again)
+    np.testing.assert_array_equal(np.asarray(laspy.read(str(again)).gps_time), np.asarray(a.gps_time))
+
+
+@pytest.mark.parametrize("name", FEET)
 def test_detect_outputs_keep_crs_and_feet(tmp_path, name):
     import laspy
 

@@ -4,7 +4,7 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::Cloud;
-use super::las::{LasError, read_las, write_las};
+use super::las::{LasError, read_las, relabel_las, write_las};
 use super::ply::{PlyError, parse_ply, write_ply};
 use crate::file::{self, FileError};
 
@@ -127,6 +127,55 @@ pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
             Ok(sink.flush().map_err(io)?)
         }
     }
+}
+
+/// Writes `labels` as the classes of a copy of the LAS/LAZ `sources` (in
+/// order, one class per point) to `path` (LAS or LAZ by its extension):
+/// every other field of the points and the first source's header and
+/// records stay. `Ok(false)`, with nothing written, when a source or `path`
+/// is not LAS/LAZ: write the cloud with [`write_cloud`] instead.
+pub fn relabel_files(
+    sources: &[PathBuf],
+    path: &Path,
+    labels: &[u8],
+) -> Result<bool, CloudIoError> {
+    let las_like = |k: Kind| matches!(k, Kind::Las | Kind::Laz);
+    let out_kind = kind(path)?;
+    for s in sources {
+        if !las_like(kind(s)?) {
+            return Ok(false);
+        }
+    }
+    if !las_like(out_kind) {
+        return Ok(false);
+    }
+    let mut readers = Vec::with_capacity(sources.len());
+    for s in sources {
+        readers.push(BufReader::new(file::open(s)?));
+    }
+    // Written beside and renamed at the end: `path` may be one of the
+    // sources (still being read), and a failure leaves no half file there.
+    let mut part = path.as_os_str().to_owned();
+    part.push(".part");
+    let part = PathBuf::from(part);
+    let written = (|| {
+        let sink = BufWriter::new(file::create(&part)?);
+        let mut sink =
+            relabel_las(readers, sink, labels, out_kind == Kind::Laz).map_err(|source| {
+                CloudIoError::Las {
+                    path: path.into(),
+                    source,
+                }
+            })?;
+        sink.flush().map_err(|e| FileError::new(&part, e))?;
+        drop(sink);
+        std::fs::rename(&part, path).map_err(|e| FileError::new(path, e))?;
+        Ok(())
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&part);
+    }
+    written.map(|()| true)
 }
 
 #[cfg(test)]

@@ -8,7 +8,8 @@ use skyground_core::classify::{
     ClassReport, FileRole, GroundReport, SceneClassifier, TrainParams, default_training_set,
     file_training_clouds, is_scored, train,
 };
-use skyground_core::cloud::{Cloud, read_cloud, write_cloud};
+use skyground_core::cloud::las::LasError;
+use skyground_core::cloud::{Cloud, CloudIoError, read_cloud, relabel_files, write_cloud};
 use skyground_core::ground::CsfParams;
 use skyground_core::prior::{same_crs, with_buffer};
 
@@ -220,10 +221,29 @@ fn classify_one(
         out["report"] = serde_json::to_value(&report).map_err(err)?;
         out["ground"] = serde_json::to_value(&ground).map_err(err)?;
     }
-    cloud.label = Some(classified.labels);
     if let Some(path) = job.out {
-        write_cloud(path, &cloud).map_err(err)?;
+        // The producer's points with our classes: GPS time, colour, flight
+        // line and the rest stay, as after a PDAL or LAStools classifier.
+        let kept = match relabel_files(job.files, path, &classified.labels) {
+            Ok(kept) => kept,
+            Err(CloudIoError::Las {
+                source: e @ LasError::SourceFormat { .. },
+                ..
+            }) => {
+                eprintln!(
+                    "note: {e}; {} gets positions, intensity, returns and classes only",
+                    path.display()
+                );
+                false
+            }
+            Err(e) => return Err(err(e)),
+        };
+        if !kept {
+            cloud.label = Some(classified.labels);
+            write_cloud(path, &cloud).map_err(err)?;
+        }
         out["output"] = serde_json::json!(path);
+        out["fields_kept"] = serde_json::json!(kept);
     }
     Ok(out)
 }

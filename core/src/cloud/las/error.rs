@@ -81,6 +81,35 @@ pub enum LasError {
         /// The local coordinate.
         value: f32,
     },
+    /// Relabelling was given no file to copy.
+    #[error("no LAS/LAZ file to copy the points from")]
+    NoSource,
+    /// The classes do not match the points one to one.
+    #[error("{labels} classes for {points} points")]
+    LabelCount {
+        /// Points in the files.
+        points: u64,
+        /// Classes given.
+        labels: usize,
+    },
+    /// A later file's point format is not the first's.
+    #[error(
+        "file {source_index} (from 0) has point format {format}, the first {first}: tiles written as one file must share one"
+    )]
+    SourceFormat {
+        /// Which file.
+        source_index: usize,
+        /// Its point format.
+        format: u8,
+        /// The first file's.
+        first: u8,
+    },
+    /// Point formats 0–5 hold classes 0–31 only.
+    #[error("class {class} does not fit point formats 0–5 (classes 0–31)")]
+    LegacyClass {
+        /// The class.
+        class: u8,
+    },
     /// An intensity cannot be stored as LAS's u16.
     #[error("point {index}: intensity {value} is outside LAS's 0..=65535")]
     IntensityRange {

@@ -2,16 +2,20 @@
 //!
 //! Reading keeps positions (in a local frame, see [`read_las`]), intensity,
 //! classification as `label`, and our `building` extra-bytes dimension.
-//! Writing produces LAS 1.4 point format 6 ([`write_las`]).
+//! Writing produces LAS 1.4 point format 6 ([`write_las`]); new classes
+//! in a copy of the files a cloud was read from keep every other field
+//! ([`relabel_las`]).
 
 mod error;
 mod extra_bytes;
 mod preflight;
 mod read;
+mod relabel;
 mod write;
 
 pub use error::LasError;
 pub use read::read_las;
+pub use relabel::relabel_las;
 pub use write::{SCALE, write_las};
 
 #[cfg(test)]

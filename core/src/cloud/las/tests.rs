@@ -189,3 +189,120 @@ fn unwritable_clouds_are_rejected() {
         Err(LasError::NonFiniteOrigin { .. })
     ));
 }
+
+/// A LAS 1.2 point format 3 file (GPS time and colour) of `n` points from
+/// `x0` m east, with flags, scan angle, user data and flight line set, at
+/// offset `offset`, scale 0.01.
+fn producer_file(n: usize, x0: f64, offset: f64, compressed: bool) -> Vec<u8> {
+    use ::las::point::{Classification, Format};
+    use ::las::{Builder, Color, Point, Transform, Vector, Writer};
+    let mut b = Builder::from((1, 2));
+    b.point_format = Format::new(3).unwrap();
+    b.point_format.is_compressed = compressed;
+    let t = |o| Transform {
+        scale: 0.01,
+        offset: o,
+    };
+    b.transforms = Vector {
+        x: t(offset),
+        y: t(0.0),
+        z: t(0.0),
+    };
+    let mut w = Writer::new(Cursor::new(Vec::new()), b.into_header().unwrap()).unwrap();
+    for i in 0..n {
+        w.write_point(Point {
+            x: x0 + i as f64 * 0.37,
+            y: 12.5 + i as f64,
+            z: 3.25,
+            intensity: 100 + i as u16,
+            return_number: 1,
+            number_of_returns: 2,
+            classification: Classification::new(1).unwrap(),
+            is_withheld: i % 2 == 0,
+            is_key_point: i % 3 == 0,
+            scan_angle: -12.0,
+            user_data: 9,
+            point_source_id: 707,
+            gps_time: Some(306_234_562.25 + i as f64),
+            color: Some(Color::new(10 * i as u16, 20, 30)),
+            ..Default::default()
+        })
+        .unwrap();
+    }
+    w.into_inner().unwrap().into_inner()
+}
+
+fn points_of(data: Vec<u8>) -> (::las::Header, Vec<::las::point::Point>) {
+    use ::las::Reader;
+    let mut r = Reader::new(Cursor::new(data)).unwrap();
+    let h = r.header().clone();
+    let pts = r.read_all().unwrap().points().map(Result::unwrap).collect();
+    (h, pts)
+}
+
+#[test]
+fn relabelling_changes_the_class_and_nothing_else() {
+    for compressed in [false, true] {
+        let src = producer_file(5, 1000.0, 1000.0, false);
+        let labels = [2, 6, 6, 5, 2];
+        let out = relabel_las(
+            vec![Cursor::new(src.clone())],
+            Cursor::new(Vec::new()),
+            &labels,
+            compressed,
+        )
+        .unwrap()
+        .into_inner();
+        let ((hi, before), (ho, after)) = (points_of(src), points_of(out));
+        assert_eq!(ho.version(), hi.version());
+        assert_eq!(ho.point_format().to_u8().unwrap(), 3);
+        assert_eq!(ho.point_format().is_compressed, compressed);
+        assert_eq!(ho.transforms(), hi.transforms());
+        assert_eq!(ho.number_of_points(), 5);
+        assert_eq!(ho.bounds(), hi.bounds());
+        for ((a, b), &c) in before.iter().zip(&after).zip(&labels) {
+            assert_eq!(u8::from(b.classification), c);
+            let mut b = b.clone();
+            b.classification = a.classification;
+            assert_eq!(&b, a, "every other field stays");
+        }
+    }
+}
+
+#[test]
+fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
+    let a = producer_file(3, 1000.0, 1000.0, false);
+    let b = producer_file(2, 1100.0, 1100.0, true);
+    let sources = || vec![Cursor::new(a.clone()), Cursor::new(b.clone())];
+    let out = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 5], true)
+        .unwrap()
+        .into_inner();
+    let (h, pts) = points_of(out);
+    assert_eq!(h.transforms().x.offset, 1000.0);
+    let xs: Vec<f64> = pts.iter().map(|p| p.x).collect();
+    let want = [1000.0, 1000.37, 1000.74, 1100.0, 1100.37];
+    assert!(
+        xs.iter().zip(want).all(|(x, w)| (x - w).abs() < 1e-6),
+        "{xs:?}"
+    );
+    assert!(
+        pts.iter()
+            .all(|p| u8::from(p.classification) == 6 && p.gps_time.is_some())
+    );
+    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 4], false).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            LasError::LabelCount {
+                points: 5,
+                labels: 4
+            }
+        ),
+        "{e}"
+    );
+    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[40; 5], false).unwrap_err();
+    assert!(matches!(e, LasError::LegacyClass { class: 40 }), "{e}");
+    let none: Vec<Cursor<Vec<u8>>> = Vec::new();
+    let e = relabel_las(none, Cursor::new(Vec::new()), &[], false).unwrap_err();
+    assert!(matches!(e, LasError::NoSource), "{e}");
+}
