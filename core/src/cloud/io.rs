@@ -4,7 +4,7 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::Cloud;
-use super::las::{LasError, read_las, relabel_las, write_las};
+use super::las::{LasError, read_las, read_las_bounds, relabel_las, write_las};
 use super::ply::{PlyError, parse_ply, write_ply};
 use crate::file::{self, FileError};
 
@@ -105,6 +105,30 @@ pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
             })
         }
     }
+}
+
+/// The file's bounding box as a cloud of its two corners (frame, CRS and
+/// metres as [`read_cloud`] gives them): a LAS/LAZ header alone, a file
+/// whose header has no usable bounds (and any PLY) read whole.
+pub fn read_bounds(path: &Path) -> Result<Cloud, CloudIoError> {
+    if matches!(kind(path)?, Kind::Las | Kind::Laz) {
+        let file = file::open(path)?;
+        let bounds = read_las_bounds(BufReader::new(file)).map_err(|source| CloudIoError::Las {
+            path: path.into(),
+            source,
+        })?;
+        if let Some(b) = bounds {
+            return Ok(b);
+        }
+    }
+    let c = read_cloud(path)?;
+    let corners = c.bounds().map_or_else(Vec::new, |(lo, hi)| vec![lo, hi]);
+    Ok(Cloud {
+        xyz: corners,
+        origin: c.origin,
+        crs: c.crs,
+        ..Cloud::default()
+    })
 }
 
 /// Writes `cloud` as binary PLY, LAS 1.4 or LAZ according to the extension.

@@ -273,11 +273,12 @@ fn by_tile(
             )));
         }
     }
-    // First pass: every tile's extent (metres, absolute) and one CRS for all.
+    // First pass, headers only: every tile's extent (metres, absolute) and
+    // one CRS for all.
     let mut extents = Vec::with_capacity(a.inputs.len());
     let mut first: Option<(String, Cloud)> = None;
     for p in &a.inputs {
-        let c = a.units.read(p)?;
+        let c = a.units.read_bounds(p)?;
         let name = p.display().to_string();
         let (lo, hi) = c
             .bounds()
@@ -285,7 +286,7 @@ fn by_tile(
         let abs = |v: [f32; 3]| [0, 1].map(|k| c.origin[k] + f64::from(v[k]));
         extents.push((abs(lo), abs(hi)));
         match &first {
-            None => first = Some((name, c.subset(&[0]))),
+            None => first = Some((name, c)),
             Some((f, fc)) => same_crs((f, fc), (&name, &c)).map_err(err)?,
         }
     }

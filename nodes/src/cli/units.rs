@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use skyground_core::cloud::{Cloud, read_cloud};
+use skyground_core::cloud::{Cloud, read_bounds, read_cloud};
 use skyground_core::crs::LinearUnit;
 use skyground_core::prior::join_tiles;
 
@@ -25,6 +25,16 @@ impl UnitsArg {
             cloud.set_unit(u.clone());
         }
         Ok(cloud)
+    }
+
+    /// The bounding box of the cloud at `path` (its two corners; a LAS/LAZ
+    /// header alone), in `--units` when given.
+    pub fn read_bounds(&self, path: &Path) -> Result<Cloud, RuntimeError> {
+        let mut corners = read_bounds(path).map_err(super::err)?;
+        if let Some(u) = &self.units {
+            corners.set_unit(u.clone());
+        }
+        Ok(corners)
     }
 
     /// Reads the clouds at `paths` as one survey (tiles of one CRS side by

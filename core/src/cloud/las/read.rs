@@ -65,6 +65,41 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
     Ok(cloud)
 }
 
+/// The header's bounding box alone, as a cloud of its two corners (same
+/// frame, CRS and metres as [`read_las`] would give), without decoding a
+/// point: to find which tiles of a survey touch which. `None` when the
+/// header's bounds are unusable (read the file whole instead).
+pub fn read_las_bounds<R: Read + Seek + Send + Sync + 'static>(
+    source: R,
+) -> Result<Option<Cloud>, LasError> {
+    let reader = Reader::new(source)?;
+    let header = reader.header().clone();
+    let Some(origin) = header_origin(&header) else {
+        return Ok(None);
+    };
+    let b = header.bounds();
+    let mut xyz = Vec::with_capacity(2);
+    for corner in [[b.min.x, b.min.y, b.min.z], [b.max.x, b.max.y, b.max.z]] {
+        let mut p = [0.0f32; 3];
+        for (k, slot) in p.iter_mut().enumerate() {
+            *slot = to_local(corner[k], origin[k]).ok_or(LasError::BadCoordinate {
+                index: 0,
+                axis: ["x", "y", "z"][k],
+                value: corner[k],
+            })?;
+        }
+        xyz.push(p);
+    }
+    let mut cloud = Cloud {
+        xyz,
+        origin,
+        crs: crs_of(&header)?,
+        ..Cloud::default()
+    };
+    cloud.rescale(cloud.to_metre());
+    Ok(Some(cloud))
+}
+
 /// The CRS stated by the header's `LASF_Projection` (E)VLRs.
 fn crs_of(header: &Header) -> Result<Option<Crs>, LasError> {
     let records = header

@@ -306,3 +306,29 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
     let e = relabel_las(none, Cursor::new(Vec::new()), &[], false).unwrap_err();
     assert!(matches!(e, LasError::NoSource), "{e}");
 }
+
+#[test]
+fn the_header_alone_gives_the_bounds_read_las_gives() {
+    for compressed in [false, true] {
+        let data = write(&sample_cloud(), compressed);
+        let whole = read(data.clone()).unwrap();
+        let corners = read_las_bounds(Cursor::new(data))
+            .unwrap()
+            .expect("usable bounds");
+        assert_eq!(corners.origin, whole.origin);
+        let (lo, hi) = whole.bounds().unwrap();
+        // Within the file's 1 mm grid (the header keeps f64, points f32).
+        for (got, want) in corners.xyz.iter().zip([lo, hi]) {
+            assert!(
+                (0..3).all(|k| (got[k] - want[k]).abs() <= 1.5e-3),
+                "{got:?} {want:?}"
+            );
+        }
+        assert_eq!(corners.xyz.len(), 2);
+    }
+    // A header with unusable bounds (min above max) asks for a whole read.
+    let mut data = write(&sample_cloud(), false);
+    // Max X is at byte 179 of a LAS 1.4 header, min X at 187.
+    data[179..187].copy_from_slice(&(-1.0e9f64).to_le_bytes());
+    assert!(read_las_bounds(Cursor::new(data)).unwrap().is_none());
+}
