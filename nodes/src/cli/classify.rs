@@ -222,30 +222,43 @@ fn classify_one(
         out["ground"] = serde_json::to_value(&ground).map_err(err)?;
     }
     if let Some(path) = job.out {
-        // The producer's points with our classes: GPS time, colour, flight
-        // line and the rest stay, as after a PDAL or LAStools classifier.
-        let kept = match relabel_files(job.files, path, &classified.labels) {
-            Ok(kept) => kept,
-            Err(CloudIoError::Las {
-                source: e @ LasError::SourceFormat { .. },
-                ..
-            }) => {
-                eprintln!(
-                    "note: {e}; {} gets positions, intensity, returns and classes only",
-                    path.display()
-                );
-                false
-            }
-            Err(e) => return Err(err(e)),
-        };
-        if !kept {
-            cloud.label = Some(classified.labels);
-            write_cloud(path, &cloud).map_err(err)?;
-        }
+        cloud.label = Some(classified.labels);
+        let kept = write_classified(job.files, path, &cloud)?;
         out["output"] = serde_json::json!(path);
         out["fields_kept"] = serde_json::json!(kept);
     }
     Ok(out)
+}
+
+/// Writes `cloud` (read from `files`, labelled) to `path`: the producer's
+/// points with its classes, GPS time, colour, flight line and the rest kept,
+/// as after a PDAL or LAStools classifier; through the cloud alone
+/// (positions, intensity, returns, classes) for PLY or for tiles of
+/// different point formats. True when every field was kept.
+pub fn write_classified(
+    files: &[PathBuf],
+    path: &Path,
+    cloud: &Cloud,
+) -> Result<bool, RuntimeError> {
+    let labels = cloud.label.as_deref().unwrap_or_default();
+    let kept = match relabel_files(files, path, labels) {
+        Ok(kept) => kept,
+        Err(CloudIoError::Las {
+            source: e @ LasError::SourceFormat { .. },
+            ..
+        }) => {
+            eprintln!(
+                "note: {e}; {} gets positions, intensity, returns and classes only",
+                path.display()
+            );
+            false
+        }
+        Err(e) => return Err(err(e)),
+    };
+    if !kept {
+        write_cloud(path, cloud).map_err(err)?;
+    }
+    Ok(kept)
 }
 
 /// `--out-dir`: each tile classified with its neighbours' points within

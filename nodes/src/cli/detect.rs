@@ -8,7 +8,7 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
-use skyground_core::cloud::{Cloud, class, relabel_files, write_cloud};
+use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
@@ -159,15 +159,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     missing.origin = cloud.origin;
     missing.crs = cloud.crs.clone();
     // The producer's points with the classes used: every other field stays.
-    let classified = a.out.join("classified.las");
-    let labels = cloud.label.as_deref().unwrap_or_default();
-    let kept = relabel_files(&a.inputs, &classified, labels).unwrap_or_else(|e| {
-        eprintln!("note: {e}; classified.las gets positions, intensity, returns and classes only");
-        false
-    });
-    if !kept {
-        write_cloud(&classified, &cloud).map_err(err)?;
-    }
+    super::classify::write_classified(&a.inputs, &a.out.join("classified.las"), &cloud)?;
     write_cloud(&a.out.join("missing.las"), &missing).map_err(err)?;
     // The gaps with their normals ride along, so `skyground plan` can tell
     // which stops the route sees anyway (as the planner does from /missing_points).

@@ -20,21 +20,21 @@ pub struct UnitsArg {
 impl UnitsArg {
     /// Reads the cloud at `path`, its coordinates taken in `--units` when given.
     pub fn read(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        let mut cloud = read_cloud(path).map_err(super::err)?;
-        if let Some(u) = &self.units {
-            cloud.set_unit(u.clone());
-        }
-        Ok(cloud)
+        Ok(self.taken_in(read_cloud(path).map_err(super::err)?))
     }
 
     /// The bounding box of the cloud at `path` (its two corners; a LAS/LAZ
     /// header alone), in `--units` when given.
     pub fn read_bounds(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        let mut corners = read_bounds(path).map_err(super::err)?;
+        Ok(self.taken_in(read_bounds(path).map_err(super::err)?))
+    }
+
+    /// `cloud` with its coordinates taken in `--units` when given.
+    fn taken_in(&self, mut cloud: Cloud) -> Cloud {
         if let Some(u) = &self.units {
-            corners.set_unit(u.clone());
+            cloud.set_unit(u.clone());
         }
-        Ok(corners)
+        cloud
     }
 
     /// Reads the clouds at `paths` as one survey (tiles of one CRS side by

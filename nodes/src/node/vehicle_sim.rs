@@ -133,6 +133,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 .info(&format!("way-point ({:.1}, {:.1})", g[0], g[1]));
             vehicle.set_goal(g);
         }
+        let mut refused = Vec::new();
         while let Ok(to) = carries.try_recv() {
             // Carried: no driving, so the odometer and the clock do not move.
             let Some(mut v) = Vehicle::new(p.vehicle, &caster, to[0], to[1], vehicle.state.yaw)
@@ -141,18 +142,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 rt.log
                     .warn(&format!("cannot set down at {at}: off the terrain"));
                 // The planner waits for the robot there: tell it, as a blocked goal.
-                let refused = Step::Blocked {
+                refused.push(Step::Blocked {
                     goal: to,
                     reason: "cannot set down here: off the terrain".into(),
-                };
-                if let Some(s) = VehicleStatus::from_step("vehicle_sim", &refused, &vehicle.state) {
-                    let h = Header {
-                        stamp: Time::from_secs(clock.now()),
-                        frame_id: p.frame_id.clone(),
-                    };
-                    let r = status_pub.async_publish(array(h, s.to_wire())).await;
-                    rt.log.sent("/vehicle_status", r);
-                }
+                });
                 continue;
             };
             v.state.odometer = vehicle.state.odometer;
@@ -176,11 +169,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             let at = format!("({:.1}, {:.1})", goal[0], goal[1]);
             rt.log.warn(&format!("blocked going to {at}: {reason}"));
         }
-        if let Some(s) = VehicleStatus::from_step("vehicle_sim", &step, &vehicle.state) {
-            let r = status_pub
-                .async_publish(array(h.clone(), s.to_wire()))
-                .await;
-            rt.log.sent("/vehicle_status", r);
+        for done in refused.iter().chain([&step]) {
+            if let Some(s) = VehicleStatus::from_step("vehicle_sim", done, &vehicle.state) {
+                let r = status_pub
+                    .async_publish(array(h.clone(), s.to_wire()))
+                    .await;
+                rt.log.sent("/vehicle_status", r);
+            }
         }
         if clock_due.due(sim) {
             rt.log.sent(
