@@ -11,8 +11,8 @@
 //! The floors are the bars where the held-out figure meets them
 //! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
 //! total error ≤ 5 % on the IGN tiles) and the measured figure less a small
-//! margin where it does not (St Barth building F1 0.879, the Nebraska
-//! snippet 0.695); see the README's "Classification on real surveys".
+//! margin where it does not (St Barth building F1 0.873, the Nebraska
+//! snippet 0.692); see the README's "Classification on real surveys".
 
 use std::path::PathBuf;
 

@@ -8,6 +8,10 @@
 //!   the piece `skyground plan` starts on holds ≥ 90 % of the nodes it holds
 //!   on the producer's classes. The issue's 90 % of all candidate nodes
 //!   cannot be met here by any classes: docs/density.md.
+//! - Detection on our classes puts ≥ 95 % of its missing points within
+//!   0.5 m (in plan) of a producer building point, and every target within
+//!   30 m of one: the issue's bars, in plan (the 3D bar cannot hold:
+//!   docs/density.md).
 //! - A canal without a drivable bridge leaves targets on the far bank:
 //!   more set-downs reach targets the first does not, and every set-down
 //!   stands on the producer's ground, never on a roof.
@@ -20,6 +24,7 @@ use skyground_core::classify::{Model, SceneClassifier};
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::graph::{GraphParams, GroundGraph, drivable};
 use skyground_core::ground::CsfParams;
+use skyground_core::metrics::producer_check;
 use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::route::{Ground, RouteParams, plan_set_downs};
 use skyground_core::targets::{Site, TargetParams, generate};
@@ -95,6 +100,25 @@ fn our_classes_reach_the_producers_ground_and_set_downs_cross_the_canals() {
         let tp = TargetParams::default();
         let site = Site::from_cloud(&cloud.xyz, &ours, tp.cell, tp.clearance).unwrap();
         let (targets, _) = generate(&detection, &site, &tp).unwrap();
+        let mut at: Vec<[f32; 3]> = targets.points.iter().map(|t| t.xyz).collect();
+        for r in &targets.regions {
+            at.extend(r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
+        }
+        let check = producer_check(&cloud.xyz, &producer, &detection.missing_xyz(), &at);
+        println!(
+            "{name}: {} of {} missing points within 0.5 m (plan) of a producer building point ({:.4}); \
+             targets at most {:.1} m from one",
+            check.missing_on_outline,
+            check.missing_points,
+            check.missing_on_outline_share,
+            check.target_building_max_m
+        );
+        assert!(
+            check.missing_on_outline_share >= 0.95,
+            "{name}: {:.4} of missing points on a producer building's outline",
+            check.missing_on_outline_share
+        );
+        assert_eq!(check.targets_beyond_reach, 0, "{name}: {check:?}");
         let params = GraphParams::default();
         let first = GroundGraph::build_largest(&cloud.xyz, &ours, &params).unwrap();
         let start = first.positions()[first.start_node()];
