@@ -37,7 +37,10 @@ def test_adjacent_tiles_are_one_survey(tmp_path):
     check = both["producer_check"]
     assert check["targets"] > 0 and check["targets_beyond_reach"] == 0, check
     assert check["missing_on_outline_share"] >= 0.95, check
-    las = laspy.read(str(tmp_path / "both" / "classified.las"))
+    # LAZ tiles in, LAZ out.
+    classified = tmp_path / "both" / "classified.laz"
+    assert both["outputs"]["classified"] == str(classified)
+    las = laspy.read(str(classified))
     assert len(las.points) == both["points"]
     assert las.x.min() < 85000.0 - 100 and las.x.max() > 85000.0 + 50
 
@@ -103,3 +106,32 @@ def test_an_out_dir_holding_an_input_is_refused(tmp_path):
                        capture_output=True, text=True, timeout=300)
     assert p.returncode != 0 and "would overwrite" in p.stderr, p.stderr
     assert tile.read_bytes() == src.read_bytes()
+
+
+def test_detect_keeps_the_producers_compression(tmp_path):
+    """`detect` writes classified.laz for LAZ input and classified.las for LAS
+    input; a rerun into the same directory leaves one classified cloud, the
+    new one, and `plan` reads whichever is there."""
+    import laspy
+
+    las_in, laz_in = real_file("sample_c.las"), real_file("ahn3_delft_2.laz")
+    out = tmp_path / "d"
+    first = json.loads(run("detect", "--in", las_in, "--out", out, "--json").stdout)
+    assert first["outputs"]["classified"] == str(out / "classified.las")
+    assert (out / "classified.las").is_file() and not (out / "classified.laz").exists()
+
+    second, plan = detect(tmp_path, "d", laz_in)
+    assert second["outputs"]["classified"] == str(out / "classified.laz")
+    assert not (out / "classified.las").exists(), "a stale classified.las is left for plan"
+    got, src = laspy.read(str(out / "classified.laz")), laspy.read(str(laz_in))
+    assert len(got.points) == len(src.points) == second["points"]
+    assert (got.gps_time == src.gps_time).all()
+    # Compressed: well under the uncompressed records.
+    raw = len(src.points) * src.header.point_format.size
+    assert (out / "classified.laz").stat().st_size < raw / 3
+    assert plan["graph"]["nodes"] > 1000, plan["graph"]
+
+    (out / "classified.laz").unlink()
+    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode != 0 and "no classified.laz or classified.las" in p.stderr, p.stderr

@@ -32,7 +32,8 @@ pub struct DetectArgs {
     pub inputs: Vec<PathBuf>,
     #[command(flatten)]
     pub footprints: super::footprints::FootprintsArg,
-    /// Output directory: classified.las, missing.las, targets.json, detection.json, detection.png.
+    /// Output directory: classified.laz (classified.las unless every input is LAZ),
+    /// missing.las, targets.json, detection.json, detection.png.
     #[arg(long, default_value = "out/detect")]
     pub out: PathBuf,
     /// Ground truth for recall/precision: a scene (reference, reference:SEED, file) or a
@@ -159,7 +160,8 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     missing.origin = cloud.origin;
     missing.crs = cloud.crs.clone();
     // The producer's points with the classes used: every other field stays.
-    super::classify::write_classified(&a.inputs, &a.out.join("classified.las"), &cloud)?;
+    let classified = classified_path(&a.out, &a.inputs)?;
+    super::classify::write_classified(&a.inputs, &classified, &cloud)?;
     write_cloud(&a.out.join("missing.las"), &missing).map_err(err)?;
     // The gaps with their normals ride along, so `skyground plan` can tell
     // which stops the route sees anyway (as the planner does from /missing_points).
@@ -227,7 +229,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "density": detection.density,
         "detect_params": detection.params,
         "seconds": {"read": t1.duration_since(t0).as_secs_f64() - classify_s, "classify": classify_s, "detect": detect_s, "targets": targets_s},
-        "outputs": {"dir": a.out, "png": png, "field": field},
+        "outputs": {"dir": a.out, "classified": classified, "png": png, "field": field},
         "crs": super::info::crs_json(cloud.crs.as_ref()),
         "per_building": per_building,
     });
@@ -269,4 +271,42 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         out["gt"] = json!({"scene": scene_spec, "recall": score.walls.recall, "precision": score.walls.precision, "score": score});
     }
     Ok(out)
+}
+
+/// The two names `detect` gives the classified cloud.
+const CLASSIFIED: [&str; 2] = ["classified.laz", "classified.las"];
+
+/// Where `detect` writes the classified cloud in `dir`: compressed when every
+/// input is LAZ, as the producer delivered it (a 10 M-point tile is 57 MB
+/// instead of 307 MB). A file of the other name left by an earlier run is
+/// removed, so `plan` never reads a stale cloud.
+fn classified_path(dir: &Path, inputs: &[PathBuf]) -> Result<PathBuf, RuntimeError> {
+    let laz = inputs
+        .iter()
+        .all(|f| f.extension().is_some_and(|e| e.eq_ignore_ascii_case("laz")));
+    let (name, other) = if laz {
+        (CLASSIFIED[0], CLASSIFIED[1])
+    } else {
+        (CLASSIFIED[1], CLASSIFIED[0])
+    };
+    let stale = dir.join(other);
+    if stale.exists() {
+        std::fs::remove_file(&stale).map_err(|e| err(format!("{}: {e}", stale.display())))?;
+    }
+    Ok(dir.join(name))
+}
+
+/// The classified cloud of a `detect` output directory (classified.laz or
+/// classified.las).
+pub fn find_classified(dir: &Path) -> Result<PathBuf, RuntimeError> {
+    CLASSIFIED
+        .iter()
+        .map(|n| dir.join(n))
+        .find(|p| p.is_file())
+        .ok_or_else(|| {
+            err(format!(
+                "{}: no classified.laz or classified.las (a `skyground detect` output directory?)",
+                dir.display()
+            ))
+        })
 }

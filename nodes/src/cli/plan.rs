@@ -23,7 +23,7 @@ use crate::runtime::RuntimeError;
 /// Options of `skyground plan`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct PlanArgs {
-    /// A `skyground detect` output directory (classified.las, targets.json).
+    /// A `skyground detect` output directory (classified.laz or .las, targets.json).
     #[arg(long = "in")]
     pub input: PathBuf,
     /// Start position x,y in the cloud's local frame (default: the middle of
@@ -72,11 +72,12 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         a.params_file.as_deref(),
         &["graph", "route", "targets"],
     )?;
-    let cloud = read_cloud(&a.input.join("classified.las")).map_err(err)?;
+    let classified = super::detect::find_classified(&a.input)?;
+    let cloud = read_cloud(&classified).map_err(err)?;
     let labels = cloud
         .label
         .clone()
-        .ok_or_else(|| err("classified.las has no classification"))?;
+        .ok_or_else(|| err(format!("{} has no classification", classified.display())))?;
     let tpath = a.input.join("targets.json");
     let text =
         std::fs::read_to_string(&tpath).map_err(|e| err(format!("{}: {e}", tpath.display())))?;
