@@ -6,12 +6,14 @@
 //!   ground model until the CSF's own surface is used).
 //! - [`model`]: [`Model`] (feature params + forest), one JSON file.
 //! - [`pipeline`]: [`classify`] → LAS codes.
+//! - [`blocks`]: the forest's votes block by block on large clouds.
 //! - [`scene`]: [`SceneClassifier`]: CSF ground + forest on a raw cloud; [`GroundReport`].
 //! - [`roofs`]: [`check_roofs`]: large planes are roofs, roofless objects vegetation.
 //! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
 //! - [`training`]: [`TrainingCloud`], [`TrainParams`], [`train`],
 //!   [`default_training_set`] (simulated airborne scans of several seeds).
 
+pub mod blocks;
 pub mod error;
 pub mod hag;
 pub mod model;

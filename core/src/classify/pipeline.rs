@@ -1,12 +1,13 @@
 //! The classification of one cloud: ground flags in, LAS codes out.
 
+use super::blocks::{BLOCK_POINTS, votes};
 use super::error::ClassifyError;
 use super::model::Model;
 use super::roofs::check_roofs;
 use super::smooth::{argmax_rows, smooth_votes};
 use crate::cloud::ColumnLength;
 use crate::cloud::class::{GROUND, UNCLASSIFIED};
-use crate::features::{Echoes, compute_subset};
+use crate::features::Echoes;
 
 /// LAS class of every point: 2 where `is_ground`, else the forest's
 /// vegetation (5) or building (6). A non-ground point the forest calls
@@ -32,8 +33,7 @@ pub fn classify(
     if rows.is_empty() {
         return Ok(out);
     }
-    let features = compute_subset(xyz, hag, echoes, &rows, &model.feature_params)?;
-    let proba = model.forest.predict_proba(&features.data)?;
+    let proba = votes(xyz, hag, echoes, &rows, model, BLOCK_POINTS)?;
     let classes = model.forest.classes();
     let sub: Vec<[f32; 3]> = rows.iter().map(|&i| xyz[i]).collect();
     let s = &model.smoothing;

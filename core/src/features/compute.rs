@@ -100,22 +100,7 @@ pub fn compute_subset(
     rows: &[usize],
     params: &FeatureParams,
 ) -> Result<Features, FeatureError> {
-    params.validate()?;
-    check_input(xyz, hag, params)?;
-    if let Some(e) = &echoes {
-        for (what, got) in [
-            ("return_number", e.return_number.len()),
-            ("number_of_returns", e.number_of_returns.len()),
-        ] {
-            ColumnLength::check(what, xyz.len(), got)?;
-        }
-    }
-    if let Some(&row) = rows.iter().find(|&&r| r >= xyz.len()) {
-        return Err(FeatureError::RowOutOfRange {
-            row,
-            len: xyz.len(),
-        });
-    }
+    check_request(xyz, hag, echoes.as_ref(), rows, params)?;
     let tree =
         ImmutableKdTree::<f32, 3>::new_from_slice(xyz).map_err(|_| FeatureError::TooFewPoints {
             got: xyz.len(),
@@ -169,6 +154,34 @@ pub fn compute_subset(
             }
         });
     Ok(Features { dims: DIMS, data })
+}
+
+/// Everything [`compute_subset`] refuses, checked before any work: the
+/// parameters, the cloud, its columns' lengths and the rows asked for.
+pub(crate) fn check_request(
+    xyz: &[[f32; 3]],
+    hag: &[f32],
+    echoes: Option<&Echoes<'_>>,
+    rows: &[usize],
+    params: &FeatureParams,
+) -> Result<(), FeatureError> {
+    params.validate()?;
+    check_input(xyz, hag, params)?;
+    if let Some(e) = echoes {
+        for (what, got) in [
+            ("return_number", e.return_number.len()),
+            ("number_of_returns", e.number_of_returns.len()),
+        ] {
+            ColumnLength::check(what, xyz.len(), got)?;
+        }
+    }
+    if let Some(&row) = rows.iter().find(|&&r| r >= xyz.len()) {
+        return Err(FeatureError::RowOutOfRange {
+            row,
+            len: xyz.len(),
+        });
+    }
+    Ok(())
 }
 
 fn write_scale(out: &mut [f32], s: &ScaleStats, z: f32) {
