@@ -29,13 +29,13 @@ pub fn votes(
     model: &Model,
     block_points: usize,
 ) -> Result<Vec<f32>, ClassifyError> {
+    // Bad input is refused before any block is cut, with the whole cloud's
+    // point numbers, as the single pass refuses it.
+    check_request(xyz, hag, echoes.as_ref(), rows, &model.feature_params)?;
     let Some(grid) = Grid::new(xyz, rows, block_points) else {
         let f = compute_subset(xyz, hag, echoes, rows, &model.feature_params)?;
         return Ok(model.forest.predict_proba(&f.data)?);
     };
-    // Bad input is refused as the single pass refuses it, with the whole
-    // cloud's point numbers.
-    check_request(xyz, hag, echoes.as_ref(), rows, &model.feature_params)?;
     let classes = model.forest.classes().len();
     let mut out = vec![0.0f32; rows.len() * classes];
     // Which rows (positions in `rows`) fall in which block.
@@ -218,6 +218,17 @@ mod tests {
             matches!(
                 got,
                 Err(ClassifyError::Features(FeatureError::NonFinite { index, .. })) if index == bad
+            ),
+            "{got:?}"
+        );
+        // A row past the cloud is an error, not a panic, in blocks too.
+        let (xyz, hag, mut rows) = town();
+        rows.push(xyz.len() + 5);
+        let got = votes(&xyz, &hag, None, &rows, &shipped(), xyz.len() / 8);
+        assert!(
+            matches!(
+                got,
+                Err(ClassifyError::Features(FeatureError::RowOutOfRange { .. }))
             ),
             "{got:?}"
         );
