@@ -58,6 +58,13 @@ def test_tiles_classified_together_and_scored(tmp_path):
     # The shipped model on each tile alone: 0.937 and 0.969 (README).
     assert building["f1"] >= 0.93, building
     assert r["ground"]["total_error"] <= 0.05, r["ground"]
+    # The producer's own labels against their neighbours' majority, on an
+    # even sample: AHN3's building class agrees with itself.
+    coherence = {c["k"]: c for c in r["label_coherence"]}
+    assert set(coherence) == {4, 16}
+    assert 100_000 < coherence[4]["sampled"] <= 200_000, coherence[4]["sampled"]
+    itself = next(c for c in coherence[16]["report"]["per_class"] if c["class"] == 6)
+    assert itself["f1"] >= 0.98 and itself["f1"] > building["f1"], itself
 
 
 @pytest.mark.parametrize("cmd", ["classify", "detect"])

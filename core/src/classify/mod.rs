@@ -10,10 +10,12 @@
 //! - [`scene`]: [`SceneClassifier`]: CSF ground + forest on a raw cloud; [`GroundReport`].
 //! - [`roofs`]: [`check_roofs`]: large planes are roofs, roofless objects vegetation.
 //! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
+//! - [`coherence`]: [`label_coherence`]: how far the reference labels agree with their neighbours'.
 //! - [`training`]: [`TrainingCloud`], [`TrainParams`], [`train`],
 //!   [`default_training_set`] (simulated airborne scans of several seeds).
 
 pub mod blocks;
+pub mod coherence;
 pub mod error;
 pub mod hag;
 pub mod model;
@@ -24,6 +26,7 @@ pub mod scene;
 pub mod smooth;
 pub mod training;
 
+pub use coherence::{LabelCoherence, label_coherence};
 pub use error::ClassifyError;
 pub use hag::hag_from_ground_points;
 pub use model::{Model, Smoothing};

@@ -6,16 +6,21 @@ use std::time::Instant;
 use serde::Deserialize;
 use skyground_core::classify::{
     ClassReport, FileRole, GroundReport, SceneClassifier, TrainParams, default_training_set,
-    file_training_clouds, is_scored, train,
+    file_training_clouds, is_scored, label_coherence, train,
 };
+use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
 use skyground_core::cloud::las::LasError;
 use skyground_core::cloud::{Cloud, CloudIoError, read_cloud, relabel_files, write_cloud};
 use skyground_core::ground::CsfParams;
 use skyground_core::prior::{same_crs, with_buffer};
 
 use super::err;
+
 use crate::node::scene_classifier::load_model;
 use crate::runtime::{RuntimeError, params::ParamSet};
+
+/// Neighbours whose majority the producer's labels are checked against.
+const COHERENCE_K: [usize; 2] = [4, 16];
 
 /// Options of `skyground classify`.
 #[derive(Debug, Clone, clap::Args)]
@@ -217,6 +222,34 @@ fn classify_one(
                 ground.kappa
             );
         }
+        // The producer's labels against their own neighbours': where they
+        // change from point to point, no classifier that looks at
+        // neighbourhoods can follow them (k = 4, and 16 as our smoothing).
+        let started = Instant::now();
+        let coherence = label_coherence(&cloud.xyz, truth, &COHERENCE_K).map_err(err)?;
+        out["seconds"]["label_coherence"] = serde_json::json!(started.elapsed().as_secs_f64());
+        if !json {
+            for c in &coherence {
+                let f1s: Vec<String> = [
+                    (BUILDING, "building"),
+                    (VEGETATION, "vegetation"),
+                    (GROUND, "ground"),
+                ]
+                .iter()
+                .filter_map(|&(class, name)| {
+                    let m = c.report.class(class).filter(|m| m.support > 0)?;
+                    Some(format!("{name} {:.3}", m.f1))
+                })
+                .collect();
+                eprintln!(
+                    "the producer's labels against the majority of their {} nearest scored neighbours' (over {} points), F1: {}",
+                    c.k,
+                    c.sampled,
+                    f1s.join(", ")
+                );
+            }
+        }
+        out["label_coherence"] = serde_json::to_value(&coherence).map_err(err)?;
         out["scored_points"] = serde_json::json!(scored.len());
         out["report"] = serde_json::to_value(&report).map_err(err)?;
         out["ground"] = serde_json::to_value(&ground).map_err(err)?;
