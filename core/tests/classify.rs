@@ -11,13 +11,14 @@
 use std::path::PathBuf;
 
 use skyground_core::classify::{
-    ClassReport, ClassifyError, Model, TrainParams, TrainingCloud, classify, echoes_of,
-    hag_from_ground_points, simulated_cloud, train,
+    ClassReport, Classified, ClassifyError, Model, SceneClassifier, TrainParams, TrainingCloud,
+    classify, echoes_of, hag_from_ground_points, simulated_cloud, train,
 };
 use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
-use skyground_core::cloud::{ColumnLength, read_cloud};
+use skyground_core::cloud::{Cloud, ColumnLength, read_cloud};
 use skyground_core::features::{Echoes, FeatureError};
 use skyground_core::forest::ForestParams;
+use skyground_core::ground::CsfParams;
 use skyground_core::lidar::{AirborneConfig, FlightPattern};
 use skyground_core::scene::REFERENCE_SEED;
 
@@ -206,4 +207,109 @@ fn bad_input_gives_typed_errors() {
         Model::load(&missing),
         Err(ClassifyError::File { .. })
     ));
+}
+
+/// Appends `points` of class `code` (single returns, no intensity) to `cloud`.
+fn push_points(cloud: &mut Cloud, points: &[[f32; 3]], code: u8) {
+    for &p in points {
+        cloud.xyz.push(p);
+        cloud.label.get_or_insert_with(Vec::new).push(code);
+        for v in [&mut cloud.return_number, &mut cloud.number_of_returns]
+            .into_iter()
+            .flatten()
+        {
+            v.push(1);
+        }
+        if let Some(v) = &mut cloud.intensity {
+            v.push(0.0);
+        }
+        if let Some(v) = &mut cloud.building {
+            v.push(0);
+        }
+    }
+}
+
+/// A producer's noise stays out of the ground filter and the features: a
+/// patch of returns 30 m under the street (multipath) would otherwise hold
+/// the terrain down. Noise, water and civil structures keep their classes.
+#[test]
+fn the_producers_noise_water_and_bridges_stay_its_own() {
+    let Some(path) = real_file("ahn3_delft_2.laz") else {
+        return;
+    };
+    let clean = read_cloud(&path).unwrap();
+    let n = clean.len();
+    let classifier = SceneClassifier::new(CsfParams::default(), shipped_model()).unwrap();
+    let before = classifier.classify_cloud(&clean).unwrap();
+    let producer = clean.label.clone().unwrap();
+    for code in [9, 26] {
+        let kept = (0..n).filter(|&i| producer[i] == code);
+        assert!(kept.clone().count() > 100, "class {code}");
+        assert!(
+            kept.into_iter().all(|i| before.labels[i] == code),
+            "class {code}"
+        );
+    }
+
+    // Six 8 × 8 m patches of low noise on producer ground, 30 m under it
+    // and denser than the survey (the cloth rests on the point nearest each
+    // particle, so sparse noise would rarely touch it),
+    // and birds 150 m over the highest point.
+    let ground: Vec<[f32; 3]> = (0..n)
+        .filter(|&i| producer[i] == GROUND)
+        .map(|i| clean.xyz[i])
+        .collect();
+    let centres: Vec<[f32; 3]> = (1..=6).map(|k| ground[k * ground.len() / 7]).collect();
+    let patch = |c: [f32; 3]| -> Vec<[f32; 3]> {
+        (0..16)
+            .flat_map(|j| (0..16).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                [
+                    c[0] - 2.0 + 0.25 * i as f32,
+                    c[1] - 2.0 + 0.25 * j as f32,
+                    c[2] - 30.0,
+                ]
+            })
+            .collect()
+    };
+    let low: Vec<[f32; 3]> = centres.iter().flat_map(|&c| patch(c)).collect();
+    let top = clean.bounds().unwrap().1[2];
+    let birds: Vec<[f32; 3]> = centres.iter().map(|c| [c[0], c[1], top + 150.0]).collect();
+    let mut noisy = clean.clone();
+    push_points(&mut noisy, &low, 7);
+    push_points(&mut noisy, &birds, 18);
+    let after = classifier.classify_cloud(&noisy).unwrap();
+    assert_eq!(
+        &after.labels[..n],
+        &before.labels[..],
+        "noise changed a class"
+    );
+    let added = noisy.label.as_ref().unwrap();
+    assert_eq!(&after.labels[n..], &added[n..]);
+    assert!(after.ground.is_ground[n..].iter().all(|&g| !g));
+    assert!(
+        after.ground.hag[n..n + low.len()]
+            .iter()
+            .all(|&h| h < -25.0)
+    );
+    assert!(after.ground.hag[n + low.len()..].iter().all(|&h| h > 100.0));
+
+    // Unmarked, the same returns pull the terrain down under the patches.
+    let mut unmarked = noisy.clone();
+    if let Some(l) = &mut unmarked.label {
+        l[n..].iter_mut().for_each(|c| *c = 1);
+    }
+    let pulled = classifier.classify_cloud(&unmarked).unwrap();
+    let mut sunk = 0;
+    for c in &centres {
+        let z = |k: &Classified| k.ground.dtm.height_at(c[0], c[1]);
+        assert!(
+            (z(&after) - z(&before)).abs() < 1e-3,
+            "{} vs {}",
+            z(&after),
+            z(&before)
+        );
+        sunk += usize::from(z(&pulled) < z(&before) - 20.0);
+    }
+    assert!(sunk >= 4, "{sunk} of 6 patches held the terrain down");
 }

@@ -20,7 +20,8 @@ pub struct SceneClassifier {
 /// One classified cloud.
 #[derive(Debug, Clone)]
 pub struct Classified {
-    /// LAS class per point (2 ground, 5 vegetation, 6 building, 1 other).
+    /// LAS class per point (2 ground, 5 vegetation, 6 building, 1 other;
+    /// see [`SceneClassifier::classify_cloud`] for the producer's classes kept).
     pub labels: Vec<u8>,
     /// The ground filter's result: its verdict and height above the terrain
     /// per point, the terrain model, the density and its parameters as used.
@@ -71,8 +72,34 @@ impl SceneClassifier {
     }
 
     /// Classifies a cloud, using its echo columns when it has them.
+    ///
+    /// When the cloud carries a producer's classes, its noise
+    /// ([`class::is_noise`]) is left out of the ground filter and the
+    /// features (not ground, height above the terrain model), and every
+    /// point whose class says more than ours could
+    /// (not [`class::replaced_by_classifier`]: water, bridges, wires,
+    /// noise, producers' own codes) keeps it.
     pub fn classify_cloud(&self, cloud: &Cloud) -> Result<Classified, ClassifyError> {
-        self.classify(&cloud.xyz, echoes_of(cloud))
+        let Some(producer) = cloud.label.as_deref() else {
+            return self.classify(&cloud.xyz, echoes_of(cloud));
+        };
+        ColumnLength::check("label", cloud.len(), producer.len())?;
+        let used: Vec<usize> = (0..cloud.len())
+            .filter(|&i| !class::is_noise(producer[i]))
+            .collect();
+        let mut c = if used.len() == cloud.len() {
+            self.classify(&cloud.xyz, echoes_of(cloud))?
+        } else {
+            let sub = cloud.subset(&used);
+            let part = self.classify(&sub.xyz, echoes_of(&sub))?;
+            spread(part, &used, &cloud.xyz)
+        };
+        for (l, &p) in c.labels.iter_mut().zip(producer) {
+            if !class::replaced_by_classifier(p) {
+                *l = p;
+            }
+        }
+        Ok(c)
     }
 
     /// The model in use.
@@ -101,6 +128,34 @@ impl SceneClassifier {
             seconds_csf,
             seconds_classify: t1.elapsed().as_secs_f64(),
         })
+    }
+}
+
+/// `part`, classified from the points `used` of `xyz`, spread back over
+/// all of `xyz`: the points left out are unclassified (1) and not ground,
+/// with their height above `part`'s terrain model.
+fn spread(part: Classified, used: &[usize], xyz: &[[f32; 3]]) -> Classified {
+    let n = xyz.len();
+    let mut labels = vec![class::UNCLASSIFIED; n];
+    let mut is_ground = vec![false; n];
+    let dtm = &part.ground.dtm;
+    let mut hag: Vec<f32> = xyz
+        .iter()
+        .map(|p| p[2] - dtm.height_at(p[0], p[1]))
+        .collect();
+    for (k, &i) in used.iter().enumerate() {
+        labels[i] = part.labels[k];
+        is_ground[i] = part.ground.is_ground[k];
+        hag[i] = part.ground.hag[k];
+    }
+    Classified {
+        labels,
+        ground: GroundSplit {
+            is_ground,
+            hag,
+            ..part.ground
+        },
+        ..part
     }
 }
 

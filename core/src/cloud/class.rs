@@ -16,6 +16,28 @@ pub const VEGETATION: u8 = 5;
 /// Building (LAS 6).
 pub const BUILDING: u8 = 6;
 
+/// Low noise (LAS 7).
+pub const LOW_NOISE: u8 = 7;
+/// High noise (LAS 18, from LAS 1.4).
+pub const HIGH_NOISE: u8 = 18;
+
+/// True for a producer's noise classes: such points are left out of ground
+/// filtering and classification (a return from below the ground would hold
+/// the terrain down; a bird would be a roof) and keep their class.
+pub fn is_noise(code: u8) -> bool {
+    matches!(code, LOW_NOISE | HIGH_NOISE)
+}
+
+/// True for the producer classes the classifier replaces with its own:
+/// never classified, unclassified, ground, vegetation and building, and
+/// LAS 1.1–1.3's model key-point (8) and overlap (12), which say no more
+/// than that. Water, bridges, wires, noise, roads and producers' own codes
+/// (AHN's 26, IGN's 64–67) say more than ground, vegetation or building
+/// could, and are kept.
+pub fn replaced_by_classifier(code: u8) -> bool {
+    matches!(code, 0..=6 | 8 | 12)
+}
+
 /// Folds a producer's LAS class into the three classes skyground tells
 /// apart (ground, vegetation, building), or `UNCLASSIFIED` for the rest
 /// (wires, water, noise, ...).
@@ -39,5 +61,16 @@ mod tests {
         assert_eq!(fold(6), BUILDING);
         assert_eq!(fold(14), UNCLASSIFIED);
         assert_eq!(fold(0), UNCLASSIFIED);
+    }
+
+    #[test]
+    fn noise_and_specific_classes_are_the_producers() {
+        assert!(is_noise(7) && is_noise(18) && !is_noise(1));
+        for code in [0, 1, 2, 3, 4, 5, 6, 8, 12] {
+            assert!(replaced_by_classifier(code), "{code}");
+        }
+        for code in [7, 9, 10, 11, 13, 14, 15, 16, 17, 18, 26, 64, 65, 66, 67] {
+            assert!(!replaced_by_classifier(code), "{code}");
+        }
     }
 }

@@ -8,7 +8,7 @@ use skyground_core::classify::{
     ClassReport, FileRole, GroundReport, SceneClassifier, TrainParams, default_training_set,
     file_training_clouds, is_scored, label_coherence, train,
 };
-use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
+use skyground_core::cloud::class::{self, BUILDING, GROUND, VEGETATION};
 use skyground_core::cloud::las::LasError;
 use skyground_core::cloud::{Cloud, CloudIoError, read_cloud, relabel_files, write_cloud};
 use skyground_core::ground::CsfParams;
@@ -194,6 +194,22 @@ fn classify_one(
         "density": classified.ground.density,
         "csf": classified.ground.params,
     });
+    // Water, bridges, wires, noise and producers' own codes stay theirs
+    // (noise also stays out of the ground filter and the features).
+    let mut kept = std::collections::BTreeMap::<u8, usize>::new();
+    for &c in truth.iter().flatten() {
+        if !class::replaced_by_classifier(c) {
+            *kept.entry(c).or_default() += 1;
+        }
+    }
+    if !kept.is_empty() && !json {
+        let list: Vec<String> = kept.iter().map(|(c, n)| format!("{c}: {n}")).collect();
+        eprintln!(
+            "kept the producer's classes (water, bridges, wires, noise, its own codes; noise left out of the ground filter and features): {}",
+            list.join(", ")
+        );
+    }
+    out["producer_classes_kept"] = serde_json::json!(kept);
     if seen {
         eprintln!(
             "note: the model was trained on {}: the figures below are not an accuracy claim",
