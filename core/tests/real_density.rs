@@ -48,16 +48,11 @@ fn ground_error(name: &str, cloud: &Cloud) -> GroundReport {
     let split = csf(&cloud.xyz, &CsfParams::default()).unwrap();
     let r = GroundReport::new(labels, &split.is_ground).unwrap();
     println!(
-        "{name}: {:.1} pts/m², cloth {} m, threshold {} m: ground total error {:.2} % \
-         (type I {:.2} %, type II {:.2} %, kappa {:.3}) over {} points of classes 2-6",
+        "{name}: {:.1} pts/m², cloth {} m, threshold {} m: {}",
         split.density.points_per_m2,
         split.params.cloth_resolution,
         split.params.class_threshold,
-        100.0 * r.total_error,
-        100.0 * r.type_i,
-        100.0 * r.type_ii,
-        r.kappa,
-        r.points
+        r.line()
     );
     r
 }

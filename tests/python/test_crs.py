@@ -70,6 +70,12 @@ def test_classify_changes_the_classes_and_nothing_else(tmp_path, name):
     want = {str(k): int(v) for k, v in zip(*np.unique(theirs[kept], return_counts=True))}
     assert r["producer_classes_kept"] == want
     assert (name != "laspy_nebraska_ftus.las") or want == {"7": 25}, want
+    if name == "autzen_trim.las":
+        # Ground and unclassified only: unclassified is not known to be off
+        # the ground (much of Autzen's lies on it), so only its ground is judged.
+        g = r["ground"]
+        assert (g["scope"], g["points"], g["type_ii"], g["kappa"]) == ("producer ground only", 26_107, None, None), g
+        assert g["total_error"] == g["type_i"] < 0.25, g
     counts = {int(k): v for k, v in zip(*np.unique(ours, return_counts=True))}
     assert counts.get(6, 0) == r["classes"].get("building", 0)
     # Written over its own input, the file is replaced whole, not half-read.
@@ -163,3 +169,21 @@ def test_footprints_and_plan_in_feet(tmp_path):
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
     assert width == 2400 and 1000 < height < 1300, (width, height)
+
+
+def test_classify_a_file_whose_producer_names_no_ground(tmp_path):
+    """Labels but no class 2–6 (water and unclassified only): classified,
+    the water kept, no accuracy or ground figures claimed."""
+    import laspy
+
+    las = laspy.read(str(real_file("sample_c.las")))
+    codes = np.ones(len(las.points), dtype=np.uint8)
+    codes[:100] = 9
+    las.classification = codes
+    src, out = tmp_path / "water.las", tmp_path / "out.las"
+    las.write(str(src))
+    r = json.loads(run("classify", "--in", src, "--out", out, "--json").stdout)
+    assert r["ground"] is None and r["report"]["points"] == 0, (r["ground"], r["report"]["points"])
+    assert r["producer_classes_kept"] == {"9": 100}
+    got = np.asarray(laspy.read(str(out)).classification)
+    assert (got[:100] == 9).all() and set(np.unique(got[100:])) <= {1, 2, 5, 6}

@@ -174,30 +174,38 @@ pub struct GroundReport {
     pub points: usize,
     /// Which points were compared: "producer classes 2-6" (ground,
     /// vegetation, building: unclassified, water, noise and bridges say
-    /// nothing about the ground filter) or "all points" when the reference
-    /// has no class 3–6 point (e.g. ground / unclassified only).
+    /// nothing about the ground filter) or, when the reference has no class
+    /// 3–6 point (ground / unclassified only, e.g. Autzen), "producer ground
+    /// only": its other points are not known to be off the ground.
     pub scope: &'static str,
-    /// Misclassified / all.
+    /// Misclassified / compared (type I alone for "producer ground only").
     pub total_error: f64,
     /// Type I: ground called non-ground / reference ground.
     pub type_i: f64,
-    /// Type II: non-ground called ground / reference non-ground.
-    pub type_ii: f64,
-    /// Cohen's kappa of the two-class agreement.
-    pub kappa: f64,
+    /// Type II: non-ground called ground / reference non-ground; `None`
+    /// when the reference names no non-ground point.
+    pub type_ii: Option<f64>,
+    /// Cohen's kappa of the two-class agreement; `None` with `type_ii`.
+    pub kappa: Option<f64>,
 }
 
 impl GroundReport {
     /// Compares the filter's ground flags with LAS labels (class 2 = ground)
-    /// over the points of producer class 2–6, or over all points when the
-    /// reference labels no class 3–6 point.
+    /// over the points of producer class 2–6, or over the producer's ground
+    /// alone when it labels no class 3–6 point.
     pub fn new(truth: &[u8], is_ground: &[bool]) -> Result<Self, ClassifyError> {
         ColumnLength::check("ground flags", truth.len(), is_ground.len())?;
         if truth.is_empty() {
             return Err(ClassifyError::Empty);
         }
         let labelled = truth.iter().any(|t| (3..=6).contains(t));
-        let scored = |t: u8| !labelled || (2..=6).contains(&t);
+        let scored = |t: u8| {
+            if labelled {
+                (2..=6).contains(&t)
+            } else {
+                t == class::GROUND
+            }
+        };
         let (mut a, mut b, mut c, mut d) = (0f64, 0f64, 0f64, 0f64);
         for (&t, &g) in truth.iter().zip(is_ground).filter(|(t, _)| scored(**t)) {
             match (t == class::GROUND, g) {
@@ -208,25 +216,45 @@ impl GroundReport {
             }
         }
         let n = a + b + c + d;
+        if n == 0.0 {
+            return Err(ClassifyError::Empty);
+        }
         let ratio = |x: f64, y: f64| if y > 0.0 { x / y } else { 0.0 };
         let po = (a + d) / n;
         let pe = ((a + b) * (a + c) + (c + d) * (b + d)) / (n * n);
+        let kappa = if pe < 1.0 {
+            (po - pe) / (1.0 - pe)
+        } else {
+            1.0
+        };
         Ok(Self {
             points: n as usize,
             scope: if labelled {
                 "producer classes 2-6"
             } else {
-                "all points"
+                "producer ground only"
             },
             total_error: (b + c) / n,
             type_i: ratio(b, a + b),
-            type_ii: ratio(c, c + d),
-            kappa: if pe < 1.0 {
-                (po - pe) / (1.0 - pe)
-            } else {
-                1.0
-            },
+            type_ii: labelled.then(|| ratio(c, c + d)),
+            kappa: labelled.then_some(kappa),
         })
+    }
+
+    /// One line: total error, type I, type II and kappa where known.
+    pub fn line(&self) -> String {
+        let mut s = format!(
+            "ground vs non-ground ({}, {} points): total error {:.2} %, type I {:.2} %",
+            self.scope,
+            self.points,
+            self.total_error * 100.0,
+            self.type_i * 100.0
+        );
+        match (self.type_ii, self.kappa) {
+            (Some(t2), Some(k)) => s += &format!(", type II {:.2} %, kappa {k:.3}", t2 * 100.0),
+            _ => s += " (no non-ground reference: type II unknown)",
+        }
+        s
     }
 }
 
@@ -241,16 +269,22 @@ mod tests {
         let r = GroundReport::new(&truth, &flags).unwrap();
         assert_eq!(r.total_error, 0.25);
         assert_eq!(r.type_i, 0.25);
-        assert_eq!(r.type_ii, 0.25);
-        assert!((r.kappa - 0.5).abs() < 1e-12);
+        assert_eq!(r.type_ii, Some(0.25));
+        assert!((r.kappa.unwrap_or(0.0) - 0.5).abs() < 1e-12);
+        assert!(r.line().contains("type II 25.00 %"));
         assert!(GroundReport::new(&truth, &flags[..3]).is_err());
         // Water (9) and unclassified (1) are left out when classes 3–6 exist.
         let truth = [2, 2, 6, 6, 9, 1];
         let flags = [true, false, false, false, true, true];
         let r = GroundReport::new(&truth, &flags).unwrap();
         assert_eq!((r.points, r.total_error), (4, 0.25));
-        // Ground / unclassified only (Autzen): every point counts.
-        let r = GroundReport::new(&[2, 1, 1], &[true, true, false]).unwrap();
-        assert_eq!((r.points, r.scope), (3, "all points"));
+        // Ground / unclassified only (Autzen): unclassified is not known to
+        // be off the ground, so only the producer's ground is judged.
+        let r = GroundReport::new(&[2, 2, 1, 1], &[true, false, true, false]).unwrap();
+        assert_eq!((r.points, r.scope), (2, "producer ground only"));
+        assert_eq!((r.type_i, r.total_error), (0.5, 0.5));
+        assert_eq!((r.type_ii, r.kappa), (None, None));
+        assert!(r.line().contains("type II unknown"));
+        assert!(GroundReport::new(&[1, 1], &[true, false]).is_err());
     }
 }

@@ -223,20 +223,15 @@ fn classify_one(
         let pick = |v: &[u8]| scored.iter().map(|&i| v[i]).collect::<Vec<u8>>();
         let t = pick(truth);
         let report = ClassReport::new(&t, &pick(&classified.labels)).map_err(err)?;
-        let flags: Vec<bool> = scored
-            .iter()
-            .map(|&i| classified.ground.is_ground[i])
-            .collect();
-        let ground = GroundReport::new(&t, &flags).map_err(err)?;
+        // Over every point: the report picks its own scope (classes 2–6, or
+        // the producer's ground alone when it names no vegetation or building).
+        // None when the producer names no ground among its classes.
+        let ground = GroundReport::new(truth, &classified.ground.is_ground).ok();
         if !json {
             eprintln!("{input}:\n{}", report.table());
-            eprintln!(
-                "ground vs non-ground: total error {:.2} %, type I {:.2} %, type II {:.2} %, kappa {:.3}",
-                ground.total_error * 100.0,
-                ground.type_i * 100.0,
-                ground.type_ii * 100.0,
-                ground.kappa
-            );
+            if let Some(g) = &ground {
+                eprintln!("{}", g.line());
+            }
         }
         // The producer's labels against their own neighbours': where they
         // change from point to point, no classifier that looks at
