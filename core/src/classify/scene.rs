@@ -138,15 +138,17 @@ fn spread(part: Classified, used: &[usize], xyz: &[[f32; 3]]) -> Classified {
     let n = xyz.len();
     let mut labels = vec![class::UNCLASSIFIED; n];
     let mut is_ground = vec![false; n];
-    let dtm = &part.ground.dtm;
-    let mut hag: Vec<f32> = xyz
-        .iter()
-        .map(|p| p[2] - dtm.height_at(p[0], p[1]))
-        .collect();
+    let mut hag = vec![f32::NAN; n];
     for (k, &i) in used.iter().enumerate() {
         labels[i] = part.labels[k];
         is_ground[i] = part.ground.is_ground[k];
         hag[i] = part.ground.hag[k];
+    }
+    let dtm = &part.ground.dtm;
+    let mut left_out = vec![true; n];
+    used.iter().for_each(|&i| left_out[i] = false);
+    for (i, p) in xyz.iter().enumerate().filter(|&(i, _)| left_out[i]) {
+        hag[i] = p[2] - dtm.height_at(p[0], p[1]);
     }
     Classified {
         labels,
