@@ -144,11 +144,11 @@ fn spread(part: Classified, used: &[usize], xyz: &[[f32; 3]]) -> Classified {
         is_ground[i] = part.ground.is_ground[k];
         hag[i] = part.ground.hag[k];
     }
+    // `classify` refuses a non-finite height, so NaN marks exactly the
+    // points left out.
     let dtm = &part.ground.dtm;
-    let mut left_out = vec![true; n];
-    used.iter().for_each(|&i| left_out[i] = false);
-    for (i, p) in xyz.iter().enumerate().filter(|&(i, _)| left_out[i]) {
-        hag[i] = p[2] - dtm.height_at(p[0], p[1]);
+    for (h, p) in hag.iter_mut().zip(xyz).filter(|(h, _)| h.is_nan()) {
+        *h = p[2] - dtm.height_at(p[0], p[1]);
     }
     Classified {
         labels,

@@ -102,7 +102,7 @@ impl ObstacleMap {
         let trunks = band.canopy && band.trunk_radius > 0.0;
         let whole_crown = band.canopy && !trunks;
         for (p, &l) in xyz.iter().zip(labels) {
-            if l == 7 || l == 18 || !p.iter().all(|v| v.is_finite()) {
+            if class::is_noise(l) || !p.iter().all(|v| v.is_finite()) {
                 continue;
             }
             let Some(cell) = grid.index_of(f64::from(p[0]), f64::from(p[1])) else {
