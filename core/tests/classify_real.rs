@@ -148,7 +148,10 @@ fn sample_c_held_out() {
     let Some(s) = score("sample_c.las", shipped()) else {
         return;
     };
-    assert!(s.building_f1 >= 0.95, "building F1 {:.3}", s.building_f1);
+    // 0.956 before the raised-ground check took its east edge roof out of
+    // the ground (0.990 after).
+    assert!(s.building_f1 >= 0.98, "building F1 {:.3}", s.building_f1);
+    assert!(s.ground_error <= 0.01, "ground error {:.4}", s.ground_error);
 }
 
 /// F1 of `class` when each scored point of `name` takes the producer label

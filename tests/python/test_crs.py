@@ -187,3 +187,29 @@ def test_classify_a_file_whose_producer_names_no_ground(tmp_path):
     assert r["producer_classes_kept"] == {"9": 100}
     got = np.asarray(laspy.read(str(out)).classification)
     assert (got[:100] == 9).all() and set(np.unique(got[100:])) <= {1, 2, 5, 6}
+
+
+def test_classify_takes_a_roof_where_the_survey_ends_out_of_the_ground(tmp_path):
+    """sample_c.las's roof runs to the file's east edge, and the cloth rested
+    on it there: `classify` reports the piece it took out, and in the file
+    it writes no producer-building point stands as ground 20 m over the
+    street. A cut of the file without that edge reports nothing taken."""
+    import laspy
+
+    src, out = real_file("sample_c.las"), tmp_path / "out.las"
+    r = json.loads(run("classify", "--in", src, "--out", out, "--json").stdout)
+    assert r["raised_ground"]["pieces"] == 1 and 500 <= r["raised_ground"]["points"] <= 600, r["raised_ground"]
+    assert r["ground"]["total_error"] < 0.01, r["ground"]
+    a, b = laspy.read(str(src)), laspy.read(str(out))
+    theirs, ours, z = np.asarray(a.classification), np.asarray(b.classification), np.asarray(a.z)
+    street = np.median(z[theirs == 2])
+    assert not ((theirs == 6) & (ours == 2) & (z > street + 20)).any()
+    # Without the roof's east edge: nothing to take out.
+    x = np.asarray(a.x)
+    keep = x < x.min() + 40
+    cut = tmp_path / "west.las"
+    w = laspy.LasData(a.header)
+    w.points = a.points[keep]
+    w.write(str(cut))
+    r = json.loads(run("classify", "--in", cut, "--out", tmp_path / "w.las", "--json").stdout)
+    assert r["raised_ground"] == {"pieces": 0, "points": 0}, r["raised_ground"]

@@ -15,6 +15,7 @@ mod error;
 mod fill;
 mod grid;
 mod params;
+mod raised;
 mod smoothing;
 mod surface;
 
@@ -24,6 +25,7 @@ pub use dtm::Dtm;
 pub(crate) use dtm::xy_extent;
 pub use error::CsfError;
 pub use params::CsfParams;
+pub use raised::Raised;
 
 use crate::density::Density;
 
@@ -45,6 +47,9 @@ pub struct GroundSplit {
     pub density: Density,
     /// The parameters used: `auto` resolved for that density.
     pub params: CsfParams,
+    /// Ground the cloth rested on that stands on a step (a roof where the
+    /// survey ends), taken out of the ground.
+    pub raised: Raised,
 }
 
 /// Splits `xyz` into ground and the rest with the Cloth Simulation Filter
@@ -82,20 +87,27 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
     }
     fill::fill_bridged(&lattice, &mut cloth.z, &cloth.fixed);
     let heights: Vec<f32> = cloth.z.par_iter().map(|z| -z).collect();
-    let dtm = Dtm {
+    let mut dtm = Dtm {
         frame: lattice,
         heights,
     };
-    let (is_ground, hag): (Vec<bool>, Vec<f32>) = xyz
-        .par_iter()
-        .map(|p| {
-            if !p.iter().all(|v| v.is_finite()) {
-                return (false, f32::NAN);
-            }
-            let above = p[2] - dtm.height_at(p[0], p[1]);
-            (above.abs() < threshold, above)
-        })
-        .unzip();
+    let (mut is_ground, mut hag) = split(xyz, &dtm, threshold);
+    let cell = (RAISED_SPACINGS * density.spacing_m).max(RAISED_MIN_CELL);
+    // The cloth hangs from a raised piece's edge over about one of its cells.
+    let band = params.cloth_resolution_for(&density);
+    let settings = raised::Settings {
+        cell,
+        band_m: band,
+        void_below: void_below(&density, band),
+        step_m: params.raised_step_m,
+        max_m2: params.raised_max_m2,
+    };
+    let (on_step, raised) = raised::find(xyz, &is_ground, &settings);
+    if raised.pieces > 0 {
+        let held = held_terrain(&dtm.frame, xyz, &is_ground, &on_step);
+        fill::fill_bridged(&dtm.frame, &mut dtm.heights, &held);
+        (is_ground, hag) = split(xyz, &dtm, threshold);
+    }
     Ok(GroundSplit {
         is_ground,
         hag,
@@ -103,7 +115,83 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
         iterations_run: cloth.steps,
         density,
         params: resolved,
+        raised,
     })
+}
+
+/// The terrain model's cells that keep their height once raised pieces
+/// are taken out; the others are filled from them. Let go: the cells over a
+/// raised point, and every cell reached from them through cells with no
+/// kept ground point in them or in the eight round them (the lattice's
+/// margin past a roof at the survey's edge copies the roof's height, and
+/// the cloth rests there too). So the terrain under kept ground, which
+/// interpolates only the cells round its own, does not move.
+fn held_terrain(
+    frame: &crate::geom::grid::GridFrame,
+    xyz: &[[f32; 3]],
+    is_ground: &[bool],
+    raised: &[bool],
+) -> Vec<bool> {
+    let index = |p: &[f32; 3]| frame.clamped_index(f64::from(p[0]), f64::from(p[1]));
+    let mut keeps_ground = vec![false; frame.len()];
+    for (p, _) in xyz
+        .iter()
+        .zip(is_ground.iter().zip(raised))
+        .filter(|(_, (g, r))| **g && !**r)
+    {
+        keeps_ground[index(p)] = true;
+    }
+    let (nx, ny) = (frame.nx as i64, frame.ny as i64);
+    let near_ground: Vec<bool> = (0..frame.len())
+        .map(|k| {
+            let (i, j) = ((k % frame.nx) as i64, (k / frame.nx) as i64);
+            (-1..=1).any(|di| {
+                (-1..=1).any(|dj| {
+                    let (a, b) = (i + di, j + dj);
+                    (0..nx).contains(&a)
+                        && (0..ny).contains(&b)
+                        && keeps_ground[(b * nx + a) as usize]
+                })
+            })
+        })
+        .collect();
+    let mut seen = vec![false; frame.len()];
+    let mut todo: Vec<usize> = Vec::new();
+    for (p, _) in xyz.iter().zip(raised).filter(|(_, r)| **r) {
+        let k = index(p);
+        if !seen[k] {
+            seen[k] = true;
+            todo.push(k);
+        }
+    }
+    while let Some(k) = todo.pop() {
+        for m in frame.neighbours(k) {
+            if !seen[m] && !near_ground[m] {
+                seen[m] = true;
+                todo.push(m);
+            }
+        }
+    }
+    seen.iter().map(|s| !s).collect()
+}
+
+/// Ground cells for [`raised::find`] are this many point spacings wide...
+const RAISED_SPACINGS: f32 = 2.0;
+/// ...and at least this wide, metres.
+const RAISED_MIN_CELL: f32 = 1.0;
+
+/// Ground (within `threshold` of the terrain) and height above it, per
+/// point; non-finite points are not ground and have a NaN height.
+fn split(xyz: &[[f32; 3]], dtm: &Dtm, threshold: f32) -> (Vec<bool>, Vec<f32>) {
+    xyz.par_iter()
+        .map(|p| {
+            if !p.iter().all(|v| v.is_finite()) {
+                return (false, f32::NAN);
+            }
+            let above = p[2] - dtm.height_at(p[0], p[1]);
+            (above.abs() < threshold, above)
+        })
+        .unzip()
 }
 
 /// Share of the points a cloth cell of the measured density holds below

@@ -44,6 +44,13 @@ pub struct CsfParams {
     /// Slope smoothing pulls a free particle down onto the surface when it
     /// hangs less than this above it, metres.
     pub slope_threshold: f32,
+    /// Post-processing: a piece of ground higher than all the ground near
+    /// it by more than this, metres (plus the survey's slope times the
+    /// gap), is a roof the cloth rested on where the survey ends, not
+    /// ground; 0: off. See `ground::raised`.
+    pub raised_step_m: f32,
+    /// Pieces of ground covering more than this, m², are never raised.
+    pub raised_max_m2: f32,
 }
 
 impl Default for CsfParams {
@@ -57,6 +64,8 @@ impl Default for CsfParams {
             tolerance: 0.005,
             slope_smoothing: true,
             slope_threshold: 0.3,
+            raised_step_m: 2.0,
+            raised_max_m2: 10_000.0,
         }
     }
 }
@@ -113,6 +122,8 @@ impl CsfParams {
         }
         c.positive("tolerance", self.tolerance)?;
         c.positive("slope_threshold", self.slope_threshold)?;
+        c.non_negative("raised_step_m", self.raised_step_m)?;
+        c.non_negative("raised_max_m2", self.raised_max_m2)?;
         let rigid = (1..=3).contains(&self.rigidness);
         c.that(
             rigid,

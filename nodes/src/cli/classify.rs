@@ -193,6 +193,7 @@ fn classify_one(
         "trained_on_this_file": seen,
         "density": classified.ground.density,
         "csf": classified.ground.params,
+        "raised_ground": classified.ground.raised,
     });
     // Water, bridges, wires, noise and producers' own codes stay theirs
     // (noise also stays out of the ground filter and the features).
@@ -210,6 +211,13 @@ fn classify_one(
         );
     }
     out["producer_classes_kept"] = serde_json::json!(kept);
+    let raised = classified.ground.raised;
+    if raised.pieces > 0 && !json {
+        eprintln!(
+            "the cloth rested on {} roof piece(s) where the survey ends: {} points taken out of the ground, the terrain under them filled from the rest",
+            raised.pieces, raised.points
+        );
+    }
     if seen {
         eprintln!(
             "note: the model was trained on {}: the figures below are not an accuracy claim",
