@@ -9,7 +9,7 @@
 //! slopes down to it. The piece is taken out of the ground and the terrain
 //! under it filled from the rest.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::num::NonZeroUsize;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -152,7 +152,6 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
         return none();
     }
     let slope = terrain_slope(&cells, cell);
-    let lowest = lowest_points(xyz, cell);
     let centre = |k: usize| {
         let [i, j] = cells.keys[k];
         [(i as f32 + 0.5) * cell, (j as f32 + 0.5) * cell]
@@ -161,7 +160,9 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
     let Ok(tree) = ImmutableKdTree::<f32, 2>::new_from_slice(&centres) else {
         return none();
     };
-    let high: Vec<(usize, bool)> = rim
+    // Per rim cell: its piece, whether it stands on a step, and the ground
+    // it stands over.
+    let steps: Vec<(usize, bool, usize, usize)> = rim
         .par_iter()
         .filter_map(|&k| {
             let other = |m: usize| piece[m] != piece[k];
@@ -182,28 +183,33 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
                     (cells.z[k] - cells.z[m] - slope * nb.distance.sqrt(), m)
                 })
                 .fold((f32::NEG_INFINITY, k), |a, b| if b.0 > a.0 { b } else { a });
-            // A roof ends in a wall or a void; a terrace above a bank the
-            // cloth missed slopes down to the ground below.
-            let wall = || falls_steeply(&lowest, centres[k], centres[m], cell, step_m / 2.0);
-            Some((piece[k], rise > step_m && wall()))
+            Some((piece[k], rise > step_m, k, m))
         })
         .collect();
-    let mut tally: HashMap<usize, (usize, usize)> = HashMap::new();
-    for (p, h) in high {
-        let t = tally.entry(p).or_insert((0, 0));
-        t.0 += usize::from(h);
-        t.1 += 1;
+    let on_step = pieces_over(steps.iter().map(|&(p, high, _, _)| (p, high)));
+    if on_step.is_empty() {
+        return none();
+    }
+    // A roof ends in a wall or a void; a terrace above a bank the cloth
+    // missed slopes down to the ground below.
+    let lowest = lowest_points(xyz, cell);
+    let walled = pieces_over(steps.iter().filter(|(p, ..)| on_step.contains(p)).map(
+        |&(p, high, k, m)| {
+            let wall = || falls_steeply(&lowest, centres[k], centres[m], cell, step_m / 2.0);
+            (p, high && wall())
+        },
+    ));
+    if walled.is_empty() {
+        return none();
     }
     let near_void = near_void(xyz, &cells, set);
-    let raised: HashMap<usize, ()> = tally
+    let raised: HashSet<usize> = walled
         .into_iter()
-        .filter(|(_, (h, all))| *h as f32 >= RIM_SHARE * *all as f32)
-        .filter(|(p, _)| {
+        .filter(|p| {
             let mine: Vec<usize> = (0..n).filter(|&k| piece[k] == *p).collect();
             let near = mine.iter().filter(|&&k| near_void(k)).count();
             near as f32 >= EDGE_SHARE * mine.len() as f32
         })
-        .map(|(p, _)| (p, ()))
         .collect();
     if raised.is_empty() {
         return none();
@@ -215,12 +221,27 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
             g && cells
                 .index
                 .get(&key_of(p, cell))
-                .is_some_and(|&k| raised.contains_key(&piece[k]))
+                .is_some_and(|&k| raised.contains(&piece[k]))
         })
         .collect();
     let points = on.iter().filter(|&&r| r).count();
     let pieces = raised.len();
     (on, Raised { pieces, points })
+}
+
+/// The pieces with at least [`RIM_SHARE`] of their rim cells passing.
+fn pieces_over(rim: impl Iterator<Item = (usize, bool)>) -> HashSet<usize> {
+    let mut tally: HashMap<usize, (usize, usize)> = HashMap::new();
+    for (p, pass) in rim {
+        let t = tally.entry(p).or_insert((0, 0));
+        t.0 += usize::from(pass);
+        t.1 += 1;
+    }
+    tally
+        .into_iter()
+        .filter(|(_, (pass, all))| *pass as f32 >= RIM_SHARE * *all as f32)
+        .map(|(p, _)| p)
+        .collect()
 }
 
 /// Whether ground cell `k` lies within [`NEAR_VOID`] cloth cells
