@@ -7,7 +7,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import BIN, qos
+from conftest import BIN, qos, real_file
 from test_detector import Clouds, cloud_msg, logs_of
 
 GROUND, VEGETATION, BUILDING = 2, 5, 6
@@ -96,4 +96,32 @@ def test_malformed_clouds_are_rejected_and_the_node_goes_on(spawn, ros, prior):
     header, cols = got.done[-1]
     assert header.stamp.sec == 3 and len(cols["label"]) == len(xyz)
     assert f1(cols["label"], truth, BUILDING) >= 0.85
+    assert node.p.poll() is None, node.stderr()
+
+
+def test_a_roof_where_the_survey_ends_is_taken_out_of_the_ground_and_logged(spawn, ros):
+    """sample_c.las's roof runs to its east edge, where the cloth rests on
+    it: the node says on /rosout what it took out of the ground, and no
+    roof point 20 m over the street comes back as ground."""
+    import laspy
+    from rcl_interfaces.msg import Log
+    from sensor_msgs.msg import PointCloud2
+
+    las = laspy.read(str(real_file("sample_c.las")))
+    xyz = np.stack([las.x - las.x.min(), las.y - las.y.min(), las.z - las.z.min()], axis=1).astype(np.float32)
+    theirs = np.asarray(las.classification)
+    logs = []
+    ros.node.create_subscription(Log, "/rosout", logs.append, qos("reliable", 1000))
+    got = Clouds(ros, "/classified_cloud")
+    pub = ros.node.create_publisher(PointCloud2, "/aerial_cloud", qos("latched", 1))
+    node = spawn("scene_classifier")
+    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 30), node.stderr()
+    pub.publish(unlabelled(xyz, 5))
+    assert ros.spin_until(lambda: got.done, 120), f"no /classified_cloud: {node.stderr()[-3000:]}"
+    said = lambda: [e.msg for e in logs_of(logs, "scene_classifier", Log.INFO) if "where the survey ends" in e.msg]  # noqa: E731
+    assert ros.spin_until(lambda: said(), 20), f"nothing said on /rosout: {node.stderr()[-3000:]}"
+    assert "1 roof piece(s)" in said()[0], said()
+    pred = got.done[-1][1]["label"]
+    street = np.median(xyz[theirs == 2, 2])
+    assert not ((theirs == BUILDING) & (pred == GROUND) & (xyz[:, 2] > street + 20)).any()
     assert node.p.poll() is None, node.stderr()
