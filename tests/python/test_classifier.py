@@ -34,6 +34,21 @@ def f1(pred, truth, cls):
     return 2 * tp / max(1, 2 * tp + fp + fn)
 
 
+def started(spawn, ros):
+    """A scene_classifier node with /rosout, its output and its input wired
+    up: (logs, output clouds, input publisher, node)."""
+    from rcl_interfaces.msg import Log
+    from sensor_msgs.msg import PointCloud2
+
+    logs = []
+    ros.node.create_subscription(Log, "/rosout", logs.append, qos("reliable", 1000))
+    got = Clouds(ros, "/classified_cloud")
+    pub = ros.node.create_publisher(PointCloud2, "/aerial_cloud", qos("latched", 10))
+    node = spawn("scene_classifier")
+    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 30), node.stderr()
+    return logs, got, pub, node
+
+
 def unlabelled(xyz, stamp_sec):
     return cloud_msg({"x": xyz[:, 0], "y": xyz[:, 1], "z": xyz[:, 2]}, stamp_sec)
 
@@ -68,16 +83,10 @@ def test_reference_prior_comes_back_whole_and_labelled_like_the_truth(spawn, ros
 
 def test_malformed_clouds_are_rejected_and_the_node_goes_on(spawn, ros, prior):
     from rcl_interfaces.msg import Log
-    from sensor_msgs.msg import PointCloud2
 
     xyz, truth = prior
     xyz, truth = xyz[::8], truth[::8]
-    logs = []
-    ros.node.create_subscription(Log, "/rosout", logs.append, qos("reliable", 1000))
-    got = Clouds(ros, "/classified_cloud")
-    pub = ros.node.create_publisher(PointCloud2, "/aerial_cloud", qos("latched", 10))
-    node = spawn("scene_classifier")
-    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 30), node.stderr()
+    logs, got, pub, node = started(spawn, ros)
 
     no_z = unlabelled(xyz[:1000], 1)
     no_z.fields = no_z.fields[:2]
@@ -105,17 +114,11 @@ def test_a_roof_where_the_survey_ends_is_taken_out_of_the_ground_and_logged(spaw
     roof point 20 m over the street comes back as ground."""
     import laspy
     from rcl_interfaces.msg import Log
-    from sensor_msgs.msg import PointCloud2
 
     las = laspy.read(str(real_file("sample_c.las")))
     xyz = np.stack([las.x - las.x.min(), las.y - las.y.min(), las.z - las.z.min()], axis=1).astype(np.float32)
     theirs = np.asarray(las.classification)
-    logs = []
-    ros.node.create_subscription(Log, "/rosout", logs.append, qos("reliable", 1000))
-    got = Clouds(ros, "/classified_cloud")
-    pub = ros.node.create_publisher(PointCloud2, "/aerial_cloud", qos("latched", 1))
-    node = spawn("scene_classifier")
-    assert ros.spin_until(lambda: pub.get_subscription_count() > 0, 30), node.stderr()
+    logs, got, pub, node = started(spawn, ros)
     pub.publish(unlabelled(xyz, 5))
     assert ros.spin_until(lambda: got.done, 120), f"no /classified_cloud: {node.stderr()[-3000:]}"
     said = lambda: [e.msg for e in logs_of(logs, "scene_classifier", Log.INFO) if "where the survey ends" in e.msg]  # noqa: E731
