@@ -28,6 +28,7 @@ pub use params::CsfParams;
 pub use raised::Raised;
 
 use crate::density::Density;
+use crate::geom::grid::{GridFrame, square_filter};
 
 /// What [`csf`] finds: ground or not, and height above the terrain, per point.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,8 +73,9 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
     let density = Density::measure(&finite).ok_or(no_finite)?;
     let resolved = params.resolved(&density);
     let threshold = params.class_threshold_for(&density);
-    let lattice = grid::covering(lo, hi, params.cloth_resolution_for(&density))?;
-    let min_points = void_below(&density, params.cloth_resolution_for(&density));
+    let cloth_cell = params.cloth_resolution_for(&density);
+    let lattice = grid::covering(lo, hi, cloth_cell)?;
+    let min_points = void_below(&density, cloth_cell);
     let surface = surface::inverted_surface(&lattice, &finite, min_points);
     let mut cloth = cloth::simulate(&lattice, &surface, params);
     if params.slope_smoothing {
@@ -92,13 +94,11 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
         heights,
     };
     let (mut is_ground, mut hag) = split(xyz, &dtm, threshold);
-    let cell = (RAISED_SPACINGS * density.spacing_m).max(RAISED_MIN_CELL);
-    // The cloth hangs from a raised piece's edge over about one of its cells.
-    let band = params.cloth_resolution_for(&density);
     let settings = raised::Settings {
-        cell,
-        band_m: band,
-        void_below: void_below(&density, band),
+        cell: (RAISED_SPACINGS * density.spacing_m).max(RAISED_MIN_CELL),
+        // The cloth hangs from a raised piece's edge over about one of its cells.
+        band_m: cloth_cell,
+        void_below: min_points,
         step_m: params.raised_step_m,
         max_m2: params.raised_max_m2,
     };
@@ -127,7 +127,7 @@ pub fn csf(xyz: &[[f32; 3]], params: &CsfParams) -> Result<GroundSplit, CsfError
 /// the cloth rests there too). So the terrain under kept ground, which
 /// interpolates only the cells round its own, does not move.
 fn held_terrain(
-    frame: &crate::geom::grid::GridFrame,
+    frame: &GridFrame,
     xyz: &[[f32; 3]],
     is_ground: &[bool],
     raised: &[bool],
@@ -141,20 +141,7 @@ fn held_terrain(
     {
         keeps_ground[index(p)] = true;
     }
-    let (nx, ny) = (frame.nx as i64, frame.ny as i64);
-    let near_ground: Vec<bool> = (0..frame.len())
-        .map(|k| {
-            let (i, j) = ((k % frame.nx) as i64, (k / frame.nx) as i64);
-            (-1..=1).any(|di| {
-                (-1..=1).any(|dj| {
-                    let (a, b) = (i + di, j + dj);
-                    (0..nx).contains(&a)
-                        && (0..ny).contains(&b)
-                        && keeps_ground[(b * nx + a) as usize]
-                })
-            })
-        })
-        .collect();
+    let near_ground = square_filter(&keeps_ground, frame.nx, frame.ny, 1, true);
     let mut seen = vec![false; frame.len()];
     let mut todo: Vec<usize> = Vec::new();
     for (p, _) in xyz.iter().zip(raised).filter(|(_, r)| **r) {

@@ -43,6 +43,18 @@ pub struct Raised {
     pub points: usize,
 }
 
+impl Raised {
+    /// What a user is told when pieces were taken out; `None` otherwise.
+    pub fn message(&self) -> Option<String> {
+        (self.pieces > 0).then(|| {
+            format!(
+                "the cloth rested on {} roof piece(s) where the survey ends: {} points taken out of the ground, the terrain under them filled from the rest",
+                self.pieces, self.points
+            )
+        })
+    }
+}
+
 /// How [`find`] looks.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Settings {
@@ -74,7 +86,7 @@ impl Cells {
             index: HashMap::new(),
         };
         for (p, _) in xyz.iter().zip(is_ground).filter(|(_, g)| **g) {
-            let key = key_of(p, cell);
+            let key = key_of([p[0], p[1]], cell);
             let k = *cells.index.entry(key).or_insert_with(|| {
                 cells.keys.push(key);
                 cells.z.push(f32::INFINITY);
@@ -94,8 +106,14 @@ impl Cells {
     }
 }
 
-fn key_of(p: &[f32; 3], cell: f32) -> [i32; 2] {
+/// The `cell`-wide cell holding plan point `p`.
+fn key_of(p: [f32; 2], cell: f32) -> [i32; 2] {
     [(p[0] / cell).floor() as i32, (p[1] / cell).floor() as i32]
+}
+
+/// The centre of cell `key`.
+fn centre_of(key: [i32; 2], cell: f32) -> [f32; 2] {
+    [(key[0] as f32 + 0.5) * cell, (key[1] as f32 + 0.5) * cell]
 }
 
 /// Per point, whether it is a ground point (`is_ground`) on a raised
@@ -133,13 +151,14 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
             }
         }
     }
+    // Each piece is labelled by one of its cells' indices.
     let piece = uf.into_labeling();
-    let mut size: HashMap<usize, usize> = HashMap::new();
+    let mut size = vec![0usize; n];
     for &p in &piece {
-        *size.entry(p).or_insert(0) += 1;
+        size[p] += 1;
     }
     let largest = (max_m2 / (cell * cell)).floor() as usize;
-    let candidate = |p: usize| size[&p] * 2 < n && size[&p] <= largest;
+    let candidate = |p: usize| size[p] * 2 < n && size[p] <= largest;
     // A piece's rim: its cells with a neighbour cell that is not its own.
     let rim: Vec<usize> = (0..n)
         .filter(|&k| candidate(piece[k]))
@@ -152,11 +171,7 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
         return none();
     }
     let slope = terrain_slope(&cells, cell);
-    let centre = |k: usize| {
-        let [i, j] = cells.keys[k];
-        [(i as f32 + 0.5) * cell, (j as f32 + 0.5) * cell]
-    };
-    let centres: Vec<[f32; 2]> = (0..n).map(centre).collect();
+    let centres: Vec<[f32; 2]> = cells.keys.iter().map(|&k| centre_of(k, cell)).collect();
     let Ok(tree) = ImmutableKdTree::<f32, 2>::new_from_slice(&centres) else {
         return none();
     };
@@ -203,13 +218,13 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
         return none();
     }
     let near_void = near_void(xyz, &cells, set);
+    let mut near = vec![0usize; n];
+    for k in (0..n).filter(|&k| walled.contains(&piece[k]) && near_void(k)) {
+        near[piece[k]] += 1;
+    }
     let raised: HashSet<usize> = walled
         .into_iter()
-        .filter(|p| {
-            let mine: Vec<usize> = (0..n).filter(|&k| piece[k] == *p).collect();
-            let near = mine.iter().filter(|&&k| near_void(k)).count();
-            near as f32 >= EDGE_SHARE * mine.len() as f32
-        })
+        .filter(|&p| near[p] as f32 >= EDGE_SHARE * size[p] as f32)
         .collect();
     if raised.is_empty() {
         return none();
@@ -220,7 +235,7 @@ pub(crate) fn find(xyz: &[[f32; 3]], is_ground: &[bool], set: &Settings) -> (Vec
         .map(|(p, &g)| {
             g && cells
                 .index
-                .get(&key_of(p, cell))
+                .get(&key_of([p[0], p[1]], cell))
                 .is_some_and(|&k| raised.contains(&piece[k]))
         })
         .collect();
@@ -255,15 +270,14 @@ fn near_void<'a>(
 ) -> impl Fn(usize) -> bool + 'a {
     let mut count: HashMap<[i32; 2], u32> = HashMap::new();
     for p in xyz.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
-        *count.entry(key_of(p, set.band_m)).or_insert(0) += 1;
+        *count.entry(key_of([p[0], p[1]], set.band_m)).or_insert(0) += 1;
     }
     let (cell, band, below) = (set.cell, set.band_m, set.void_below);
     let reach = NEAR_VOID * band;
     let r = reach.div_euclid(band) as i32 + 1;
     move |k| {
-        let [i, j] = cells.keys[k];
-        let at = [(i as f32 + 0.5) * cell, (j as f32 + 0.5) * cell];
-        let c = key_of(&[at[0], at[1], 0.0], band);
+        let at = centre_of(cells.keys[k], cell);
+        let c = key_of(at, band);
         (-r..=r).any(|di| {
             (-r..=r).any(|dj| {
                 let v = [c[0] + di, c[1] + dj];
@@ -281,7 +295,9 @@ fn near_void<'a>(
 fn lowest_points(xyz: &[[f32; 3]], cell: f32) -> HashMap<[i32; 2], f32> {
     let mut lowest: HashMap<[i32; 2], f32> = HashMap::new();
     for p in xyz.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
-        let z = lowest.entry(key_of(p, cell)).or_insert(f32::INFINITY);
+        let z = lowest
+            .entry(key_of([p[0], p[1]], cell))
+            .or_insert(f32::INFINITY);
         *z = z.min(p[2]);
     }
     lowest
@@ -304,8 +320,7 @@ fn falls_steeply(
     let mut last: Option<([i32; 2], f32)> = None;
     for s in 0..=len {
         let t = s as f32 / len as f32;
-        let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), 0.0];
-        let key = key_of(&p, cell);
+        let key = key_of([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])], cell);
         let Some(&z) = lowest.get(&key) else {
             continue;
         };
@@ -355,14 +370,7 @@ fn nearest_other(
 fn terrain_slope(cells: &Cells, cell: f32) -> f32 {
     let mut coarse: HashMap<[i32; 2], (f64, u32)> = HashMap::new();
     for (key, &z) in cells.keys.iter().zip(&cells.z) {
-        let c = key_of(
-            &[
-                (key[0] as f32 + 0.5) * cell,
-                (key[1] as f32 + 0.5) * cell,
-                0.0,
-            ],
-            SLOPE_CELL,
-        );
+        let c = key_of(centre_of(*key, cell), SLOPE_CELL);
         let e = coarse.entry(c).or_insert((0.0, 0));
         e.0 += f64::from(z);
         e.1 += 1;

@@ -211,12 +211,8 @@ fn classify_one(
         );
     }
     out["producer_classes_kept"] = serde_json::json!(kept);
-    let raised = classified.ground.raised;
-    if raised.pieces > 0 && !json {
-        eprintln!(
-            "the cloth rested on {} roof piece(s) where the survey ends: {} points taken out of the ground, the terrain under them filled from the rest",
-            raised.pieces, raised.points
-        );
+    if let Some(m) = classified.ground.raised.message().filter(|_| !json) {
+        eprintln!("{m}");
     }
     if seen {
         eprintln!(

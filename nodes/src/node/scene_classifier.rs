@@ -92,12 +92,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             classified.seconds_csf,
             classified.summary()
         ));
-        let raised = classified.ground.raised;
-        if raised.pieces > 0 {
-            rt.log.info(&format!(
-                "the cloth rested on {} roof piece(s) where the survey ends: {} points taken out of the ground",
-                raised.pieces, raised.points
-            ));
+        if let Some(m) = classified.ground.raised.message() {
+            rt.log.info(&m);
         }
         cloud.label = Some(classified.labels);
         let header = msg.header.clone();
