@@ -118,6 +118,28 @@ fn a_small_training_run_generalises_to_another_city() {
     );
     assert!(r.class(BUILDING).unwrap().f1 > 0.9);
     assert!(r.class(VEGETATION).unwrap().f1 > 0.75);
+    // The same city without echoes (a photogrammetric or first-return
+    // cloud) goes to the forest that learned without them; a model without
+    // that forest (as older model files) falls back to the one that reads
+    // echoes, which never saw a cloud without them.
+    let bare = evaluate(&test_cloud.xyz, &test_cloud.label, None, &model);
+    let echo_only = Model {
+        forest_without_echoes: None,
+        ..model.clone()
+    };
+    let fallback = evaluate(&test_cloud.xyz, &test_cloud.label, None, &echo_only);
+    let f1 = |r: &ClassReport, c| r.class(c).map_or(0.0, |m| m.f1);
+    println!(
+        "city 32 without echoes: building F1 {:.4}, vegetation F1 {:.4}; \
+         with the echo forest alone {:.4}, {:.4}",
+        f1(&bare, BUILDING),
+        f1(&bare, VEGETATION),
+        f1(&fallback, BUILDING),
+        f1(&fallback, VEGETATION)
+    );
+    assert!(model.forest_without_echoes.is_some());
+    assert!(f1(&bare, BUILDING) > 0.9 && f1(&bare, VEGETATION) > 0.75);
+    assert!(f1(&bare, VEGETATION) > f1(&fallback, VEGETATION));
     // Round trip through the model file, plain and gzipped.
     let dir = std::env::temp_dir();
     let id = std::process::id();

@@ -18,8 +18,6 @@
 //!
 //! Absent data → `SKIPPED`, the test passes.
 
-use std::path::PathBuf;
-
 use skyground_core::classify::{Model, SceneClassifier};
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::graph::{GraphParams, GroundGraph, drivable};
@@ -30,12 +28,7 @@ use skyground_core::route::{Ground, RouteParams, plan_set_downs};
 use skyground_core::targets::{Site, TargetParams, generate};
 
 mod common;
-use common::real_file;
-
-fn shipped() -> Model {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
-    Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
-}
+use common::{real_file, shipped};
 
 /// The tile with its producer's classes, and our classes for it.
 fn classified(name: &str, model: &Model) -> Option<(Cloud, Vec<u8>)> {

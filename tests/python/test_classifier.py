@@ -111,7 +111,9 @@ def test_malformed_clouds_are_rejected_and_the_node_goes_on(spawn, ros, prior):
 def test_a_roof_where_the_survey_ends_is_taken_out_of_the_ground_and_logged(spawn, ros):
     """sample_c.las's roof runs to its east edge, where the cloth rests on
     it: the node says on /rosout what it took out of the ground, and no
-    roof point 20 m over the street comes back as ground."""
+    roof point 20 m over the street comes back as ground. Sent without
+    echoes, the cloud is read by the model's forest trained without them,
+    and the node says so."""
     import laspy
     from rcl_interfaces.msg import Log
 
@@ -124,6 +126,9 @@ def test_a_roof_where_the_survey_ends_is_taken_out_of_the_ground_and_logged(spaw
     said = lambda: [e.msg for e in logs_of(logs, "scene_classifier", Log.INFO) if "where the survey ends" in e.msg]  # noqa: E731
     assert ros.spin_until(lambda: said(), 20), f"nothing said on /rosout: {node.stderr()[-3000:]}"
     assert "1 roof piece(s)" in said()[0], said()
+    # The cloud was sent without echo fields: the node says which forest read it.
+    bare = [e.msg for e in logs_of(logs, "scene_classifier", Log.INFO) if "two returns" in e.msg]
+    assert bare and "forest trained without echoes" in bare[0], bare
     pred = got.done[-1][1]["label"]
     street = np.median(xyz[theirs == 2, 2])
     assert not ((theirs == BUILDING) & (pred == GROUND) & (xyz[:, 2] > street + 20)).any()

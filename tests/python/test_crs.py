@@ -9,7 +9,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import BIN, real_file
+from conftest import BIN, ROOT, real_file
 
 FEET = ["laspy_nebraska_ftus.las", "autzen_trim.las"]
 
@@ -213,3 +213,27 @@ def test_classify_takes_a_roof_where_the_survey_ends_out_of_the_ground(tmp_path)
     w.write(str(cut))
     r = json.loads(run("classify", "--in", cut, "--out", tmp_path / "w.las", "--json").stdout)
     assert r["raised_ground"] == {"pieces": 0, "points": 0}, r["raised_ground"]
+
+
+def test_detect_classifies_with_the_model_it_is_given(tmp_path):
+    """`detect --classify --model M` classifies with M (here the shipped
+    model's file: the same classes as without it); a model that cannot be
+    read is a clear error, and --model without --classify is refused."""
+    import laspy
+
+    src = real_file("sample_c.las")
+    model = ROOT / "config" / "classifier_model.json.gz"
+    a = json.loads(run("detect", "--in", src, "--out", tmp_path / "a", "--classify", "--json").stdout)
+    b = json.loads(run("detect", "--in", src, "--out", tmp_path / "b", "--classify", "--model", model,
+                       "--json").stdout)
+    ca, cb = (laspy.read(str(tmp_path / d / "classified.las")).classification for d in "ab")
+    assert np.array_equal(np.asarray(ca), np.asarray(cb))
+    assert a["producer_check"] == b["producer_check"]
+    bad = tmp_path / "not_a_model.json"
+    bad.write_text("{}")
+    p = subprocess.run([str(BIN / "skyground"), "detect", "--in", str(src), "--out", str(tmp_path / "c"),
+                        "--classify", "--model", str(bad)], capture_output=True, text=True, timeout=600)
+    assert p.returncode != 0 and "classifier model" in p.stderr and "not_a_model.json" in p.stderr, p.stderr
+    p = subprocess.run([str(BIN / "skyground"), "detect", "--in", str(src), "--out", str(tmp_path / "d"),
+                        "--model", str(model)], capture_output=True, text=True, timeout=600)
+    assert p.returncode != 0 and "--classify" in p.stderr, p.stderr

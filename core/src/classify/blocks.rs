@@ -32,11 +32,12 @@ pub fn votes(
     // Bad input is refused before any block is cut, with the whole cloud's
     // point numbers, as the single pass refuses it.
     check_request(xyz, hag, echoes.as_ref(), rows, &model.feature_params)?;
+    let forest = model.forest_for(echoes.is_some());
     let Some(grid) = Grid::new(xyz, rows, block_points) else {
         let f = compute_subset(xyz, hag, echoes, rows, &model.feature_params)?;
-        return Ok(model.forest.predict_proba(&f.data)?);
+        return Ok(forest.predict_proba(&f.data)?);
     };
-    let classes = model.forest.classes().len();
+    let classes = forest.classes().len();
     let mut out = vec![0.0f32; rows.len() * classes];
     // Which rows (positions in `rows`) fall in which block.
     let mut own: Vec<Vec<usize>> = vec![Vec::new(); grid.n * grid.n];
@@ -70,13 +71,13 @@ pub fn votes(
             .collect();
         let proba = if srows.len() == mine.len() {
             let f = compute_subset(&sxyz, &shag, sechoes, &srows, &model.feature_params)?;
-            model.forest.predict_proba(&f.data)?
+            forest.predict_proba(&f.data)?
         } else {
             // Unreachable by construction (a block's own points lie inside
             // its margin); the whole cloud still gives their features.
             let whole: Vec<usize> = mine.iter().map(|&k| rows[k]).collect();
             let f = compute_subset(xyz, hag, echoes, &whole, &model.feature_params)?;
-            model.forest.predict_proba(&f.data)?
+            forest.predict_proba(&f.data)?
         };
         for (j, &k) in mine.iter().enumerate() {
             out[k * classes..(k + 1) * classes]

@@ -25,6 +25,12 @@ pub struct Model {
     pub feature_names: Vec<String>,
     /// The forest; its classes are LAS codes (2, 5, 6).
     pub forest: RandomForest,
+    /// The forest for clouds without echo information (no pulse with more
+    /// than one return: photogrammetry, first-return products), trained on
+    /// the same clouds with their echoes hidden; `None` in older models,
+    /// which use `forest` for every cloud.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub forest_without_echoes: Option<RandomForest>,
     /// The LAS codes the forest tells apart.
     pub classes: Vec<u8>,
     /// What the model was trained on, for provenance.
@@ -61,10 +67,27 @@ impl Default for Smoothing {
 }
 
 impl Model {
-    /// Checks the forest against the current feature definition.
+    /// The forest for a cloud with (`true`) or without echo information.
+    pub fn forest_for(&self, echoes: bool) -> &RandomForest {
+        match &self.forest_without_echoes {
+            Some(f) if !echoes => f,
+            _ => &self.forest,
+        }
+    }
+
+    /// Checks the forests against the current feature definition.
     pub fn check(&self) -> Result<(), ClassifyError> {
         self.feature_params.validate()?;
         self.forest.check()?;
+        if let Some(f) = &self.forest_without_echoes {
+            f.check()?;
+            if f.dims() != self.forest.dims() || f.classes() != self.forest.classes() {
+                return Err(ClassifyError::ModelMismatch {
+                    expected: self.forest.dims(),
+                    got: f.dims(),
+                });
+            }
+        }
         let names_match = self
             .feature_names
             .iter()

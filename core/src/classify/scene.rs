@@ -107,6 +107,22 @@ impl SceneClassifier {
         &self.model
     }
 
+    /// What a user is told when `cloud` has no echo information (no pulse
+    /// gave two returns); `None` when it has.
+    pub fn echo_note(&self, cloud: &Cloud) -> Option<&'static str> {
+        if cloud.echoes().is_some() {
+            None
+        } else if self.model.forest_without_echoes.is_some() {
+            Some(
+                "no pulse in the cloud gave two returns: classified by the model's forest trained without echoes",
+            )
+        } else {
+            Some(
+                "no pulse in the cloud gave two returns and the model has no forest trained without echoes (an older model file): its forest expects echoes, so crowns may be called roofs; retrain it with `skyground train`",
+            )
+        }
+    }
+
     /// Classifies `xyz` (local frame) with its echoes, when known.
     pub fn classify(
         &self,

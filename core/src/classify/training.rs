@@ -61,6 +61,9 @@ pub struct TrainParams {
     pub per_class: usize,
     /// Seed of the sampling.
     pub seed: u64,
+    /// Also train the forest for clouds without echoes, on every cloud's
+    /// samples with their echoes hidden.
+    pub without_echoes: bool,
 }
 
 impl Default for TrainParams {
@@ -70,6 +73,7 @@ impl Default for TrainParams {
             forest: ForestParams::default(),
             per_class: 10_000,
             seed: 11,
+            without_echoes: true,
         }
     }
 }
@@ -92,6 +96,8 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
     params.validate()?;
     let mut x = Vec::new();
     let mut y = Vec::new();
+    // The same rows with the echo columns hidden, for the echo-free forest.
+    let mut x_bare = Vec::new();
     for (ci, c) in clouds.iter().enumerate() {
         ColumnLength::check("training labels", c.xyz.len(), c.label.len())?;
         let rows = balanced_rows(
@@ -103,6 +109,13 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
         let f = compute_subset(&c.xyz, &c.hag, c.echo_input(), &rows, &params.features)?;
         x.extend_from_slice(&f.data);
         y.extend(rows.iter().map(|&r| fold(c.label[r])));
+        if params.without_echoes {
+            let bare = match c.echo_input() {
+                Some(_) => compute_subset(&c.xyz, &c.hag, None, &rows, &params.features)?.data,
+                None => f.data,
+            };
+            x_bare.extend_from_slice(&bare);
+        }
     }
     for class in CLASSES {
         if !y.contains(&class) {
@@ -110,12 +123,23 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
         }
     }
     let forest = RandomForest::fit(&x, FEATURE_NAMES.len(), &y, &params.forest)?;
+    let forest_without_echoes = if params.without_echoes {
+        Some(RandomForest::fit(
+            &x_bare,
+            FEATURE_NAMES.len(),
+            &y,
+            &params.forest,
+        )?)
+    } else {
+        None
+    };
     let names: Vec<&str> = clouds.iter().map(|c| c.name.as_str()).collect();
     Ok(Model {
         feature_params: params.features.clone(),
         feature_names: FEATURE_NAMES.iter().map(|s| s.to_string()).collect(),
         classes: forest.classes().to_vec(),
         forest,
+        forest_without_echoes,
         trained_on: format!("{} samples from {}", y.len(), names.join(", ")),
         training_files: names.iter().map(|s| s.to_string()).collect(),
         smoothing: Default::default(),
@@ -276,8 +300,9 @@ pub fn labelled_cloud(
 pub enum FileRole {
     /// The producer's classes 2–6 are learned.
     Labelled,
-    /// A survey without buildings (a forest) whose producer left the trees
-    /// unclassified: its class 1 is learned as vegetation.
+    /// A survey whose producer left the trees unclassified (a forest, or
+    /// AHN3, whose class 1 is everything neither ground nor building): its
+    /// class 1 is learned as vegetation, its classes 2–6 as given.
     Forest,
 }
 

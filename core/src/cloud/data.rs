@@ -133,14 +133,16 @@ impl Cloud {
         Some(h)
     }
 
-    /// Both echo columns when the cloud has them and they say something
-    /// (some pulse gave a known number of returns).
+    /// Both echo columns when the cloud has them and they say something:
+    /// some pulse gave more than one return. A survey where none did (a
+    /// first-return product, photogrammetry, a file whose echoes were
+    /// reset) cannot tell a crown from a roof by its echoes.
     pub fn echoes(&self) -> Option<(&[u8], &[u8])> {
         let (rn, nr) = (
             self.return_number.as_deref()?,
             self.number_of_returns.as_deref()?,
         );
-        (rn.len() == nr.len() && nr.iter().any(|&n| n > 0)).then_some((rn, nr))
+        (rn.len() == nr.len() && nr.iter().any(|&n| n > 1)).then_some((rn, nr))
     }
 
     /// The points `rows` (in that order) with all their columns.
@@ -242,6 +244,20 @@ mod tests {
         );
         c.label = Some(vec![1, 2, 3]);
         assert_eq!(c.validate(), Ok(()));
+    }
+
+    #[test]
+    fn echoes_count_only_when_some_pulse_gave_several_returns() {
+        let mut c = Cloud::from_xyz(vec![[0.0; 3]; 3]);
+        assert!(c.echoes().is_none());
+        c.return_number = Some(vec![1, 1, 1]);
+        c.number_of_returns = Some(vec![1, 1, 1]);
+        assert!(c.echoes().is_none(), "every pulse one return: no echo cue");
+        c.return_number = Some(vec![1, 1, 2]);
+        c.number_of_returns = Some(vec![1, 2, 2]);
+        assert!(c.echoes().is_some());
+        c.number_of_returns = Some(vec![1, 2]);
+        assert!(c.echoes().is_none(), "columns of unequal length");
     }
 
     #[test]

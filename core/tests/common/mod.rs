@@ -2,8 +2,21 @@
 
 use std::path::PathBuf;
 
+use skyground_core::classify::{
+    FileRole, Model, TrainParams, default_training_set, file_training_clouds, train,
+};
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::footprint::{Loaded, load_footprints};
+use skyground_core::ground::CsfParams;
+
+/// The forest the shipped model learned as vegetation.
+#[allow(dead_code)]
+pub const BC_FOREST: &str = "lasr_bcts_forest_1.laz";
+/// The IGN LiDAR HD tiles (producer classes 2–6).
+#[allow(dead_code)]
+pub const IGN: [&str; 2] = ["ign_montpellier_150x100m.laz", "ign_stbarth_100x100m.laz"];
+/// The thinned shares `skyground train` learns each file at by default.
+const DENSITIES: [f64; 3] = [1.0, 0.35, 0.12];
 
 /// `name` in the real-data folder (`SKYGROUND_REAL_DATA`, else
 /// `../shared/data/real`); `None`, said plainly, when the folder is absent.
@@ -33,4 +46,26 @@ pub fn city3d_001() -> Option<(Cloud, Loaded)> {
     let cloud = read_cloud(&ply).unwrap_or_else(|e| panic!("{e}"));
     let loaded = load_footprints(&obj, cloud.origin).unwrap_or_else(|e| panic!("{e}"));
     Some((cloud, loaded))
+}
+
+/// The shipped model (config/classifier_model.json.gz).
+#[allow(dead_code)]
+pub fn shipped() -> Model {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../config/classifier_model.json.gz");
+    Model::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A model trained as `skyground train --in LABELLED --vegetation-in
+/// BC_FOREST` would train it; `None` when the real data is absent.
+#[allow(dead_code)]
+pub fn trained_on(labelled: &[&str]) -> Option<Model> {
+    let mut set = default_training_set().unwrap_or_else(|e| panic!("{e}"));
+    let labelled = labelled.iter().map(|n| (*n, FileRole::Labelled));
+    for (name, role) in labelled.chain([(BC_FOREST, FileRole::Forest)]) {
+        let cloud = read_cloud(&real_file(name)?).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let clouds = file_training_clouds(name, cloud, role, &DENSITIES, &CsfParams::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        set.extend(clouds);
+    }
+    Some(train(&set, &TrainParams::default()).unwrap_or_else(|e| panic!("{e}")))
 }

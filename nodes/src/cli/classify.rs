@@ -68,8 +68,11 @@ pub struct TrainArgs {
     /// The model records their names: never report accuracy on them.
     #[arg(long = "in", num_args = 1..)]
     pub inputs: Vec<PathBuf>,
-    /// Clouds without buildings (forests) whose unclassified points (LAS 1)
-    /// are learned as vegetation; named in the model like --in files.
+    /// Clouds whose unclassified points (LAS 1) are learned as vegetation
+    /// (with their classes 2–6 as --in files do): forests without
+    /// buildings, or surveys such as AHN3 whose class 1 holds the trees with
+    /// everything else that is neither ground nor building. Named in the
+    /// model like --in files.
     #[arg(long = "vegetation-in", num_args = 1..)]
     pub vegetation_inputs: Vec<PathBuf>,
     /// Leave out the simulated reference-city surveys.
@@ -188,6 +191,7 @@ fn classify_one(
         "classes": counts,
         "building_share": building as f64 / cloud.len().max(1) as f64,
         "echoes": cloud.echoes().is_some(),
+        "echo_note": classifier.echo_note(&cloud),
         "seconds": {"read": job.read_s, "csf": classified.seconds_csf, "features_and_forest": classified.seconds_classify},
         "model": classifier.model().trained_on,
         "trained_on_this_file": seen,
@@ -212,6 +216,9 @@ fn classify_one(
     }
     out["producer_classes_kept"] = serde_json::json!(kept);
     if let Some(m) = classified.ground.raised.message().filter(|_| !json) {
+        eprintln!("{m}");
+    }
+    if let Some(m) = classifier.echo_note(&cloud).filter(|_| !json) {
         eprintln!("{m}");
     }
     if seen {

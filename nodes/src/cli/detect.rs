@@ -43,6 +43,10 @@ pub struct DetectArgs {
     /// Classify even when the cloud has labels.
     #[arg(long)]
     pub classify: bool,
+    /// The classifier model when classifying (default: the shipped one), e.g.
+    /// one trained without this file, to check detection on held-out classes.
+    #[arg(long, requires = "classify")]
+    pub model: Option<PathBuf>,
     /// A params file (sections completeness_detector and target_generator).
     #[arg(long)]
     pub params_file: Option<PathBuf>,
@@ -125,7 +129,9 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     let mut classify_s = 0.0;
     if a.classify || !labelled {
         let t = Instant::now();
-        let c = SceneClassifier::new(Default::default(), load_model("")?).map_err(err)?;
+        let model = a.model.as_ref().map(|m| m.display().to_string());
+        let c = SceneClassifier::new(Default::default(), load_model(&model.unwrap_or_default())?)
+            .map_err(err)?;
         cloud.label = Some(c.classify_cloud(&cloud).map_err(err)?.labels);
         classify_s = t.elapsed().as_secs_f64();
     }

@@ -95,6 +95,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         if let Some(m) = classified.ground.raised.message() {
             rt.log.info(&m);
         }
+        if let Some(m) = classifier.echo_note(&cloud) {
+            rt.log.info(m);
+        }
         cloud.label = Some(classified.labels);
         let header = msg.header.clone();
         publisher
