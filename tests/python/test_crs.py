@@ -128,6 +128,11 @@ def test_info_reports_unit_and_extent_in_both(name, unit):
     assert info["points"] == hdr.point_count
     assert sum(info["classes"].values()) == hdr.point_count
     assert sum(info["returns"].values()) == hdr.point_count
+    # Echoes count for the classifier only when some pulse gave two returns
+    # (the Nebraska snippet: every point 1 of 1).
+    las = laspy.read(str(src))
+    assert info["echoes_usable"] == bool((np.asarray(las.number_of_returns) > 1).any())
+    assert info["echoes_usable"] == (name != "laspy_nebraska_ftus.las")
 
 
 def test_footprints_and_plan_in_feet(tmp_path):

@@ -109,6 +109,8 @@ fn cloud(a: &InfoArgs) -> Result<Value, RuntimeError> {
         "classes": info.classes,
         "returns": returns,
         "share_multiple_returns": multiple,
+        // What the classifier will do with them (`Cloud::echoes`).
+        "echoes_usable": c.echoes().is_some(),
     }))
 }
 
@@ -272,8 +274,13 @@ fn text(v: &Value) -> String {
                 &mut s,
                 "multiple",
                 format!(
-                    "{:.1} % of points from pulses with several returns",
-                    100.0 * v["share_multiple_returns"].as_f64().unwrap_or(0.0)
+                    "{:.1} % of points from pulses with several returns{}",
+                    100.0 * v["share_multiple_returns"].as_f64().unwrap_or(0.0),
+                    if v["echoes_usable"].as_bool() == Some(false) {
+                        " (no echo cue: classified without echoes)"
+                    } else {
+                        ""
+                    }
                 ),
             );
         }
