@@ -60,6 +60,11 @@ pub struct DeriveParams {
     pub min_points: usize,
     /// Outlines with less area (m²) are dropped.
     pub min_area_m2: f64,
+    /// Outlines whose highest building point stands less than this (m)
+    /// over the terrain are dropped where the terrain is known (hedges,
+    /// cars, pergolas, clipped crowns; a storey with a door is about
+    /// 2.5 m); 0: off.
+    pub min_height_m: f64,
     /// Adjacent cells whose highest points differ by more (m) belong to
     /// different buildings; 0 turns this split off.
     pub height_jump_m: f64,
@@ -78,6 +83,7 @@ impl Default for DeriveParams {
             closing_cells: 1,
             min_points: 50,
             min_area_m2: 10.0,
+            min_height_m: 2.5,
             height_jump_m: 0.0,
             min_open_share: 0.25,
             simplify_m: 0.4,
@@ -117,6 +123,13 @@ impl DeriveParams {
             "0 ≤ value ≤ 10 cells",
         )?;
         check("min_area_m2", self.min_area_m2, 0.0, 1e9, "value ≥ 0 m²")?;
+        check(
+            "min_height_m",
+            self.min_height_m,
+            0.0,
+            1e3,
+            "0 ≤ value ≤ 1000 m (0 = off)",
+        )?;
         check(
             "height_jump_m",
             self.height_jump_m,

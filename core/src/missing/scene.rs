@@ -79,9 +79,17 @@ pub fn detect_scene(
     // later rounds are far denser on their walls and would change them
     // from round to round.
     let detect = &params.detect.resolved_for(&pts);
+    let ground = aerial.xyz_of_class(class::GROUND);
+    let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
     let used: Vec<Footprint> = match footprints {
         Some(f) => f.to_vec(),
-        None => derive(&pts, &params.derive)?,
+        None => standing(
+            derive(&pts, &params.derive)?,
+            &pts,
+            terrain.as_ref(),
+            params.derive.min_height_m,
+            &params.split,
+        )?,
     };
     if let Some(e) = extra {
         pts.extend(building_xyz(e, aerial.origin, false)?);
@@ -89,10 +97,39 @@ pub fn detect_scene(
     let ids = split(&pts, &used, &params.split)?;
     let given: Option<Vec<(u32, geo::MultiPolygon<f64>)>> =
         footprints.map(|f| f.iter().map(|f| (f.id, f.polygon.clone())).collect());
-    let ground = aerial.xyz_of_class(class::GROUND);
-    let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
     let detection = detect_all_on(&pts, &ids, given.as_deref(), terrain.as_ref(), detect)?;
     Ok((detection, used))
+}
+
+/// The derived footprints whose highest aerial building point stands at
+/// least `min_height_m` over the terrain: lower ones are hedges, cars,
+/// pergolas or clipped crowns the classifier called building, not a
+/// building a robot should survey. All of them without terrain or at 0.
+fn standing(
+    derived: Vec<Footprint>,
+    pts: &[[f32; 3]],
+    terrain: Option<&GroundGrid>,
+    min_height_m: f64,
+    split_params: &SplitParams,
+) -> Result<Vec<Footprint>, SceneDetectError> {
+    let Some(terrain) = terrain.filter(|_| min_height_m > 0.0) else {
+        return Ok(derived);
+    };
+    let ids = split(pts, &derived, split_params)?;
+    let mut top = std::collections::HashMap::<u32, f32>::new();
+    for (p, &id) in pts.iter().zip(&ids).filter(|(_, id)| **id != 0) {
+        if let Some(g) = terrain.at(f64::from(p[0]), f64::from(p[1])) {
+            let t = top.entry(id).or_insert(f32::NEG_INFINITY);
+            *t = t.max(p[2] - g);
+        }
+    }
+    Ok(derived
+        .into_iter()
+        .filter(|f| {
+            top.get(&f.id)
+                .is_some_and(|&t| f64::from(t) >= min_height_m)
+        })
+        .collect())
 }
 
 /// Missing points moved from the frame of `from` to that of `to`.
@@ -107,4 +144,49 @@ pub fn shift_missing(points: &[MissingPoint], from: [f64; 3], to: [f64; 3]) -> V
             m
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Flat ground (class 2) with a 10 × 10 m roof 6 m up and a 6 × 6 m
+    /// hedge top 1.5 m up, both labelled building.
+    fn street() -> Cloud {
+        let mut xyz = crate::geom::fixtures::lattice(120, 120, 0.5, |_, _| 0.0);
+        let mut label = vec![class::GROUND; xyz.len()];
+        let mut add = |x0: f32, y0: f32, side: f32, z: f32| {
+            let n = (side / 0.25) as usize;
+            for i in 0..n {
+                for j in 0..n {
+                    xyz.push([x0 + i as f32 * 0.25, y0 + j as f32 * 0.25, z]);
+                    label.push(class::BUILDING);
+                }
+            }
+        };
+        add(10.0, 10.0, 10.0, 6.0);
+        add(40.0, 40.0, 6.0, 1.5);
+        let mut c = Cloud::from_xyz(xyz);
+        c.label = Some(label);
+        c
+    }
+
+    #[test]
+    fn a_building_too_low_to_stand_in_is_no_footprint() {
+        let cloud = street();
+        let (_, kept) = detect_scene(&cloud, None, None, &SceneParams::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let off = SceneParams {
+            derive: DeriveParams {
+                min_height_m: 0.0,
+                ..DeriveParams::default()
+            },
+            ..SceneParams::default()
+        };
+        let (_, all) = detect_scene(&cloud, None, None, &off).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(all.len(), 2);
+        assert_eq!(kept.len(), 1);
+        let b = kept[0].bounds().unwrap_or_default();
+        assert!(b[0] < 11.0 && b[2] > 19.0 && b[2] < 21.0, "{b:?}");
+    }
 }
