@@ -17,7 +17,7 @@ use skyground_core::classify::{
 use skyground_core::cloud::class::{BUILDING, GROUND, VEGETATION};
 use skyground_core::cloud::{Cloud, ColumnLength, read_cloud};
 use skyground_core::features::{Echoes, FeatureError};
-use skyground_core::forest::ForestParams;
+use skyground_core::forest::{ForestParams, RandomForest};
 use skyground_core::ground::CsfParams;
 use skyground_core::lidar::{AirborneConfig, FlightPattern};
 use skyground_core::scene::REFERENCE_SEED;
@@ -140,6 +140,23 @@ fn a_small_training_run_generalises_to_another_city() {
     assert!(model.forest_without_echoes.is_some());
     assert!(f1(&bare, BUILDING) > 0.9 && f1(&bare, VEGETATION) > 0.75);
     assert!(f1(&bare, VEGETATION) > f1(&fallback, VEGETATION));
+    // A second forest that tells other classes apart is refused.
+    let dims = skyground_core::features::FEATURE_NAMES.len();
+    let odd = RandomForest::fit(
+        &vec![0.5; 4 * dims],
+        dims,
+        &[GROUND, BUILDING, GROUND, BUILDING],
+        &ForestParams {
+            trees: 2,
+            ..ForestParams::default()
+        },
+    )
+    .unwrap();
+    let mixed = Model {
+        forest_without_echoes: Some(odd),
+        ..model.clone()
+    };
+    assert!(matches!(mixed.check(), Err(ClassifyError::ForestsDisagree)));
     // Round trip through the model file, plain and gzipped.
     let dir = std::env::temp_dir();
     let id = std::process::id();

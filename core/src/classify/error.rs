@@ -48,6 +48,12 @@ pub enum ClassifyError {
         /// Features computed now.
         got: usize,
     },
+    /// The forest for clouds without echoes does not read the same features
+    /// or give the same classes as the main forest.
+    #[error(
+        "the model's forest without echoes does not match its main forest (features or classes): retrain the model"
+    )]
+    ForestsDisagree,
     /// Simulating a training scan failed.
     #[error("simulating a training scan: {0}")]
     Simulation(String),

@@ -82,10 +82,7 @@ impl Model {
         if let Some(f) = &self.forest_without_echoes {
             f.check()?;
             if f.dims() != self.forest.dims() || f.classes() != self.forest.classes() {
-                return Err(ClassifyError::ModelMismatch {
-                    expected: self.forest.dims(),
-                    got: f.dims(),
-                });
+                return Err(ClassifyError::ForestsDisagree);
             }
         }
         let names_match = self
