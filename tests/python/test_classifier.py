@@ -127,8 +127,9 @@ def test_a_roof_where_the_survey_ends_is_taken_out_of_the_ground_and_logged(spaw
     assert ros.spin_until(lambda: said(), 20), f"nothing said on /rosout: {node.stderr()[-3000:]}"
     assert "1 roof piece(s)" in said()[0], said()
     # The cloud was sent without echo fields: the node says which forest read it.
-    bare = [e.msg for e in logs_of(logs, "scene_classifier", Log.INFO) if "two returns" in e.msg]
-    assert bare and "forest trained without echoes" in bare[0], bare
+    bare = lambda: [e.msg for e in logs_of(logs, "scene_classifier", Log.INFO) if "two returns" in e.msg]  # noqa: E731
+    assert ros.spin_until(lambda: bare(), 20), f"no word on echoes: {node.stderr()[-3000:]}"
+    assert "forest trained without echoes" in bare()[0], bare()
     pred = got.done[-1][1]["label"]
     street = np.median(xyz[theirs == 2, 2])
     assert not ((theirs == BUILDING) & (pred == GROUND) & (xyz[:, 2] > street + 20)).any()
