@@ -35,6 +35,6 @@ pub use report::{ClassMetrics, ClassReport, is_scored};
 pub use roofs::{RoofCheck, RoofCheckCounts, check_roofs};
 pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};
 pub use training::{
-    FileRole, TrainParams, TrainingCloud, default_training_set, file_training_clouds,
-    labelled_cloud, simulated_cloud, train, training_surveys,
+    DEFAULT_DENSITIES, FileRole, TrainParams, TrainingCloud, default_training_set,
+    file_training_clouds, labelled_cloud, simulated_cloud, train, training_surveys,
 };

@@ -34,7 +34,7 @@ pub fn classify(
         return Ok(out);
     }
     let proba = votes(xyz, hag, echoes, &rows, model, BLOCK_POINTS)?;
-    let classes = model.forest_for(echoes.is_some()).classes();
+    let classes = model.forest.classes();
     let sub: Vec<[f32; 3]> = rows.iter().map(|&i| xyz[i]).collect();
     let s = &model.smoothing;
     let proba = smooth_votes(&sub, &proba, classes.len(), s.k, s.radius_m);

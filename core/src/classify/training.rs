@@ -88,6 +88,10 @@ impl TrainParams {
     }
 }
 
+/// The shares of its pulses each labelled file is also learned at, by
+/// default (`skyground train --densities`).
+pub const DEFAULT_DENSITIES: [f64; 3] = [1.0, 0.35, 0.12];
+
 /// Classes the forest learns.
 const CLASSES: [u8; 3] = [GROUND, VEGETATION, BUILDING];
 
@@ -123,16 +127,10 @@ pub fn train(clouds: &[TrainingCloud], params: &TrainParams) -> Result<Model, Cl
         }
     }
     let forest = RandomForest::fit(&x, FEATURE_NAMES.len(), &y, &params.forest)?;
-    let forest_without_echoes = if params.without_echoes {
-        Some(RandomForest::fit(
-            &x_bare,
-            FEATURE_NAMES.len(),
-            &y,
-            &params.forest,
-        )?)
-    } else {
-        None
-    };
+    let forest_without_echoes = params
+        .without_echoes
+        .then(|| RandomForest::fit(&x_bare, FEATURE_NAMES.len(), &y, &params.forest))
+        .transpose()?;
     let names: Vec<&str> = clouds.iter().map(|c| c.name.as_str()).collect();
     Ok(Model {
         feature_params: params.features.clone(),

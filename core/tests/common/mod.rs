@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use skyground_core::classify::{
-    FileRole, Model, TrainParams, default_training_set, file_training_clouds, train,
+    DEFAULT_DENSITIES, FileRole, Model, TrainParams, default_training_set, file_training_clouds,
+    train,
 };
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::footprint::{Loaded, load_footprints};
@@ -15,8 +16,6 @@ pub const BC_FOREST: &str = "lasr_bcts_forest_1.laz";
 /// The IGN LiDAR HD tiles (producer classes 2–6).
 #[allow(dead_code)]
 pub const IGN: [&str; 2] = ["ign_montpellier_150x100m.laz", "ign_stbarth_100x100m.laz"];
-/// The thinned shares `skyground train` learns each file at by default.
-const DENSITIES: [f64; 3] = [1.0, 0.35, 0.12];
 
 /// `name` in the real-data folder (`SKYGROUND_REAL_DATA`, else
 /// `../shared/data/real`); `None`, said plainly, when the folder is absent.
@@ -63,8 +62,9 @@ pub fn trained_on(labelled: &[&str]) -> Option<Model> {
     let labelled = labelled.iter().map(|n| (*n, FileRole::Labelled));
     for (name, role) in labelled.chain([(BC_FOREST, FileRole::Forest)]) {
         let cloud = read_cloud(&real_file(name)?).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let clouds = file_training_clouds(name, cloud, role, &DENSITIES, &CsfParams::default())
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let clouds =
+            file_training_clouds(name, cloud, role, &DEFAULT_DENSITIES, &CsfParams::default())
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
         set.extend(clouds);
     }
     Some(train(&set, &TrainParams::default()).unwrap_or_else(|e| panic!("{e}")))

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use serde::Deserialize;
 use skyground_core::classify::{
-    ClassReport, FileRole, GroundReport, SceneClassifier, TrainParams, default_training_set,
-    file_training_clouds, is_scored, label_coherence, train,
+    ClassReport, DEFAULT_DENSITIES, FileRole, GroundReport, SceneClassifier, TrainParams,
+    default_training_set, file_training_clouds, is_scored, label_coherence, train,
 };
 use skyground_core::cloud::class::{self, BUILDING, GROUND, VEGETATION};
 use skyground_core::cloud::las::LasError;
@@ -16,7 +16,7 @@ use skyground_core::prior::{same_crs, with_buffer};
 
 use super::err;
 
-use crate::node::scene_classifier::load_model;
+use crate::node::scene_classifier::load_model_file;
 use crate::runtime::{RuntimeError, params::ParamSet};
 
 /// Neighbours whose majority the producer's labels are checked against.
@@ -80,7 +80,7 @@ pub struct TrainArgs {
     pub no_sim: bool,
     /// Each --in file is also learned thinned to these shares of its points
     /// (pulses kept at random), so the model sees sparser surveys too.
-    #[arg(long, value_delimiter = ',', default_values_t = [1.0, 0.35, 0.12])]
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_DENSITIES)]
     pub densities: Vec<f64>,
     /// Samples drawn per class from each cloud.
     #[arg(long, default_value_t = 10_000)]
@@ -120,12 +120,7 @@ fn csf_params(file: Option<&std::path::Path>) -> Result<CsfParams, RuntimeError>
 /// `--out-dir`); compares with its own labels when it has any.
 pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     let csf = csf_params(a.params_file.as_deref())?;
-    let model = load_model(
-        &a.model
-            .as_ref()
-            .map(|m| m.display().to_string())
-            .unwrap_or_default(),
-    )?;
+    let model = load_model_file(a.model.as_deref())?;
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
     if let Some(dir) = &a.out_dir {
         return by_tile(a, &classifier, dir);

@@ -19,7 +19,7 @@ use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
 use super::err;
 use crate::convert::detection::strategy_name;
-use crate::node::scene_classifier::load_model;
+use crate::node::scene_classifier::load_model_file;
 use crate::runtime::{RuntimeError, params::ParamSet};
 
 /// Options of `skyground detect`.
@@ -129,8 +129,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     let mut classify_s = 0.0;
     if a.classify || !labelled {
         let t = Instant::now();
-        let model = a.model.as_ref().map(|m| m.display().to_string());
-        let c = SceneClassifier::new(Default::default(), load_model(&model.unwrap_or_default())?)
+        let c = SceneClassifier::new(Default::default(), load_model_file(a.model.as_deref())?)
             .map_err(err)?;
         cloud.label = Some(c.classify_cloud(&cloud).map_err(err)?.labels);
         classify_s = t.elapsed().as_secs_f64();

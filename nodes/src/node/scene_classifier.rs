@@ -29,12 +29,17 @@ pub const DEFAULT_MODEL: &[u8] = include_bytes!("../../../config/classifier_mode
 
 /// The model at `path`, or the shipped one for an empty path.
 pub fn load_model(path: &str) -> Result<Model, RuntimeError> {
-    let model = if path.is_empty() {
-        Model::from_slice(DEFAULT_MODEL)
-    } else {
-        Model::load(Path::new(path))
+    load_model_file((!path.is_empty()).then(|| Path::new(path)))
+}
+
+/// The model file `path` (a command's `--model`), or the shipped one.
+pub fn load_model_file(path: Option<&Path>) -> Result<Model, RuntimeError> {
+    let model = match path {
+        None => Model::from_slice(DEFAULT_MODEL),
+        Some(p) => Model::load(p),
     };
-    model.map_err(|e| RuntimeError::Node(format!("classifier model {path:?}: {e}")))
+    let name = path.map(|p| p.display().to_string()).unwrap_or_default();
+    model.map_err(|e| RuntimeError::Node(format!("classifier model {name:?}: {e}")))
 }
 
 /// Runs the node until it is done or asked to stop.
