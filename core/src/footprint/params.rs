@@ -60,10 +60,10 @@ pub struct DeriveParams {
     pub min_points: usize,
     /// Outlines with less area (m²) are dropped.
     pub min_area_m2: f64,
-    /// Outlines whose highest building point stands less than this (m)
-    /// over the terrain are dropped where the terrain is known (hedges,
-    /// cars, pergolas, clipped crowns; a storey with a door is about
-    /// 2.5 m); 0: off.
+    /// Outlines are derived only from the building points standing at
+    /// least this high (m) over the terrain, where it is known: lower ones
+    /// are hedges, bushes, cars and pergolas, alone or against a wall (a
+    /// storey with a door is about 2.5 m); 0: off.
     pub min_height_m: f64,
     /// Adjacent cells whose highest points differ by more (m) belong to
     /// different buildings; 0 turns this split off.

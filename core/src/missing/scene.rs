@@ -83,12 +83,9 @@ pub fn detect_scene(
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
     let used: Vec<Footprint> = match footprints {
         Some(f) => f.to_vec(),
-        None => standing(
-            derive(&pts, &params.derive)?,
-            &pts,
-            terrain.as_ref(),
-            params.derive.min_height_m,
-            &params.split,
+        None => derive(
+            &standing(&pts, terrain.as_ref(), params.derive.min_height_m),
+            &params.derive,
         )?,
     };
     if let Some(e) = extra {
@@ -101,35 +98,22 @@ pub fn detect_scene(
     Ok((detection, used))
 }
 
-/// The derived footprints whose highest aerial building point stands at
-/// least `min_height_m` over the terrain: lower ones are hedges, cars,
-/// pergolas or clipped crowns the classifier called building, not a
-/// building a robot should survey. All of them without terrain or at 0.
-fn standing(
-    derived: Vec<Footprint>,
-    pts: &[[f32; 3]],
-    terrain: Option<&GroundGrid>,
-    min_height_m: f64,
-    split_params: &SplitParams,
-) -> Result<Vec<Footprint>, SceneDetectError> {
+/// The building points standing at least `min_height_m` over the terrain,
+/// the ones footprints are derived from: lower ones are hedges, bushes,
+/// cars and pergolas, whether alone or touching a house, where they would
+/// widen its outline into the garden. All of them without terrain or at 0.
+fn standing(pts: &[[f32; 3]], terrain: Option<&GroundGrid>, min_height_m: f64) -> Vec<[f32; 3]> {
     let Some(terrain) = terrain.filter(|_| min_height_m > 0.0) else {
-        return Ok(derived);
+        return pts.to_vec();
     };
-    let ids = split(pts, &derived, split_params)?;
-    let mut top = std::collections::HashMap::<u32, f32>::new();
-    for (p, &id) in pts.iter().zip(&ids).filter(|(_, id)| **id != 0) {
-        if let Some(g) = terrain.at(f64::from(p[0]), f64::from(p[1])) {
-            let t = top.entry(id).or_insert(f32::NEG_INFINITY);
-            *t = t.max(p[2] - g);
-        }
-    }
-    Ok(derived
-        .into_iter()
-        .filter(|f| {
-            top.get(&f.id)
-                .is_some_and(|&t| f64::from(t) >= min_height_m)
+    pts.iter()
+        .filter(|p| {
+            terrain
+                .at(f64::from(p[0]), f64::from(p[1]))
+                .is_none_or(|g| f64::from(p[2] - g) >= min_height_m)
         })
-        .collect())
+        .copied()
+        .collect()
 }
 
 /// Missing points moved from the frame of `from` to that of `to`.
@@ -150,8 +134,9 @@ pub fn shift_missing(points: &[MissingPoint], from: [f64; 3], to: [f64; 3]) -> V
 mod tests {
     use super::*;
 
-    /// Flat ground (class 2) with a 10 × 10 m roof 6 m up and a 6 × 6 m
-    /// hedge top 1.5 m up, both labelled building.
+    /// Flat ground (class 2) with a 10 × 10 m roof 6 m up, a 3 × 3 m bush
+    /// 1.5 m up against its east wall and a 6 × 6 m hedge top 1.5 m up on
+    /// its own, all labelled building.
     fn street() -> Cloud {
         let mut xyz = crate::geom::fixtures::lattice(120, 120, 0.5, |_, _| 0.0);
         let mut label = vec![class::GROUND; xyz.len()];
@@ -165,6 +150,7 @@ mod tests {
             }
         };
         add(10.0, 10.0, 10.0, 6.0);
+        add(20.0, 13.0, 3.0, 1.5);
         add(40.0, 40.0, 6.0, 1.5);
         let mut c = Cloud::from_xyz(xyz);
         c.label = Some(label);
@@ -172,7 +158,7 @@ mod tests {
     }
 
     #[test]
-    fn a_building_too_low_to_stand_in_is_no_footprint() {
+    fn what_stands_too_low_draws_no_outline_alone_or_against_a_house() {
         let cloud = street();
         let (_, kept) = detect_scene(&cloud, None, None, &SceneParams::default())
             .unwrap_or_else(|e| panic!("{e}"));
@@ -185,6 +171,8 @@ mod tests {
         };
         let (_, all) = detect_scene(&cloud, None, None, &off).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(all.len(), 2);
+        let house = all[0].bounds().unwrap_or_default();
+        assert!(house[2] > 22.0, "the bush widens the house: {house:?}");
         assert_eq!(kept.len(), 1);
         let b = kept[0].bounds().unwrap_or_default();
         assert!(b[0] < 11.0 && b[2] > 19.0 && b[2] < 21.0, "{b:?}");
