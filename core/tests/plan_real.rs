@@ -69,8 +69,8 @@ fn detection_check(cloud: &Cloud, ours: &[u8]) -> (ProducerCheck, TargetSet) {
 }
 
 /// The share of missing points on a producer building (in plan) at least
-/// `floor`, and every target within reach of one.
-fn assert_beside_buildings(name: &str, check: &ProducerCheck, floor: f64) {
+/// the issue's 0.95, and every target within reach of one.
+fn assert_beside_buildings(name: &str, check: &ProducerCheck) {
     println!(
         "{name}: {} of {} missing points within 0.5 m (plan) of a producer building point ({:.4}); \
          targets at most {:.1} m from one",
@@ -80,7 +80,7 @@ fn assert_beside_buildings(name: &str, check: &ProducerCheck, floor: f64) {
         check.target_building_max_m
     );
     assert!(
-        check.missing_on_outline_share >= floor,
+        check.missing_on_outline_share >= 0.95,
         "{name}: {:.4} of missing points on a producer building's outline",
         check.missing_on_outline_share
     );
@@ -125,7 +125,7 @@ fn our_classes_reach_the_producers_ground_and_set_downs_cross_the_canals() {
 
         // `skyground detect --classify` then `skyground plan` (its defaults: 3 more set-downs).
         let (check, targets) = detection_check(&cloud, &ours);
-        assert_beside_buildings(name, &check, 0.95);
+        assert_beside_buildings(name, &check);
         let params = GraphParams::default();
         let first = GroundGraph::build_largest(&cloud.xyz, &ours, &params).unwrap();
         let start = first.positions()[first.start_node()];
@@ -168,12 +168,10 @@ fn our_classes_reach_the_producers_ground_and_set_downs_cross_the_canals() {
 /// Each IGN tile, classified by a model trained on the other (and the BC
 /// forest and the simulated surveys): detection's missing points lie on the
 /// producer's buildings, not in the gardens' trees and hedges around them.
-/// Montpellier is held to the issue's 0.95 (0.9588 measured); St Barth,
-/// which the issue does not name, to 0.94 (0.9502 measured: one missing
-/// point above 0.95).
+/// Measured: Montpellier 0.964, St Barth 0.975.
 #[test]
 fn ign_detection_on_classes_of_a_model_that_never_saw_the_tile() {
-    for (name, other, floor) in [(IGN[0], IGN[1], 0.95), (IGN[1], IGN[0], 0.94)] {
+    for (name, other) in [(IGN[0], IGN[1]), (IGN[1], IGN[0])] {
         let Some(model) = trained_on(&[other]) else {
             return;
         };
@@ -181,6 +179,6 @@ fn ign_detection_on_classes_of_a_model_that_never_saw_the_tile() {
             return;
         };
         let (check, _) = detection_check(&cloud, &ours);
-        assert_beside_buildings(name, &check, floor);
+        assert_beside_buildings(name, &check);
     }
 }

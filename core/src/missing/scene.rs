@@ -64,7 +64,8 @@ const TERRAIN_FILL: usize = 40;
 /// Detects on the building points of `aerial` (label 6) plus those of
 /// `extra` (ground scans merged so far; unlabelled means all building),
 /// split by `footprints`, or by footprints derived from the aerial building
-/// points (so ids stay the same from round to round). The terrain comes
+/// points (so ids stay the same from round to round); either is each
+/// building's C_building, the outline its walls are tested along. The terrain comes
 /// from `aerial`'s ground points (label 2): walls are tested above their
 /// foot, and open ground floors are told from missing walls. Returns the
 /// detection (frame of `aerial`) and the footprints used.
@@ -92,9 +93,11 @@ pub fn detect_scene(
         pts.extend(building_xyz(e, aerial.origin, false)?);
     }
     let ids = split(&pts, &used, &params.split)?;
-    let given: Option<Vec<(u32, geo::MultiPolygon<f64>)>> =
-        footprints.map(|f| f.iter().map(|f| (f.id, f.polygon.clone())).collect());
-    let detection = detect_all_on(&pts, &ids, given.as_deref(), terrain.as_ref(), detect)?;
+    // A derived footprint is C_building as a given one is: walls are tested
+    // along the outline of what stands, not round the bushes at its foot.
+    let outlines: Vec<(u32, geo::MultiPolygon<f64>)> =
+        used.iter().map(|f| (f.id, f.polygon.clone())).collect();
+    let detection = detect_all_on(&pts, &ids, Some(&outlines), terrain.as_ref(), detect)?;
     Ok((detection, used))
 }
 
