@@ -53,18 +53,19 @@ fn nodes(cloud: &Cloud, labels: &[u8], params: &GraphParams) -> usize {
 /// `skyground detect --classify` then the targets of `skyground plan`,
 /// checked against the producer's building points.
 fn detection_check(cloud: &Cloud, ours: &[u8]) -> (ProducerCheck, TargetSet) {
-    let producer = cloud.label.clone().expect("a labelled tile");
+    let producer = cloud.label.as_deref().expect("a labelled tile");
     let mut ours_cloud = cloud.clone();
     ours_cloud.label = Some(ours.to_vec());
     let (detection, _) = detect_scene(&ours_cloud, None, None, &SceneParams::default()).unwrap();
     let tp = TargetParams::default();
     let site = Site::from_cloud(&cloud.xyz, ours, tp.cell, tp.clearance).unwrap();
     let (targets, _) = generate(&detection, &site, &tp).unwrap();
-    let mut at: Vec<[f32; 3]> = targets.points.iter().map(|t| t.xyz).collect();
-    for r in &targets.regions {
-        at.extend(r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
-    }
-    let check = producer_check(&cloud.xyz, &producer, &detection.missing_xyz(), &at);
+    let check = producer_check(
+        &cloud.xyz,
+        producer,
+        &detection.missing_xyz(),
+        &targets.positions(),
+    );
     (check, targets)
 }
 

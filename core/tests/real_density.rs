@@ -69,11 +69,12 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
     let tp = TargetParams::default();
     let site = Site::from_cloud(&cloud.xyz, labels, tp.cell, tp.clearance).unwrap();
     let (targets, _) = generate(&detection, &site, &tp).unwrap();
-    let mut at: Vec<[f32; 3]> = targets.points.iter().map(|t| t.xyz).collect();
-    for r in &targets.regions {
-        at.extend(r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
-    }
-    let check = producer_check(&cloud.xyz, labels, &detection.missing_xyz(), &at);
+    let check = producer_check(
+        &cloud.xyz,
+        labels,
+        &detection.missing_xyz(),
+        &targets.positions(),
+    );
 
     let graph = GroundGraph::build_largest(&cloud.xyz, labels, &GraphParams::default()).unwrap();
     let start = graph.positions()[graph.start_node()];

@@ -1,6 +1,8 @@
 //! Steps 2–3 on a whole classified cloud: buildings by footprints (given or
 //! derived), then where each one's walls are missing.
 
+use std::borrow::Cow;
+
 use super::all::{DetectError, detect_all_on};
 use super::detection::{Detection, MissingPoint};
 use super::ground::GroundGrid;
@@ -105,9 +107,13 @@ pub fn detect_scene(
 /// the ones footprints are derived from: lower ones are hedges, bushes,
 /// cars and pergolas, whether alone or touching a house, where they would
 /// widen its outline into the garden. All of them without terrain or at 0.
-fn standing(pts: &[[f32; 3]], terrain: Option<&GroundGrid>, min_height_m: f64) -> Vec<[f32; 3]> {
+fn standing<'a>(
+    pts: &'a [[f32; 3]],
+    terrain: Option<&GroundGrid>,
+    min_height_m: f64,
+) -> Cow<'a, [[f32; 3]]> {
     let Some(terrain) = terrain.filter(|_| min_height_m > 0.0) else {
-        return pts.to_vec();
+        return Cow::Borrowed(pts);
     };
     pts.iter()
         .filter(|p| {

@@ -32,6 +32,16 @@ pub struct TargetSet {
 }
 
 impl TargetSet {
+    /// Where the targets stand: each point target and each region's
+    /// corners, at its ground height (local frame).
+    pub fn positions(&self) -> Vec<[f32; 3]> {
+        let corners = self
+            .regions
+            .iter()
+            .flat_map(|r| r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
+        self.points.iter().map(|t| t.xyz).chain(corners).collect()
+    }
+
     /// How many point targets and regions building `building` has.
     pub fn counts_of(&self, building: u32) -> (usize, usize) {
         (
@@ -44,5 +54,34 @@ impl TargetSet {
                 .filter(|r| r.building == building)
                 .count(),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positions_are_the_point_targets_then_each_regions_corners() {
+        let set = TargetSet {
+            points: vec![TargetPoint {
+                xyz: [1.0, 2.0, 0.5],
+                building: 1,
+            }],
+            regions: vec![Region {
+                building: 2,
+                polygon: vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]],
+                z: 1.5,
+            }],
+        };
+        assert_eq!(
+            set.positions(),
+            vec![
+                [1.0, 2.0, 0.5],
+                [0.0, 0.0, 1.5],
+                [4.0, 0.0, 1.5],
+                [4.0, 3.0, 1.5]
+            ]
+        );
     }
 }

@@ -239,11 +239,12 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "per_building": per_building,
     });
     if let Some(truth) = &producer {
-        let mut at: Vec<[f32; 3]> = targets.points.iter().map(|t| t.xyz).collect();
-        for r in &targets.regions {
-            at.extend(r.polygon.iter().map(|v| [v[0] as f32, v[1] as f32, r.z]));
-        }
-        let check = producer_check(&cloud.xyz, truth, &detection.missing_xyz(), &at);
+        let check = producer_check(
+            &cloud.xyz,
+            truth,
+            &detection.missing_xyz(),
+            &targets.positions(),
+        );
         if !a.json {
             eprintln!(
                 "against the producer's classes: {:.3} of {} missing points have a building point nearest; targets at most {:.1} m from one ({} beyond {TARGET_REACH_M} m)",
