@@ -11,11 +11,13 @@
 //! - [`roofs`]: [`check_roofs`]: large planes are roofs, roofless objects vegetation.
 //! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
 //! - [`coherence`]: [`label_coherence`]: how far the reference labels agree with their neighbours'.
+//! - [`disputes`]: [`shapes_by_pairing`]: what the points look like where the reference and we agree and part.
 //! - [`training`]: [`TrainingCloud`], [`TrainParams`], [`train`],
 //!   [`default_training_set`] (simulated airborne scans of several seeds).
 
 pub mod blocks;
 pub mod coherence;
+pub mod disputes;
 pub mod error;
 pub mod hag;
 pub mod model;
@@ -27,6 +29,7 @@ pub mod smooth;
 pub mod training;
 
 pub use coherence::{LabelCoherence, label_coherence};
+pub use disputes::{PairShape, shapes_by_pairing};
 pub use error::ClassifyError;
 pub use hag::hag_from_ground_points;
 pub use model::{Model, Smoothing};

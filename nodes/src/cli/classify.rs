@@ -6,7 +6,8 @@ use std::time::Instant;
 use serde::Deserialize;
 use skyground_core::classify::{
     ClassReport, DEFAULT_DENSITIES, FileRole, GroundReport, SceneClassifier, TrainParams,
-    default_training_set, file_training_clouds, is_scored, label_coherence, train,
+    default_training_set, disputes, echoes_of, file_training_clouds, is_scored, label_coherence,
+    shapes_by_pairing, train,
 };
 use skyground_core::cloud::class::{self, BUILDING, GROUND, VEGETATION};
 use skyground_core::cloud::las::LasError;
@@ -164,6 +165,7 @@ fn classify_one(
             let own: Vec<usize> = (0..job.own).collect();
             classified.labels.truncate(job.own);
             classified.ground.is_ground.truncate(job.own);
+            classified.ground.hag.truncate(job.own);
             cloud.subset(&own)
         }
     };
@@ -267,6 +269,25 @@ fn classify_one(
             }
         }
         out["label_coherence"] = serde_json::to_value(&coherence).map_err(err)?;
+        // Where the producer and we part, which side the points resemble.
+        let started = Instant::now();
+        let shapes = shapes_by_pairing(
+            &cloud.xyz,
+            &classified.ground.hag,
+            echoes_of(&cloud),
+            truth,
+            &classified.labels,
+            &classifier.model().feature_params,
+        )
+        .map_err(err)?;
+        out["seconds"]["shapes_by_pairing"] = serde_json::json!(started.elapsed().as_secs_f64());
+        if !json && !shapes.is_empty() {
+            eprintln!(
+                "what the points look like, by the producer's class and ours (median planarity over 1.5 m, share from pulses with several returns, median height over the ground):\n{}",
+                disputes::table(&shapes)
+            );
+        }
+        out["shapes_by_pairing"] = serde_json::to_value(&shapes).map_err(err)?;
         out["scored_points"] = serde_json::json!(scored.len());
         out["report"] = serde_json::to_value(&report).map_err(err)?;
         out["ground"] = serde_json::to_value(&ground).map_err(err)?;
