@@ -159,3 +159,27 @@ def test_detect_keeps_the_producers_compression(tmp_path):
     p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out],
                        capture_output=True, text=True, timeout=300)
     assert p.returncode != 0 and "no classified.laz or classified.las" in p.stderr, p.stderr
+
+
+def test_plan_says_what_tree_crowns_cost(tmp_path):
+    """On our classes AHN3 Delft 1's street trees are vegetation, and with
+    the default rule a crown blocks its whole column: `plan` says how much
+    ground the start's piece would hold with crowns blocking only in the
+    vehicle's height band, and the params file that gives it exactly that."""
+    d1 = real_file("ahn3_delft_1.laz")
+    out = tmp_path / "d1"
+    run("detect", "--in", d1, "--out", out, "--classify", "--json")
+    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--json"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    whole = json.loads(p.stdout)
+    open_ = whole["if_crowns_block_only_in_band"]
+    # Measured: 1,096 nodes, and 3,702 with crowns open (docs/density.md).
+    assert open_["graph"]["nodes"] > 2 * whole["nodes"], (whole["nodes"], open_)
+    assert "graph.canopy_is_obstacle: false" in p.stderr and str(open_["graph"]["nodes"]) in p.stderr
+    params = tmp_path / "band.yaml"
+    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: false\n")
+    band = json.loads(run("plan", "--in", out, "--params-file", params, "--json").stdout)
+    assert band["if_crowns_block_only_in_band"] is None
+    assert band["nodes"] >= open_["graph"]["nodes"]
+    assert band["reachable_points"] + band["reachable_regions"] > whole["reachable_points"] + whole["reachable_regions"]

@@ -301,6 +301,29 @@ impl GroundGraph {
         &self.params
     }
 
+    /// What tree crowns cost this graph: the same cloud's graph from the
+    /// same start with crowns blocking only in the vehicle's height band
+    /// (`canopy_is_obstacle: false`); `None` when this one already lets
+    /// them. Whether to drive under crowns is the user's call (trunks are
+    /// seldom in an aerial cloud); this says what the call is worth.
+    pub fn if_crowns_block_only_in_band(
+        &self,
+        xyz: &[[f32; 3]],
+        labels: &[u8],
+    ) -> Result<Option<GraphReport>, GraphError> {
+        if !self.params.canopy_is_obstacle {
+            return Ok(None);
+        }
+        let params = GraphParams {
+            canopy_is_obstacle: false,
+            ..self.params.clone()
+        };
+        let start = self.positions[self.start];
+        Ok(Some(
+            GroundGraph::build(xyz, labels, start, &params)?.report(),
+        ))
+    }
+
     /// Distance (xy) from node `i` to the nearest obstacle, metres (capped at 8; 0 for a bad index).
     pub fn clearance(&self, i: usize) -> f32 {
         self.clearance.get(i).copied().unwrap_or(0.0)

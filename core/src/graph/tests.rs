@@ -306,6 +306,35 @@ fn a_crown_over_measured_ground_blocks_only_its_trunk() {
     }
 }
 
+#[test]
+fn what_crowns_cost_is_the_graph_with_them_blocking_only_in_the_band() {
+    let start = [2.0, 5.0, 0.0];
+    let (xyz, lab) = street_under_a_crown();
+    let whole = GroundGraph::build(&xyz, &lab, start, &GraphParams::default()).unwrap();
+    let open = whole
+        .if_crowns_block_only_in_band(&xyz, &lab)
+        .unwrap()
+        .unwrap();
+    let band_only = GraphParams {
+        canopy_is_obstacle: false,
+        ..GraphParams::default()
+    };
+    let direct = GroundGraph::build(&xyz, &lab, start, &band_only).unwrap();
+    assert_eq!(open, direct.report());
+    assert!(
+        open.nodes > 2 * whole.len(),
+        "{open:?} against {}",
+        whole.len()
+    );
+    // A graph that lets crowns already has nothing to compare.
+    assert!(
+        direct
+            .if_crowns_block_only_in_band(&xyz, &lab)
+            .unwrap()
+            .is_none()
+    );
+}
+
 /// Ground of kind Ground: a 50 m × 30 m plain at z = 0, a 3 m high
 /// plateau over x 15..25, y −5..12 (a quay), and a ridge 0.3 m wide and
 /// 3 m high over x 30..30.3, y −5..15 (the spikes city-model ground

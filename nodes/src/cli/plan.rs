@@ -8,7 +8,7 @@ use serde::Deserialize;
 use serde_json::json;
 use skyground_core::cloud::read_cloud;
 use skyground_core::field::FieldRoute;
-use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::graph::{GraphParams, GraphReport, GroundGraph};
 use skyground_core::missing::MissingPoint;
 use skyground_core::plot::{PlanView, plan_picture};
 use skyground_core::route::{
@@ -92,6 +92,9 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     }
     .map_err(err)?;
     let start = given.unwrap_or_else(|| graph.positions()[graph.start_node()]);
+    let crowns_open = graph
+        .if_crowns_block_only_in_band(&cloud.xyz, &labels)
+        .map_err(err)?;
     let graph_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let ground = Ground {
@@ -132,12 +135,26 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         points - route.unreachable_points.len(),
         regions - route.unreachable_regions.len(),
     );
+    let share = |r: &GraphReport| r.nodes as f64 / r.candidate_nodes.max(1) as f64;
+    if let Some(open) = crowns_open.filter(|o| o.nodes as f64 > 1.1 * report.nodes as f64) {
+        eprintln!(
+            "tree crowns block their whole column here (graph.canopy_is_obstacle): the start's ground holds {} nodes ({:.3} of candidates); with crowns blocking only in the vehicle's height band it would hold {} ({:.3}). For a robot that avoids trunks on its own: --params-file with graph.canopy_is_obstacle: false",
+            report.nodes,
+            share(&report),
+            open.nodes,
+            share(&open)
+        );
+    }
     let out = json!({
         "input": a.input,
         "start": start,
         "graph": report,
         "graph_params": graph.params(),
-        "reachable_node_share": report.nodes as f64 / report.candidate_nodes.max(1) as f64,
+        "reachable_node_share": share(&report),
+        "if_crowns_block_only_in_band": crowns_open.map(|o| json!({
+            "graph": o,
+            "reachable_node_share": share(&o),
+        })),
         "set_down_node_share": set_down_nodes as f64 / report.candidate_nodes.max(1) as f64,
         "nodes": graph.len(),
         "edges": report.edges,
