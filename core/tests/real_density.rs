@@ -79,7 +79,7 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
     let graph = GroundGraph::build_largest(&cloud.xyz, labels, &GraphParams::default()).unwrap();
     let start = graph.positions()[graph.start_node()];
     let g = graph.report();
-    let reachable_share = g.nodes as f64 / g.candidate_nodes.max(1) as f64;
+    let reachable_share = g.reachable_share();
     // The most any vehicle could reach here: every point that is not ground,
     // building, water or bridge deleted (trees, cars, hedges, fences gone).
     let fixed = |l: &u8| matches!(*l, class::GROUND | class::BUILDING | 9 | 17 | 26);
@@ -93,7 +93,7 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
     let bound = GroundGraph::build(&bxyz, &blabels, start, &GraphParams::default())
         .unwrap()
         .report();
-    let bound_share = bound.nodes as f64 / bound.candidate_nodes.max(1) as f64;
+    let bound_share = bound.reachable_share();
     let dp = detection.params.as_ref().unwrap();
     println!(
         "{name}: buildings {:.1} pts/m² → slice {} m, cell {} m, δ {} m; {} footprints; \

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use super::error::ClassifyError;
 use crate::cloud::ColumnLength;
 use crate::cloud::class::{BUILDING, VEGETATION, fold};
-use crate::features::{Echoes, FEATURE_NAMES, FeatureParams, compute_subset};
+use crate::features::{Echoes, FeatureParams, R1_PLANARITY, compute_subset};
 
 /// Most points profiled per pairing; beyond, an evenly spread sample.
 pub const MAX_PER_PAIR: usize = 5_000;
@@ -63,14 +63,12 @@ pub fn shapes_by_pairing(
         (VEGETATION, VEGETATION),
         (VEGETATION, BUILDING),
     ];
-    let members: Vec<Vec<usize>> = pairs
-        .iter()
-        .map(|&(p, o)| {
-            (0..xyz.len())
-                .filter(|&i| fold(truth[i]) == p && fold(ours[i]) == o)
-                .collect()
-        })
-        .collect();
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); pairs.len()];
+    for (i, (&t, &o)) in truth.iter().zip(ours).enumerate() {
+        if let Some(k) = pairs.iter().position(|&p| p == (fold(t), fold(o))) {
+            members[k].push(i);
+        }
+    }
     let samples: Vec<Vec<usize>> = members
         .iter()
         .map(|m| {
@@ -83,7 +81,6 @@ pub fn shapes_by_pairing(
         return Ok(Vec::new());
     }
     let features = compute_subset(xyz, hag, echoes, &rows, params)?;
-    let planarity = column("r1_planarity");
     let mut out = Vec::new();
     let mut at = 0;
     for ((&(producer, ours), all), sample) in pairs.iter().zip(&members).zip(&samples) {
@@ -91,7 +88,7 @@ pub fn shapes_by_pairing(
             continue;
         }
         let plan: Vec<f32> = (at..at + sample.len())
-            .map(|r| features.row(r)[planarity])
+            .map(|r| features.row(r)[R1_PLANARITY])
             .collect();
         at += sample.len();
         let heights: Vec<f32> = sample.iter().map(|&i| hag[i]).collect();
@@ -140,19 +137,14 @@ pub fn table(shapes: &[PairShape]) -> String {
     s
 }
 
-/// Index of a feature column by name.
-fn column(name: &str) -> usize {
-    FEATURE_NAMES.iter().position(|&n| n == name).unwrap_or(0)
-}
-
 /// Median of finite values; NaN when there are none.
 fn median(mut v: Vec<f32>) -> f32 {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
         return f32::NAN;
     }
-    v.sort_by(f32::total_cmp);
-    v[v.len() / 2]
+    let mid = v.len() / 2;
+    *v.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 #[cfg(test)]

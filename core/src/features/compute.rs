@@ -52,6 +52,9 @@ pub const FEATURE_NAMES: [&str; 30] = [
 /// Number of features per point.
 pub const DIMS: usize = FEATURE_NAMES.len();
 
+/// Column of `r1_planarity` (the 1.5 m sphere's planarity) in [`FEATURE_NAMES`].
+pub const R1_PLANARITY: usize = 10;
+
 /// A row-major feature matrix.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Features {
@@ -212,6 +215,11 @@ fn check_input(xyz: &[[f32; 3]], hag: &[f32], params: &FeatureParams) -> Result<
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn named_columns_point_at_their_names() {
+        assert_eq!(FEATURE_NAMES[R1_PLANARITY], "r1_planarity");
+    }
+
     use super::*;
 
     #[test]

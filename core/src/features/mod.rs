@@ -19,7 +19,7 @@ pub mod params;
 pub(crate) mod shape;
 mod voxel;
 
-pub use compute::{FEATURE_NAMES, Features, compute, compute_subset};
+pub use compute::{FEATURE_NAMES, Features, R1_PLANARITY, compute, compute_subset};
 pub use echo::Echoes;
 pub use error::FeatureError;
 pub use params::FeatureParams;

@@ -50,6 +50,18 @@ pub struct GraphReport {
     pub bytes: usize,
 }
 
+impl GraphReport {
+    /// `nodes` as a share of the candidate nodes (0 without candidates).
+    pub fn share_of_candidates(&self, nodes: usize) -> f64 {
+        nodes as f64 / self.candidate_nodes.max(1) as f64
+    }
+
+    /// The share of the candidate nodes the graph reaches from its start.
+    pub fn reachable_share(&self) -> f64 {
+        self.share_of_candidates(self.nodes)
+    }
+}
+
 /// Nodes on open ground joined where the vehicle can drive, restricted to the
 /// connected component of the start.
 #[derive(Debug, Clone)]
