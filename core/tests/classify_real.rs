@@ -6,7 +6,8 @@
 //! simulated surveys; the test checks its own list of training files) is
 //! scored on every other labelled file. Each IGN tile is scored by a model
 //! trained here, exactly as `skyground train` would, on the other tile, the
-//! BC forest and the simulated surveys (leave one tile out).
+//! BC forest and the simulated surveys (leave one tile out); the BC forest
+//! by models trained on both tiles with no forest or another forest.
 //!
 //! The floors are the bars where the held-out figure meets them
 //! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
@@ -25,7 +26,7 @@ use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::ground::CsfParams;
 
 mod common;
-use common::{BC_FOREST, IGN, real_file, shipped, trained_on};
+use common::{BC_FOREST, IGN, real_file, shipped, trained_on, trained_with_forests};
 
 struct Scored {
     building_f1: f64,
@@ -295,4 +296,34 @@ fn a_forest_it_never_saw_is_almost_no_building() {
         "{:.2} % labelled building",
         100.0 * s.building_share
     );
+}
+
+/// The forest the shipped model learned as vegetation, scored by models
+/// that never saw it: one trained on both IGN tiles and the simulated
+/// surveys with no forest at all (measured 0.31 % building; 0.16 % on
+/// lidr_mixedconifer), one that learned lidr_mixedconifer instead (0.08 %).
+#[test]
+fn the_forest_the_shipped_model_learned_held_out() {
+    let Some(no_forest) = trained_with_forests(&IGN, &[]) else {
+        return;
+    };
+    for name in [BC_FOREST, "lidr_mixedconifer.laz"] {
+        if let Some(s) = score(name, no_forest.clone()) {
+            assert!(
+                s.building_share <= 0.01,
+                "{name}, no forest learned: {:.2} % labelled building",
+                100.0 * s.building_share
+            );
+        }
+    }
+    let Some(other_forest) = trained_with_forests(&IGN, &["lidr_mixedconifer.laz"]) else {
+        return;
+    };
+    if let Some(s) = score(BC_FOREST, other_forest) {
+        assert!(
+            s.building_share <= 0.01,
+            "{BC_FOREST}, lidr_mixedconifer learned: {:.2} % labelled building",
+            100.0 * s.building_share
+        );
+    }
 }

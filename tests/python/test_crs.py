@@ -242,3 +242,19 @@ def test_detect_classifies_with_the_model_it_is_given(tmp_path):
     p = subprocess.run([str(BIN / "skyground"), "detect", "--in", str(src), "--out", str(tmp_path / "d"),
                         "--model", str(model)], capture_output=True, text=True, timeout=600)
     assert p.returncode != 0 and "--classify" in p.stderr, p.stderr
+
+
+def test_detect_says_what_it_found(tmp_path):
+    """Without --json, `detect` tells a user on stderr what it found and
+    where it wrote it (the same counts as the JSON), and keeps stdout empty."""
+    src = real_file("laspy_nebraska_ftus.las")
+    s = json.loads(run("detect", "--in", src, "--out", tmp_path / "a", "--json").stdout)
+    p = run("detect", "--in", src, "--out", tmp_path / "b")
+    assert p.stdout == ""
+    line = p.stderr.splitlines()[0]
+    assert line.startswith(
+        f"{s['buildings']} buildings ({s['analysed']} analysed), {s['missing_points']} missing points"
+    ), line
+    assert f"{s['target_points']} target points and {s['target_regions']} regions" in line, line
+    assert str(tmp_path / "b") in line and "targets.geojson" in line, line
+    assert "against the producer's classes" in p.stderr, p.stderr

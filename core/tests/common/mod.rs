@@ -58,9 +58,17 @@ pub fn shipped() -> Model {
 /// BC_FOREST` would train it; `None` when the real data is absent.
 #[allow(dead_code)]
 pub fn trained_on(labelled: &[&str]) -> Option<Model> {
+    trained_with_forests(labelled, &[BC_FOREST])
+}
+
+/// A model trained as `skyground train --in LABELLED [--vegetation-in
+/// FORESTS]` would train it; `None` when the real data is absent.
+#[allow(dead_code)]
+pub fn trained_with_forests(labelled: &[&str], forests: &[&str]) -> Option<Model> {
     let mut set = default_training_set().unwrap_or_else(|e| panic!("{e}"));
     let labelled = labelled.iter().map(|n| (*n, FileRole::Labelled));
-    for (name, role) in labelled.chain([(BC_FOREST, FileRole::Forest)]) {
+    let forests = forests.iter().map(|n| (*n, FileRole::Forest));
+    for (name, role) in labelled.chain(forests) {
         let cloud = read_cloud(&real_file(name)?).unwrap_or_else(|e| panic!("{name}: {e}"));
         let clouds =
             file_training_clouds(name, cloud, role, &DEFAULT_DENSITIES, &CsfParams::default())

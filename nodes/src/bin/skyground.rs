@@ -31,7 +31,7 @@ enum Cmd {
     Aerial(aerial::AerialArgs),
     /// Classify a cloud: ground (CSF), vegetation and buildings (Random Forest); scores against its own labels.
     Classify(classify::ClassifyArgs),
-    /// Train the classifier's model on simulated scenes.
+    /// Train the classifier's model on labelled surveys, forests and simulated scenes.
     Train(classify::TrainArgs),
     /// What a file holds: points or objects, extent, CRS and unit, density, classes, returns.
     Info(info::InfoArgs),

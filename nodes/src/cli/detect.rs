@@ -238,6 +238,20 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "crs": super::info::crs_json(cloud.crs.as_ref()),
         "per_building": per_building,
     });
+    if !a.json {
+        eprintln!(
+            "{} buildings ({analysed} analysed), {} missing points (R_missing {:.3}), {} target points and {} regions to explore; written to {} (detection.png, targets.geojson, completeness.geojson / .csv, missing.las, {})",
+            detection.buildings.len(),
+            missing.len(),
+            detection.r_missing(),
+            targets.points.len(),
+            targets.regions.len(),
+            a.out.display(),
+            classified
+                .file_name()
+                .map_or_else(Default::default, |n| n.to_string_lossy()),
+        );
+    }
     if let Some(truth) = &producer {
         let check = producer_check(
             &cloud.xyz,
@@ -245,7 +259,9 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
             &detection.missing_xyz(),
             &targets.positions(),
         );
-        if !a.json {
+        if !a.json && check.missing_points == 0 {
+            eprintln!("against the producer's classes: no missing points to check");
+        } else if !a.json {
             eprintln!(
                 "against the producer's classes: {:.3} of {} missing points have a building point nearest; targets at most {:.1} m from one ({} beyond {TARGET_REACH_M} m)",
                 check.missing_on_building_share,
