@@ -169,11 +169,12 @@ def test_footprints_and_plan_in_feet(tmp_path):
         assert f["properties"]["stops"] > 0 and "set the robot down here" in f["properties"]["why"]
     assert sum(s["stops"] for s in plan["set_downs"]) == plan["stops"]
     # The plan's picture: a PNG as wide as the survey is long (2,400 px on
-    # its longer side, autzen_trim is 1,178 × 563 ft).
+    # its longer side, autzen_trim is 1,178 × 563 ft), with the legend in a
+    # band above the map and the scale bar in one below it (under 300 px).
     png = (tmp_path / "a" / "plan.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
-    assert width == 2400 and 1000 < height < 1300, (width, height)
+    assert width == 2400 and 1000 < height < 1600, (width, height)
 
 
 def test_classify_a_file_whose_producer_names_no_ground(tmp_path):

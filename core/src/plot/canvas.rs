@@ -31,11 +31,16 @@ pub enum PlotError {
 }
 
 /// A picture of the rectangle `min..max` of the xy plane, x to the right,
-/// y up, at a fixed number of pixels per metre.
+/// y up, at a fixed number of pixels per metre; bands above and below the
+/// map may hold its furniture.
 pub struct Canvas {
     img: RgbImage,
     min: [f64; 2],
     px_per_m: f64,
+    /// Rows above the map.
+    top: u32,
+    /// Rows of the map itself.
+    map_h: u32,
 }
 
 impl Canvas {
@@ -61,7 +66,29 @@ impl Canvas {
             img: RgbImage::from_pixel(w, h, image::Rgb(WHITE)),
             min,
             px_per_m,
+            top: 0,
+            map_h: h,
         })
+    }
+
+    /// Width and height of the map, without the bands.
+    pub fn map_size(&self) -> (u32, u32) {
+        (self.img.width(), self.map_h)
+    }
+
+    /// Rows above the map (0 until bands are added).
+    pub fn map_top(&self) -> u32 {
+        self.top
+    }
+
+    /// Adds white bands of `top` rows above the map and `bottom` below it,
+    /// so furniture drawn there hides nothing of the map.
+    pub(super) fn add_bands(&mut self, top: u32, bottom: u32) {
+        let (w, h) = self.img.dimensions();
+        let mut img = RgbImage::from_pixel(w, h + top + bottom, image::Rgb(WHITE));
+        image::imageops::replace(&mut img, &self.img, 0, i64::from(top));
+        self.img = img;
+        self.top += top;
     }
 
     /// Pixels per metre.
@@ -76,10 +103,10 @@ impl Canvas {
 
     /// The pixel (column, row, as reals) of a point of the plane.
     pub fn to_px(&self, p: [f64; 2]) -> [f64; 2] {
-        let h = f64::from(self.img.height());
+        let bottom = f64::from(self.top + self.map_h);
         [
             (p[0] - self.min[0]) * self.px_per_m,
-            h - (p[1] - self.min[1]) * self.px_per_m,
+            bottom - (p[1] - self.min[1]) * self.px_per_m,
         ]
     }
 

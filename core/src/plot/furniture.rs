@@ -9,6 +9,48 @@ use crate::crs::LinearUnit;
 const INK: Rgb = [0, 0, 0];
 /// Share of the picture's width the scale bar aims at.
 const BAR_SHARE: f64 = 0.2;
+/// Rows (in font pixels) the north arrow takes at the top.
+const NORTH_ROWS: i64 = 42;
+/// Rows (in font pixels) of the band below the map that holds the scale bar.
+const SCALE_ROWS: i64 = GLYPH_H + 20;
+/// Font pixels kept free beside the legend for the north arrow.
+const NORTH_COLS: i64 = 24;
+
+/// How the legend's entries are laid out: as many columns as the width
+/// left of the north arrow holds, so the band above the map stays low.
+struct LegendLayout {
+    columns: i64,
+    rows: i64,
+    column_w: i64,
+    height: i64,
+}
+
+impl LegendLayout {
+    fn new(entries: &[(Rgb, &str)], width: i64, s: i64) -> Self {
+        let n = i64::try_from(entries.len()).unwrap_or(i64::MAX).max(1);
+        let column_w = entries
+            .iter()
+            .map(|(_, t)| text_width(t, s))
+            .max()
+            .unwrap_or(0)
+            + GLYPH_H * s
+            + 8 * s;
+        let room = (width - (NORTH_COLS + 8) * s).max(column_w);
+        let columns = (room / column_w).clamp(1, n);
+        let rows = (n + columns - 1) / columns;
+        let height = if entries.is_empty() {
+            0
+        } else {
+            (GLYPH_H + 4) * s * rows + 2 * s
+        };
+        Self {
+            columns,
+            rows,
+            column_w,
+            height,
+        }
+    }
+}
 
 /// A 1, 2 or 5 × 10^k at most `v` (v > 0).
 pub fn nice_length(v: f64) -> f64 {
@@ -31,7 +73,7 @@ fn format_length(v: f64) -> String {
 impl Canvas {
     /// Font pixel size for this picture (text stays readable on large ones).
     fn text_scale(&self) -> i64 {
-        let (w, h) = self.size();
+        let (w, h) = self.map_size();
         i64::from((w.min(h) / 400).clamp(1, 4))
     }
 
@@ -59,35 +101,39 @@ impl Canvas {
     }
 
     /// Legend (top left), north arrow (top right) and scale bar (bottom left)
-    /// with lengths in `unit` (the picture itself is in metres).
+    /// with lengths in `unit` (the picture itself is in metres), in bands
+    /// added above and below the map so they hide none of it.
     pub fn furnish(&mut self, legend: &[(Rgb, &str)], unit: &LinearUnit) {
         let s = self.text_scale();
-        self.legend(legend, s);
+        let layout = LegendLayout::new(legend, i64::from(self.map_size().0), s);
+        let top = (layout.height + 8 * s).max(NORTH_ROWS * s);
+        let bottom = SCALE_ROWS * s;
+        self.add_bands(
+            u32::try_from(top).unwrap_or(0),
+            u32::try_from(bottom).unwrap_or(0),
+        );
+        self.legend(legend, &layout, s);
         self.north_arrow(s);
         self.scale_bar(unit, s);
     }
 
-    fn legend(&mut self, entries: &[(Rgb, &str)], s: i64) {
+    fn legend(&mut self, entries: &[(Rgb, &str)], layout: &LegendLayout, s: i64) {
         if entries.is_empty() {
             return;
         }
         let line = (GLYPH_H + 4) * s;
         let sw = GLYPH_H * s;
-        let w = entries
-            .iter()
-            .map(|(_, t)| text_width(t, s))
-            .max()
-            .unwrap_or(0)
-            + sw
-            + 6 * s;
-        let h = line * entries.len() as i64 + 2 * s;
         let (x0, y0) = (4 * s, 4 * s);
+        let (w, h) = (layout.column_w * layout.columns, layout.height);
         self.rect_px(x0 - s, y0 - s, w + 2 * s, h + 2 * s, INK);
         self.rect_px(x0, y0, w, h, WHITE);
+        // Down each column, then the next: it reads as a list.
         for (i, (c, t)) in entries.iter().enumerate() {
-            let y = y0 + 2 * s + i as i64 * line;
-            self.rect_px(x0 + 2 * s, y, sw, sw, *c);
-            self.text_px(x0 + 4 * s + sw, y, t, s, INK);
+            let (col, row) = (i as i64 / layout.rows, i as i64 % layout.rows);
+            let x = x0 + col * layout.column_w;
+            let y = y0 + 2 * s + row * line;
+            self.rect_px(x + 2 * s, y, sw, sw, *c);
+            self.text_px(x + 4 * s + sw, y, t, s, INK);
         }
     }
 
@@ -188,5 +234,30 @@ mod tests {
             let shaft = u32::try_from(14 * s + 20 * s).unwrap();
             assert_eq!(c.pixel(x, shaft), Some(INK));
         }
+    }
+
+    #[test]
+    fn furniture_hides_nothing_of_the_map() {
+        const MAP: Rgb = [0, 128, 255];
+        let mut c = Canvas::new([0.0, 0.0], [300.0, 200.0], 0.0, 1200).unwrap();
+        let square = [[0.0, 0.0], [300.0, 0.0], [300.0, 200.0], [0.0, 200.0]];
+        c.fill(&[&square], MAP, 1.0);
+        let entries: Vec<(Rgb, &str)> = (0..8).map(|_| ([255, 0, 0], "an entry")).collect();
+        c.furnish(&entries, &LinearUnit::Metre);
+        let (w, h) = c.map_size();
+        let top = c.map_top();
+        assert!(top > 0 && c.size().1 > top + h, "bands above and below");
+        let covered = (0..w)
+            .flat_map(|x| (top..top + h).map(move |y| (x, y)))
+            .filter(|&(x, y)| c.pixel(x, y) != Some(MAP))
+            .count();
+        assert_eq!(covered, 0, "map pixels covered by furniture");
+        // The map's corners still land where the plane's corners are.
+        assert_eq!(c.to_px([0.0, 200.0]), [0.0, f64::from(top)]);
+        assert_eq!(c.to_px([300.0, 0.0]), [1200.0, f64::from(top + h)]);
+        // Eight entries on a 1,200 px map: more than one column, so the
+        // band is lower than a one-column legend would make it.
+        let s = c.text_scale();
+        assert!(i64::from(top) < 8 * (GLYPH_H + 4) * s, "top band {top} px");
     }
 }
