@@ -259,3 +259,39 @@ def test_detect_says_what_it_found(tmp_path):
     assert f"{s['target_points']} target points and {s['target_regions']} regions" in line, line
     assert str(tmp_path / "b") in line and "targets.geojson" in line, line
     assert "against the producer's classes" in p.stderr, p.stderr
+
+
+def test_a_crs_the_file_does_not_state(tmp_path):
+    """AHN3 tiles come without CRS records; `--crs EPSG:28992` gives every
+    output the CRS (LAS 1.2 copy: GeoTIFF keys; LAS 1.4: WKT; GeoJSON: its
+    URN), as laspy/pyproj read them; a file that states another CRS is
+    refused with nothing written, and a name that is no EPSG code too."""
+    import laspy
+    import pyproj
+
+    src = real_file("ahn3_delft_2.laz")
+    assert laspy.read(str(src)).header.parse_crs() is None
+    out = tmp_path / "d"
+    s = json.loads(run("detect", "--in", src, "--out", out, "--crs", "EPSG:28992", "--json").stdout)
+    assert s["crs"]["epsg"] == 28992, s["crs"]
+    rd = pyproj.CRS.from_epsg(28992)
+    copy = laspy.read(str(out / "classified.laz"))
+    assert copy.header.version == laspy.read(str(src)).header.version
+    assert copy.header.parse_crs() == rd
+    missing = laspy.read(str(out / "missing.las")).header.parse_crs()
+    # The registry's WKT carries its datum shift (a bound CRS around RD New).
+    assert (missing.source_crs or missing).to_epsg() == 28992, missing
+    for f in ["targets.geojson", "completeness.geojson"]:
+        doc = json.loads((out / f).read_text())
+        assert doc["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::28992", f
+    info = run("info", src, "--crs", "28992").stdout
+    assert "EPSG:28992" in info and "from epsg" in info, info
+    # Stated again where the file states its own: the same is accepted, another refused.
+    feet = real_file("autzen_trim.las")
+    run("info", feet, "--crs", "EPSG:2994")
+    for args in (["--crs", "EPSG:28992"], ["--crs", "RD New"]):
+        p = subprocess.run([str(BIN / "skyground"), "detect", "--in", str(feet if args[1] != "RD New" else src),
+                            "--out", str(tmp_path / "x"), *args], capture_output=True, text=True, timeout=600)
+        assert p.returncode != 0, p.stderr
+        assert not (tmp_path / "x" / "targets.geojson").exists()
+        assert ("does not reproject" in p.stderr) if args[1] != "RD New" else ("names no EPSG code" in p.stderr), p.stderr

@@ -197,6 +197,16 @@ impl Cloud {
         self.rescale([0, 1, 2].map(|k| new[k] / old[k]));
     }
 
+    /// Takes the source coordinates to be in `crs` (a user's `--crs` for a
+    /// file that states none): points and origin are rescaled from the unit
+    /// assumed so far to the CRS's.
+    pub fn set_crs(&mut self, crs: Crs) {
+        let old = self.to_metre();
+        let new = crs.to_metre();
+        self.crs = Some(crs);
+        self.rescale([0, 1, 2].map(|k| new[k] / old[k]));
+    }
+
     /// Multiplies points and origin by `r` per axis (a change of unit).
     pub(crate) fn rescale(&mut self, r: [f64; 3]) {
         if r == [1.0; 3] {

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use super::Cloud;
 use super::las::{LasError, read_las, read_las_bounds, relabel_las, write_las};
 use super::ply::{PlyError, parse_ply, write_ply};
+use crate::crs::Crs;
 use crate::file::{self, FileError};
 
 /// Reading or writing a cloud file failed; the message starts with the path.
@@ -157,11 +158,13 @@ pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
 /// order, one class per point) to `path` (LAS or LAZ by its extension):
 /// every other field of the points and the first source's header and
 /// records stay. `Ok(false)`, with nothing written, when a source or `path`
-/// is not LAS/LAZ: write the cloud with [`write_cloud`] instead.
+/// is not LAS/LAZ: write the cloud with [`write_cloud`] instead. A first
+/// source without CRS records gets those of `stated` (the user's `--crs`).
 pub fn relabel_files(
     sources: &[PathBuf],
     path: &Path,
     labels: &[u8],
+    stated: Option<&Crs>,
 ) -> Result<bool, CloudIoError> {
     let las_like = |k: Kind| matches!(k, Kind::Las | Kind::Laz);
     let out_kind = kind(path)?;
@@ -184,13 +187,12 @@ pub fn relabel_files(
     let part = PathBuf::from(part);
     let written = (|| {
         let sink = BufWriter::new(file::create(&part)?);
-        let mut sink =
-            relabel_las(readers, sink, labels, out_kind == Kind::Laz).map_err(|source| {
-                CloudIoError::Las {
-                    path: path.into(),
-                    source,
-                }
-            })?;
+        let mut sink = relabel_las(readers, sink, labels, out_kind == Kind::Laz, stated).map_err(
+            |source| CloudIoError::Las {
+                path: path.into(),
+                source,
+            },
+        )?;
         sink.flush().map_err(|e| FileError::new(&part, e))?;
         drop(sink);
         std::fs::rename(&part, path).map_err(|e| FileError::new(path, e))?;

@@ -174,19 +174,52 @@ pub fn geotiff_facts(
     Ok(facts)
 }
 
+/// `GTRasterTypeGeoKey`.
+const RASTER_TYPE: u16 = 1025;
+
+/// A key directory (record 34735) from `(id, location, count, value)`
+/// entries, sorted by id as the GeoTIFF specification asks.
+pub(crate) fn directory(entries: &[[u16; 4]]) -> Vec<u8> {
+    let mut sorted = entries.to_vec();
+    sorted.sort_by_key(|e| e[0]);
+    let n = u16::try_from(sorted.len()).unwrap_or(u16::MAX);
+    [1, 1, 0, n]
+        .iter()
+        .chain(sorted.iter().flatten())
+        .flat_map(|v| v.to_le_bytes())
+        .collect()
+}
+
+/// The key directory of a projected CRS known by its EPSG codes: model type
+/// projected, pixel is area, the projected code and its unit, and the
+/// vertical code and unit when known. `None` when a code does not fit the
+/// keys' 16 bits.
+pub(crate) fn projected_directory(
+    projected: u32,
+    unit: &LinearUnit,
+    vertical: Option<(u32, &LinearUnit)>,
+) -> Option<Vec<u8>> {
+    let code = |c: u32| u16::try_from(c).ok();
+    let mut keys = vec![
+        [MODEL_TYPE, 0, 1, 1],
+        [RASTER_TYPE, 0, 1, 1],
+        [PROJECTED_TYPE, 0, 1, code(projected)?],
+    ];
+    if let Some(u) = unit.epsg() {
+        keys.push([LINEAR_UNITS, 0, 1, u]);
+    }
+    if let Some((v, vu)) = vertical {
+        keys.push([VERTICAL_TYPE, 0, 1, code(v)?]);
+        if let Some(u) = vu.epsg() {
+            keys.push([VERTICAL_UNITS, 0, 1, u]);
+        }
+    }
+    Some(directory(&keys))
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-
-    /// A key directory from `(id, location, count, value)` entries.
-    pub(crate) fn directory(entries: &[[u16; 4]]) -> Vec<u8> {
-        let n = u16::try_from(entries.len()).unwrap();
-        [1, 1, 0, n]
-            .iter()
-            .chain(entries.iter().flatten())
-            .flat_map(|v| v.to_le_bytes())
-            .collect()
-    }
 
     #[test]
     fn nebraska_keys_give_us_feet_both_ways() {

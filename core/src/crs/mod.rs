@@ -212,6 +212,41 @@ impl Crs {
         }
     }
 
+    /// The LAS records that state this CRS, for a file that has none: the
+    /// records read when there are some; else GeoTIFF keys for the legacy
+    /// point formats 0–5 (what LAS 1.2 readers look for) and the WKT record
+    /// for the extended formats 6–10 (which LAS 1.4 allows no other way),
+    /// each falling back to the other; empty when neither an EPSG code nor
+    /// a WKT is known (a unit alone).
+    pub fn las_records_for(&self, extended: bool) -> Vec<CrsRecord> {
+        if !self.las_records.is_empty() {
+            return self.las_records.clone();
+        }
+        let keys = || {
+            let h = self.horizontal_epsg()?;
+            let v = self.vertical_epsg.map(|v| (v, &self.vertical_unit));
+            let data = geotiff::projected_directory(h, &self.horizontal_unit, v)?;
+            Some(CrsRecord {
+                record_id: GEOKEY_RECORD,
+                description: "GeoTIFF GeoKeyDirectoryTag".into(),
+                data,
+            })
+        };
+        let wkt = || {
+            self.wkt.as_ref().map(|w| CrsRecord {
+                record_id: WKT_RECORD,
+                description: "OGC WKT".into(),
+                data: [w.as_bytes(), &[0u8][..]].concat(),
+            })
+        };
+        let record = if extended {
+            wkt().or_else(keys)
+        } else {
+            keys().or_else(wkt)
+        };
+        record.into_iter().collect()
+    }
+
     /// The CRS of a LAS file's `LASF_Projection` records (None when it has none).
     ///
     /// The WKT record decides when present (LAS 1.4 makes it authoritative),
@@ -289,6 +324,35 @@ impl Crs {
 mod tests {
     use super::*;
 
+    #[test]
+    fn records_for_a_file_without_any_read_back_as_the_same_crs() {
+        // RD New + NAP height, as AHN3's producer states it elsewhere.
+        let stated = Crs::from_epsg(7415).unwrap();
+        for extended in [false, true] {
+            let records = stated.las_records_for(extended);
+            assert_eq!(records.len(), 1);
+            let want = if extended { WKT_RECORD } else { GEOKEY_RECORD };
+            assert_eq!(records[0].record_id, want);
+            let back = Crs::from_las_records(records).unwrap().unwrap();
+            assert_eq!(back.horizontal_epsg(), Some(28992), "extended {extended}");
+            assert_eq!(back.vertical_epsg, Some(5709), "extended {extended}");
+            assert!(back.is_metric());
+        }
+        // In feet, the keys carry the unit: read back in US survey feet.
+        let feet = Crs::from_epsg(2994).unwrap();
+        let back = Crs::from_las_records(feet.las_records_for(false))
+            .unwrap()
+            .unwrap();
+        assert_eq!(back.epsg, Some(2994));
+        assert_eq!(back.horizontal_unit, feet.horizontal_unit);
+        // A unit alone states no CRS.
+        assert!(
+            Crs::user_unit(LinearUnit::Foot)
+                .las_records_for(true)
+                .is_empty()
+        );
+    }
+
     fn record(record_id: u16, data: &[u8]) -> CrsRecord {
         CrsRecord {
             record_id,
@@ -300,11 +364,8 @@ mod tests {
     #[test]
     fn wkt_decides_and_geotiff_fills_the_vertical_unit() {
         let wkt = br#"PROJCS["NAD83_2011_Nebraska_ft",GEOGCS["GCS",UNIT["Degree",0.0174532925199433]],UNIT["Foot_US",0.30480060960121924]]"#;
-        let keys = geotiff::tests::directory(&[
-            [3072, 0, 1, 32104],
-            [3076, 0, 1, 9003],
-            [4099, 0, 1, 9002],
-        ]);
+        let keys =
+            geotiff::directory(&[[3072, 0, 1, 32104], [3076, 0, 1, 9003], [4099, 0, 1, 9002]]);
         let crs =
             Crs::from_las_records(vec![record(WKT_RECORD, wkt), record(GEOKEY_RECORD, &keys)])
                 .unwrap()
@@ -319,7 +380,7 @@ mod tests {
 
     #[test]
     fn geotiff_only_takes_the_code_and_the_registry_unit() {
-        let keys = geotiff::tests::directory(&[[1024, 0, 1, 1], [3072, 0, 1, 2154]]);
+        let keys = geotiff::directory(&[[1024, 0, 1, 1], [3072, 0, 1, 2154]]);
         let crs = Crs::from_las_records(vec![record(GEOKEY_RECORD, &keys)])
             .unwrap()
             .unwrap();
@@ -333,7 +394,7 @@ mod tests {
     #[test]
     fn no_records_geographic_and_bad_records() {
         assert_eq!(Crs::from_las_records(vec![]), Ok(None));
-        let keys = geotiff::tests::directory(&[[1024, 0, 1, 2], [2048, 0, 1, 4326]]);
+        let keys = geotiff::directory(&[[1024, 0, 1, 2], [2048, 0, 1, 4326]]);
         let e = Crs::from_las_records(vec![record(GEOKEY_RECORD, &keys)]).unwrap_err();
         assert!(e.to_string().contains("reproject"), "{e}");
         let e = Crs::from_las_records(vec![record(WKT_RECORD, b"PROJCS[")]).unwrap_err();

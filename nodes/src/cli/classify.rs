@@ -312,7 +312,7 @@ pub fn write_classified(
     cloud: &Cloud,
 ) -> Result<bool, RuntimeError> {
     let labels = cloud.label.as_deref().unwrap_or_default();
-    let kept = match relabel_files(files, path, labels) {
+    let kept = match relabel_files(files, path, labels, cloud.crs.as_ref()) {
         Ok(kept) => kept,
         Err(CloudIoError::Las {
             source: e @ LasError::SourceFormat { .. },

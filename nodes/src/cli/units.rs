@@ -1,17 +1,21 @@
-//! `--units`: the unit of a cloud whose file states none (or states it
-//! wrongly), shared by the subcommands that read a cloud.
+//! `--crs` and `--units`: the CRS or the unit of a cloud whose file states
+//! none (or, for the unit, states it wrongly), shared by the subcommands
+//! that read a cloud.
 
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_bounds, read_cloud};
-use skyground_core::crs::LinearUnit;
+use skyground_core::crs::{Crs, LinearUnit, epsg_from_reference};
 use skyground_core::prior::join_tiles;
 
 use crate::runtime::RuntimeError;
 
-/// The `--units` option.
+/// The `--crs` and `--units` options.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct UnitsArg {
+    /// The CRS of a cloud whose file states none (EPSG:28992, or its URN): outputs carry it, its unit applies. A file that states another CRS is an error (skyground does not reproject).
+    #[arg(long, value_parser = parse_epsg)]
+    pub crs: Option<u32>,
     /// The unit of a cloud whose file states none (m, ft, ftUS); overrides the file's.
     #[arg(long, value_parser = parse_unit)]
     pub units: Option<LinearUnit>,
@@ -20,21 +24,41 @@ pub struct UnitsArg {
 impl UnitsArg {
     /// Reads the cloud at `path`, its coordinates taken in `--units` when given.
     pub fn read(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        Ok(self.taken_in(read_cloud(path).map_err(super::err)?))
+        self.taken_in(path, read_cloud(path).map_err(super::err)?)
     }
 
     /// The bounding box of the cloud at `path` (its two corners; a LAS/LAZ
     /// header alone), in `--units` when given.
     pub fn read_bounds(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        Ok(self.taken_in(read_bounds(path).map_err(super::err)?))
+        self.taken_in(path, read_bounds(path).map_err(super::err)?)
     }
 
-    /// `cloud` with its coordinates taken in `--units` when given.
-    fn taken_in(&self, mut cloud: Cloud) -> Cloud {
+    /// `cloud` (read from `path`) in `--crs`, then `--units`, when given.
+    fn taken_in(&self, path: &Path, mut cloud: Cloud) -> Result<Cloud, RuntimeError> {
+        if let Some(code) = self.crs {
+            let stated = Crs::from_epsg(code).map_err(|e| super::err(format!("--crs: {e}")))?;
+            match &cloud.crs {
+                Some(own) if own.epsg.is_some() || own.wkt.is_some() => {
+                    // RD New is the same ground as RD New + NAP height.
+                    let theirs = [own.epsg, own.horizontal_epsg()];
+                    let same = [Some(code), stated.horizontal_epsg()]
+                        .iter()
+                        .any(|c| c.is_some() && theirs.contains(c));
+                    if !same {
+                        return Err(super::err(format!(
+                            "{} states its CRS, {}; --crs EPSG:{code} names another (skyground does not reproject: leave --crs off, or reproject the file first)",
+                            path.display(),
+                            own.label()
+                        )));
+                    }
+                }
+                _ => cloud.set_crs(stated),
+            }
+        }
         if let Some(u) = &self.units {
             cloud.set_unit(u.clone());
         }
-        cloud
+        Ok(cloud)
     }
 
     /// Reads the clouds at `paths` as one survey (tiles of one CRS side by
@@ -61,4 +85,34 @@ pub fn describe(paths: &[PathBuf]) -> String {
 /// Parses `--units` (m, ft, ftUS and their long names).
 pub fn parse_unit(text: &str) -> Result<LinearUnit, String> {
     LinearUnit::parse(text).ok_or_else(|| format!("unknown unit `{text}` (m, ft, ftUS)"))
+}
+
+/// Parses `--crs`: `EPSG:n`, an OGC URN or URL naming an EPSG code, or `n`.
+pub fn parse_epsg(text: &str) -> Result<u32, String> {
+    let t = text.trim();
+    t.parse()
+        .ok()
+        .filter(|c| *c > 0)
+        .or_else(|| epsg_from_reference(t))
+        .ok_or_else(|| format!("`{text}` names no EPSG code (e.g. EPSG:28992)"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crs_is_named_by_its_epsg_code_only() {
+        for t in [
+            "EPSG:28992",
+            "28992",
+            " epsg:28992 ",
+            "urn:ogc:def:crs:EPSG::28992",
+        ] {
+            assert_eq!(parse_epsg(t), Ok(28992), "{t}");
+        }
+        for t in ["RD New", "0", "EPSG:", ""] {
+            assert!(parse_epsg(t).is_err(), "{t}");
+        }
+    }
 }

@@ -6,9 +6,10 @@
 
 use std::io::{Read, Seek, Write};
 
-use ::las::{Builder, PointData, PointDataBuilder, Reader, Writer};
+use ::las::{Builder, PointData, PointDataBuilder, Reader, Vlr, Writer};
 
 use super::LasError;
+use crate::crs::{Crs, LAS_PROJECTION};
 
 /// Points copied per batch.
 const BATCH: u64 = 1 << 16;
@@ -20,11 +21,14 @@ const LASZIP_USER_ID: &str = "laszip encoded";
 /// `compressed`. The header is the first source's (bounds and counts those
 /// of what was written); every source must have its point format. A source
 /// with other scales or offsets has its points re-quantised to the first's.
+/// When the first states no CRS, `stated` (the user's `--crs`) is written in
+/// the records its point format calls for.
 pub fn relabel_las<R, W>(
     sources: Vec<R>,
     sink: W,
     labels: &[u8],
     compressed: bool,
+    stated: Option<&Crs>,
 ) -> Result<W, LasError>
 where
     R: Read + Seek + Send + Sync + 'static,
@@ -46,6 +50,20 @@ where
     builder.generating_software = "skyground".into();
     builder.point_format.is_compressed = compressed;
     builder.vlrs.retain(|v| v.user_id != LASZIP_USER_ID);
+    let has_crs = builder
+        .vlrs
+        .iter()
+        .chain(&builder.evlrs)
+        .any(|v| v.user_id == LAS_PROJECTION);
+    if let (false, Some(crs)) = (has_crs, stated) {
+        let records = crs.las_records_for(builder.point_format.is_extended);
+        builder.vlrs.extend(records.into_iter().map(|r| Vlr {
+            user_id: LAS_PROJECTION.into(),
+            record_id: r.record_id,
+            description: r.description,
+            data: r.data,
+        }));
+    }
     let mut writer = Writer::new(sink, builder.into_header()?)?;
     let format = *writer.header().point_format();
     let mut next = 0usize;

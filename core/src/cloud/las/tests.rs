@@ -250,6 +250,7 @@ fn relabelling_changes_the_class_and_nothing_else() {
             Cursor::new(Vec::new()),
             &labels,
             compressed,
+            None,
         )
         .unwrap()
         .into_inner();
@@ -274,7 +275,7 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
     let a = producer_file(3, 1000.0, 1000.0, false);
     let b = producer_file(2, 1100.0, 1100.0, true);
     let sources = || vec![Cursor::new(a.clone()), Cursor::new(b.clone())];
-    let out = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 5], true)
+    let out = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 5], true, None)
         .unwrap()
         .into_inner();
     let (h, pts) = points_of(out);
@@ -289,7 +290,7 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
         pts.iter()
             .all(|p| u8::from(p.classification) == 6 && p.gps_time.is_some())
     );
-    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 4], false).unwrap_err();
+    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 4], false, None).unwrap_err();
     assert!(
         matches!(
             e,
@@ -300,10 +301,10 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
         ),
         "{e}"
     );
-    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[40; 5], false).unwrap_err();
+    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[40; 5], false, None).unwrap_err();
     assert!(matches!(e, LasError::LegacyClass { class: 40 }), "{e}");
     let none: Vec<Cursor<Vec<u8>>> = Vec::new();
-    let e = relabel_las(none, Cursor::new(Vec::new()), &[], false).unwrap_err();
+    let e = relabel_las(none, Cursor::new(Vec::new()), &[], false, None).unwrap_err();
     assert!(matches!(e, LasError::NoSource), "{e}");
 }
 
@@ -331,4 +332,50 @@ fn the_header_alone_gives_the_bounds_read_las_gives() {
     // Max X is at byte 179 of a LAS 1.4 header, min X at 187.
     data[179..187].copy_from_slice(&(-1.0e9f64).to_le_bytes());
     assert!(read_las_bounds(Cursor::new(data)).unwrap().is_none());
+}
+
+#[test]
+fn relabelling_a_file_without_a_crs_writes_the_stated_one_and_never_replaces_a_read_one() {
+    use crate::crs::Crs;
+    let rd = Crs::from_epsg(28992).unwrap();
+    let src = producer_file(5, 1000.0, 1000.0, false);
+    let out = relabel_las(
+        vec![Cursor::new(src.clone())],
+        Cursor::new(Vec::new()),
+        &[6; 5],
+        false,
+        Some(&rd),
+    )
+    .unwrap();
+    let back = read_las(out).unwrap();
+    let crs = back.crs.expect("the stated CRS is written");
+    assert_eq!(crs.epsg, Some(28992));
+    assert_eq!(crs.las_records[0].record_id, 34735, "LAS 1.2: GeoTIFF keys");
+    // A file that states a CRS keeps its own records.
+    let feet = Crs::from_epsg(2994).unwrap();
+    let again = relabel_las(
+        vec![Cursor::new(read_back_bytes(&src, &rd))],
+        Cursor::new(Vec::new()),
+        &[6; 5],
+        false,
+        Some(&feet),
+    )
+    .unwrap();
+    assert_eq!(
+        read_las(again).unwrap().crs.and_then(|c| c.epsg),
+        Some(28992)
+    );
+}
+
+/// `src` relabelled with `crs` written in, as bytes.
+fn read_back_bytes(src: &[u8], crs: &crate::crs::Crs) -> Vec<u8> {
+    relabel_las(
+        vec![Cursor::new(src.to_vec())],
+        Cursor::new(Vec::new()),
+        &[6; 5],
+        false,
+        Some(crs),
+    )
+    .unwrap()
+    .into_inner()
 }
