@@ -295,3 +295,25 @@ def test_a_crs_the_file_does_not_state(tmp_path):
         assert p.returncode != 0, p.stderr
         assert not (tmp_path / "x" / "targets.geojson").exists()
         assert ("does not reproject" in p.stderr) if args[1] != "RD New" else ("names no EPSG code" in p.stderr), p.stderr
+
+
+def test_classify_says_the_roof_check_it_applied(tmp_path):
+    """The roof check's cell and link follow the point spacing below
+    4 pts/m² and are the model's above: `classify --json` says which."""
+    import laspy
+
+    src = real_file("ahn3_delft_2.laz")
+    full = json.loads(run("classify", "--in", src, "--json").stdout)
+    assert (full["roof_check"]["cell_m"], full["roof_check"]["link_m"]) == (0.5, 1.0), full["roof_check"]
+    las = laspy.read(str(src))
+    pulse = np.cumsum(np.asarray(las.return_number) <= 1) - 1
+    sparse = laspy.LasData(las.header)
+    sparse.points = las.points[pulse % 5 == 0]
+    thin = tmp_path / "sparse.las"
+    sparse.write(str(thin))
+    r = json.loads(run("classify", "--in", thin, "--json").stdout)
+    s = r["density"]["spacing_m"]
+    assert r["density"]["points_per_m2"] < 4 and s > 0.5, r["density"]
+    assert r["roof_check"]["cell_m"] == pytest.approx(s) and r["roof_check"]["link_m"] == pytest.approx(2 * s)
+    building = next(c for c in r["report"]["per_class"] if c["class"] == 6)
+    assert building["f1"] >= 0.8, building

@@ -39,5 +39,5 @@ pub use roofs::{RoofCheck, RoofCheckCounts, check_roofs};
 pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};
 pub use training::{
     DEFAULT_DENSITIES, FileRole, TrainParams, TrainingCloud, default_training_set,
-    file_training_clouds, labelled_cloud, simulated_cloud, train, training_surveys,
+    file_training_clouds, labelled_cloud, pulse_sample, simulated_cloud, train, training_surveys,
 };

@@ -7,6 +7,7 @@ use super::roofs::check_roofs;
 use super::smooth::{argmax_rows, smooth_votes};
 use crate::cloud::ColumnLength;
 use crate::cloud::class::{GROUND, UNCLASSIFIED};
+use crate::density::Density;
 use crate::features::Echoes;
 
 /// LAS class of every point: 2 where `is_ground`, else the forest's
@@ -42,6 +43,14 @@ pub fn classify(
         let c = classes.get(k).copied().unwrap_or(UNCLASSIFIED);
         out[i] = if c == GROUND { UNCLASSIFIED } else { c };
     }
-    check_roofs(xyz, hag, &mut out, echoes, &model.roof_check);
+    // The check's cells and links follow the cloud's spacing (below 4 pts/m²).
+    let spacing = Density::measure(xyz).map_or(0.0, |d| d.spacing_m);
+    check_roofs(
+        xyz,
+        hag,
+        &mut out,
+        echoes,
+        &model.roof_check.for_spacing(spacing),
+    );
     Ok(out)
 }

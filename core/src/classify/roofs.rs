@@ -75,6 +75,29 @@ pub struct RoofCheck {
     /// Delft tile's detection (missing points within 0.5 m of a producer
     /// building point in plan ≥ 0.95) and checked on the other.
     pub beside_dist_m: f32,
+    /// Plan cell (m) in which a roof's area is counted and its footprint
+    /// drawn. [`RoofCheck::for_spacing`] raises it to the point spacing.
+    pub cell_m: f32,
+}
+
+impl RoofCheck {
+    /// The check for a cloud whose points lie `spacing_m` apart: below 4
+    /// pts/m² (spacing over 0.5 m) a 0.5 m cell holds less than one point,
+    /// so a roof's cells undercount its area and its points no longer link
+    /// within 1 m. The cell follows the spacing and the link twice it; at 4
+    /// pts/m² and above the settings are unchanged.
+    pub fn for_spacing(&self, spacing_m: f32) -> Self {
+        let s = if spacing_m.is_finite() {
+            spacing_m
+        } else {
+            0.0
+        };
+        Self {
+            cell_m: self.cell_m.max(s),
+            link_m: self.link_m.max(2.0 * s),
+            ..self.clone()
+        }
+    }
 }
 
 impl Default for RoofCheck {
@@ -93,6 +116,7 @@ impl Default for RoofCheck {
             above_roof_m: 2.0,
             beside_above_m: 0.2,
             beside_dist_m: 0.7,
+            cell_m: 0.5,
         }
     }
 }
@@ -184,19 +208,19 @@ fn walls_under_roofs(
     (reps, roof): (&[[f32; 3]], &[bool]),
     check: &RoofCheck,
 ) -> usize {
-    const CELL: f32 = 0.5;
+    let cell = check.cell_m.max(0.05);
     let reach = check.under_roof_m;
     if reach.is_nan() || reach < 0.0 {
         return 0;
     }
-    let cell_of = |p: &[f32; 3]| [(p[0] / CELL).floor() as i32, (p[1] / CELL).floor() as i32];
+    let cell_of = |p: &[f32; 3]| [(p[0] / cell).floor() as i32, (p[1] / cell).floor() as i32];
     let mut roof_top: HashMap<[i32; 2], f32> = HashMap::new();
     for (p, _) in reps.iter().zip(roof).filter(|(_, r)| **r) {
         let z = roof_top.entry(cell_of(p)).or_insert(f32::MIN);
         *z = z.max(p[2]);
     }
-    let rc = cells_of(check.close_m, CELL);
-    let r = (reach / CELL).ceil() as i32;
+    let rc = cells_of(check.close_m, cell);
+    let r = (reach / cell).ceil() as i32;
     // Sparse cells, not a raster: the cloud may span kilometres and its
     // roofs cover a small part of it.
     let closed = close_cells(&roof_top.keys().copied().collect(), rc);
@@ -311,15 +335,17 @@ fn roof_voxels(reps: &[[f32; 3]], check: &RoofCheck) -> (Vec<bool>, usize) {
     };
     let nb = neighbourhoods(reps, check.k);
     let (planes, label) = grow_planes_with(reps, &nb, &params, false);
+    let cell = check.cell_m.max(0.05);
     let mut cells: Vec<HashSet<[i32; 2]>> = vec![HashSet::new(); planes.len()];
     for (p, &l) in reps.iter().zip(&label) {
         if l != NO_PLANE {
-            cells[l as usize].insert([(p[0] * 2.0).floor() as i32, (p[1] * 2.0).floor() as i32]);
+            cells[l as usize].insert([(p[0] / cell).floor() as i32, (p[1] / cell).floor() as i32]);
         }
     }
+    let cell_m2 = f64::from(cell) * f64::from(cell);
     let is_roof: Vec<bool> = cells
         .iter()
-        .map(|c| c.len() as f64 * 0.25 >= check.min_roof_m2)
+        .map(|c| c.len() as f64 * cell_m2 >= check.min_roof_m2)
         .collect();
     let roof = label
         .iter()
@@ -431,6 +457,39 @@ mod tests {
         assert!(roof_building >= 1240, "{roof_building} of 1280 roof points");
         let crown_veg = lab[1280..].iter().filter(|l| **l == VEGETATION).count();
         assert!(crown_veg >= 1490, "{crown_veg} of 1500 crown points");
+    }
+
+    #[test]
+    fn a_small_roof_of_a_sparse_survey_stays_a_roof_at_its_spacing() {
+        // 4.2 × 3.5 m (14.7 m²) at 2 pts/m²: 30 points, each alone in its
+        // 0.5 m cell, count 7.5 m² there, under the 8 m² of a roof.
+        let s = 0.7;
+        let (mut xyz, mut hag) = (Vec::new(), Vec::new());
+        for i in 0..6 {
+            for j in 0..5 {
+                let (x, y) = (i as f32 * s, j as f32 * s);
+                let z = 6.0 + 0.3 * y;
+                xyz.push([x, y, z]);
+                hag.push(z);
+            }
+        }
+        let building = |check: &RoofCheck| {
+            let mut lab = vec![BUILDING; xyz.len()];
+            check_roofs(&xyz, &hag, &mut lab, None, check);
+            lab.iter().filter(|l| **l == BUILDING).count()
+        };
+        assert_eq!(building(&on()), 0, "0.5 m cells: no roof");
+        assert_eq!(
+            building(&on().for_spacing(s)),
+            xyz.len(),
+            "cells at the spacing"
+        );
+        // At 4 pts/m² and above the settings are the model's.
+        assert_eq!(on().for_spacing(0.5), on());
+        assert_eq!(on().for_spacing(0.2), on());
+        assert_eq!(on().for_spacing(f32::NAN), on());
+        let sparse = on().for_spacing(s);
+        assert_eq!((sparse.cell_m, sparse.link_m), (0.7, 1.4));
     }
 
     #[test]

@@ -346,7 +346,7 @@ pub fn file_training_clouds(
 /// Rows of a random share `keep` of the cloud's pulses: a point goes with
 /// the others of its pulse (consecutive points whose return numbers count
 /// up), as a sparser survey would have recorded them.
-fn pulse_sample(cloud: &Cloud, keep: f64, seed: u64) -> Vec<usize> {
+pub fn pulse_sample(cloud: &Cloud, keep: f64, seed: u64) -> Vec<usize> {
     if keep >= 1.0 {
         return (0..cloud.len()).collect();
     }

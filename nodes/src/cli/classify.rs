@@ -194,6 +194,8 @@ fn classify_one(
         "trained_on_this_file": seen,
         "density": classified.ground.density,
         "csf": classified.ground.params,
+        // The check as applied: its cell and link follow the spacing.
+        "roof_check": classifier.model().roof_check.for_spacing(classified.ground.density.spacing_m),
         "raised_ground": classified.ground.raised,
     });
     // Water, bridges, wires, noise and producers' own codes stay theirs
