@@ -22,6 +22,21 @@ pub fn classify(
     echoes: Option<Echoes<'_>>,
     model: &Model,
 ) -> Result<Vec<u8>, ClassifyError> {
+    let spacing = Density::measure(xyz).map_or(0.0, |d| d.spacing_m);
+    classify_at(xyz, hag, is_ground, echoes, model, spacing)
+}
+
+/// [`classify`] of a cloud whose point spacing (m) is already measured
+/// (the ground filter measures it): the roof check's cells and links
+/// follow it below 4 pts/m².
+pub fn classify_at(
+    xyz: &[[f32; 3]],
+    hag: &[f32],
+    is_ground: &[bool],
+    echoes: Option<Echoes<'_>>,
+    model: &Model,
+    spacing_m: f32,
+) -> Result<Vec<u8>, ClassifyError> {
     if xyz.is_empty() {
         return Err(ClassifyError::Empty);
     }
@@ -43,14 +58,12 @@ pub fn classify(
         let c = classes.get(k).copied().unwrap_or(UNCLASSIFIED);
         out[i] = if c == GROUND { UNCLASSIFIED } else { c };
     }
-    // The check's cells and links follow the cloud's spacing (below 4 pts/m²).
-    let spacing = Density::measure(xyz).map_or(0.0, |d| d.spacing_m);
     check_roofs(
         xyz,
         hag,
         &mut out,
         echoes,
-        &model.roof_check.for_spacing(spacing),
+        &model.roof_check.for_spacing(spacing_m),
     );
     Ok(out)
 }

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use super::error::ClassifyError;
 use super::model::Model;
-use super::pipeline::classify;
+use super::pipeline::classify_at;
 use crate::cloud::{Cloud, ColumnLength, class};
 use crate::features::Echoes;
 use crate::ground::{CsfParams, GroundSplit, csf};
@@ -137,7 +137,15 @@ impl SceneClassifier {
         if let Some(index) = ground.hag.iter().position(|h| !h.is_finite()) {
             return Err(ClassifyError::NonFinite { index });
         }
-        let labels = classify(xyz, &ground.hag, &ground.is_ground, echoes, &self.model)?;
+        let spacing = ground.density.spacing_m;
+        let labels = classify_at(
+            xyz,
+            &ground.hag,
+            &ground.is_ground,
+            echoes,
+            &self.model,
+            spacing,
+        )?;
         Ok(Classified {
             labels,
             ground,
