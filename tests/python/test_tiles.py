@@ -183,3 +183,19 @@ def test_plan_says_what_tree_crowns_cost(tmp_path):
     assert band["if_crowns_block_only_in_band"] is None
     assert band["nodes"] >= open_["graph"]["nodes"]
     assert band["reachable_points"] + band["reachable_regions"] > whole["reachable_points"] + whole["reachable_regions"]
+
+
+def test_no_crown_hint_where_no_target_is_cut_off(tmp_path):
+    """A forest without buildings has no targets: `plan` still reports
+    what open crowns would reach in the JSON, but does not tell the user
+    to change the vehicle's rule for ground no target needs."""
+    out = tmp_path / "forest"
+    run("detect", "--in", real_file("lidr_mixedconifer.laz"), "--out", out, "--classify", "--json")
+    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--json"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    plan = json.loads(p.stdout)
+    assert plan["target_points"] + plan["target_regions"] == 0, plan
+    # Measured before the hint was limited: 28 nodes, 780 with crowns open.
+    assert plan["if_crowns_block_only_in_band"]["graph"]["nodes"] > 1.1 * plan["nodes"], plan
+    assert "canopy_is_obstacle" not in p.stderr, p.stderr
