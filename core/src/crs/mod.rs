@@ -212,12 +212,12 @@ impl Crs {
         }
     }
 
-    /// The LAS records that state this CRS, for a file that has none: the
-    /// records read when there are some; else GeoTIFF keys for the legacy
-    /// point formats 0–5 (what LAS 1.2 readers look for) and the WKT record
-    /// for the extended formats 6–10 (which LAS 1.4 allows no other way),
-    /// each falling back to the other; empty when neither an EPSG code nor
-    /// a WKT is known (a unit alone).
+    /// The LAS records that state this CRS: those read from a file, when
+    /// there are some; else GeoTIFF keys for the legacy point formats 0–5
+    /// (what LAS 1.2 readers look for) and the WKT record for the extended
+    /// formats 6–10 (which LAS 1.4 allows no other way), each falling back
+    /// to the other; empty when neither an EPSG code nor a WKT is known (a
+    /// unit alone).
     pub fn las_records_for(&self, extended: bool) -> Vec<CrsRecord> {
         if !self.las_records.is_empty() {
             return self.las_records.clone();

@@ -22,13 +22,13 @@ pub struct UnitsArg {
 }
 
 impl UnitsArg {
-    /// Reads the cloud at `path`, its coordinates taken in `--units` when given.
+    /// Reads the cloud at `path`, in `--crs` and `--units` when given.
     pub fn read(&self, path: &Path) -> Result<Cloud, RuntimeError> {
         self.taken_in(path, read_cloud(path).map_err(super::err)?)
     }
 
     /// The bounding box of the cloud at `path` (its two corners; a LAS/LAZ
-    /// header alone), in `--units` when given.
+    /// header alone), in `--crs` and `--units` when given.
     pub fn read_bounds(&self, path: &Path) -> Result<Cloud, RuntimeError> {
         self.taken_in(path, read_bounds(path).map_err(super::err)?)
     }
@@ -62,7 +62,7 @@ impl UnitsArg {
     }
 
     /// Reads the clouds at `paths` as one survey (tiles of one CRS side by
-    /// side, as producers deliver them), each taken in `--units` when given;
+    /// side, as producers deliver them), each taken in `--crs` and `--units` when given;
     /// tiles in different CRSs are an error.
     pub fn read_tiles(&self, paths: &[PathBuf]) -> Result<Cloud, RuntimeError> {
         if let [one] = paths {
