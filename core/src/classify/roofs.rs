@@ -81,6 +81,11 @@ pub struct RoofCheck {
 }
 
 impl RoofCheck {
+    /// The plan cell's edge (m), kept away from 0.
+    fn cell(&self) -> f32 {
+        self.cell_m.max(0.05)
+    }
+
     /// The check for a cloud whose points lie `spacing_m` apart: below 4
     /// pts/m² (spacing over 0.5 m) a 0.5 m cell holds less than one point,
     /// so a roof's cells undercount its area and its points no longer link
@@ -208,12 +213,12 @@ fn walls_under_roofs(
     (reps, roof): (&[[f32; 3]], &[bool]),
     check: &RoofCheck,
 ) -> usize {
-    let cell = check.cell_m.max(0.05);
+    let cell = check.cell();
     let reach = check.under_roof_m;
     if reach.is_nan() || reach < 0.0 {
         return 0;
     }
-    let cell_of = |p: &[f32; 3]| [(p[0] / cell).floor() as i32, (p[1] / cell).floor() as i32];
+    let cell_of = |p: &[f32; 3]| plan_cell(p, cell);
     let mut roof_top: HashMap<[i32; 2], f32> = HashMap::new();
     for (p, _) in reps.iter().zip(roof).filter(|(_, r)| **r) {
         let z = roof_top.entry(cell_of(p)).or_insert(f32::MIN);
@@ -283,6 +288,11 @@ fn walls_under_roofs(
     n
 }
 
+/// The plan cell of edge `cell` (m) holding `p`.
+fn plan_cell(p: &[f32; 3], cell: f32) -> [i32; 2] {
+    [(p[0] / cell).floor() as i32, (p[1] / cell).floor() as i32]
+}
+
 /// A length in whole cells (≤ 0 or NaN: none).
 fn cells_of(m: f32, cell: f32) -> i32 {
     if m.is_finite() && m > 0.0 {
@@ -335,11 +345,11 @@ fn roof_voxels(reps: &[[f32; 3]], check: &RoofCheck) -> (Vec<bool>, usize) {
     };
     let nb = neighbourhoods(reps, check.k);
     let (planes, label) = grow_planes_with(reps, &nb, &params, false);
-    let cell = check.cell_m.max(0.05);
+    let cell = check.cell();
     let mut cells: Vec<HashSet<[i32; 2]>> = vec![HashSet::new(); planes.len()];
     for (p, &l) in reps.iter().zip(&label) {
         if l != NO_PLANE {
-            cells[l as usize].insert([(p[0] / cell).floor() as i32, (p[1] / cell).floor() as i32]);
+            cells[l as usize].insert(plan_cell(p, cell));
         }
     }
     let cell_m2 = f64::from(cell) * f64::from(cell);

@@ -186,15 +186,14 @@ impl Cloud {
     /// file that does not say, or says wrongly): rescales points and origin
     /// from the unit assumed so far, keeps the CRS records.
     pub fn set_unit(&mut self, unit: LinearUnit) {
-        let old = self.to_metre();
-        let crs = self
+        let mut crs = self
             .crs
-            .get_or_insert_with(|| Crs::user_unit(LinearUnit::Metre));
+            .clone()
+            .unwrap_or_else(|| Crs::user_unit(LinearUnit::Metre));
         crs.horizontal_unit = unit.clone();
         crs.vertical_unit = unit;
         crs.unit_source = UnitSource::User;
-        let new = crs.to_metre();
-        self.rescale([0, 1, 2].map(|k| new[k] / old[k]));
+        self.set_crs(crs);
     }
 
     /// Takes the source coordinates to be in `crs` (a user's `--crs` for a

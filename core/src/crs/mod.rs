@@ -213,11 +213,10 @@ impl Crs {
     }
 
     /// The LAS records that state this CRS: those read from a file, when
-    /// there are some; else GeoTIFF keys for the legacy point formats 0–5
-    /// (what LAS 1.2 readers look for) and the WKT record for the extended
-    /// formats 6–10 (which LAS 1.4 allows no other way), each falling back
-    /// to the other; empty when neither an EPSG code nor a WKT is known (a
-    /// unit alone).
+    /// there are some; else the WKT record for the extended point formats
+    /// 6–10 (which LAS 1.4 allows no other way), and GeoTIFF keys for the
+    /// legacy formats 0–5 (what LAS 1.2 readers look for), the WKT record
+    /// when no EPSG code is known; empty when nothing says more than a unit.
     pub fn las_records_for(&self, extended: bool) -> Vec<CrsRecord> {
         if !self.las_records.is_empty() {
             return self.las_records.clone();
@@ -239,11 +238,7 @@ impl Crs {
                 data: [w.as_bytes(), &[0u8][..]].concat(),
             })
         };
-        let record = if extended {
-            wkt().or_else(keys)
-        } else {
-            keys().or_else(wkt)
-        };
+        let record = if extended { wkt() } else { keys().or_else(wkt) };
         record.into_iter().collect()
     }
 

@@ -6,9 +6,10 @@
 
 use std::io::{Read, Seek, Write};
 
-use ::las::{Builder, PointData, PointDataBuilder, Reader, Vlr, Writer};
+use ::las::{Builder, PointData, PointDataBuilder, Reader, Writer};
 
 use super::LasError;
+use super::write::crs_vlrs;
 use crate::crs::{Crs, LAS_PROJECTION};
 
 /// Points copied per batch.
@@ -57,12 +58,7 @@ where
         .any(|v| v.user_id == LAS_PROJECTION);
     if let (false, Some(crs)) = (has_crs, stated) {
         let records = crs.las_records_for(builder.point_format.is_extended);
-        builder.vlrs.extend(records.into_iter().map(|r| Vlr {
-            user_id: LAS_PROJECTION.into(),
-            record_id: r.record_id,
-            description: r.description,
-            data: r.data,
-        }));
+        builder.vlrs.extend(crs_vlrs(records));
     }
     let mut writer = Writer::new(sink, builder.into_header()?)?;
     let format = *writer.header().point_format();

@@ -339,35 +339,24 @@ fn relabelling_a_file_without_a_crs_writes_the_stated_one_and_never_replaces_a_r
     use crate::crs::Crs;
     let rd = Crs::from_epsg(28992).unwrap();
     let src = producer_file(5, 1000.0, 1000.0, false);
-    let out = relabel_las(
-        vec![Cursor::new(src.clone())],
-        Cursor::new(Vec::new()),
-        &[6; 5],
-        false,
-        Some(&rd),
-    )
-    .unwrap();
-    let back = read_las(out).unwrap();
+    let stated = read_back_bytes(&src, &rd);
+    let back = read_las(Cursor::new(stated.clone())).unwrap();
     let crs = back.crs.expect("the stated CRS is written");
     assert_eq!(crs.epsg, Some(28992));
     assert_eq!(crs.las_records[0].record_id, 34735, "LAS 1.2: GeoTIFF keys");
     // A file that states a CRS keeps its own records.
     let feet = Crs::from_epsg(2994).unwrap();
-    let again = relabel_las(
-        vec![Cursor::new(read_back_bytes(&src, &rd))],
-        Cursor::new(Vec::new()),
-        &[6; 5],
-        false,
-        Some(&feet),
-    )
-    .unwrap();
+    let again = read_back_bytes(&stated, &feet);
     assert_eq!(
-        read_las(again).unwrap().crs.and_then(|c| c.epsg),
+        read_las(Cursor::new(again))
+            .unwrap()
+            .crs
+            .and_then(|c| c.epsg),
         Some(28992)
     );
 }
 
-/// `src` relabelled with `crs` written in, as bytes.
+/// `src` relabelled with `crs` stated for it, as bytes.
 fn read_back_bytes(src: &[u8], crs: &crate::crs::Crs) -> Vec<u8> {
     relabel_las(
         vec![Cursor::new(src.to_vec())],

@@ -7,7 +7,7 @@ use ::las::{Builder, PointDataBuilder, Transform, Vector, Vlr, Writer};
 
 use super::{LasError, extra_bytes};
 use crate::cloud::Cloud;
-use crate::crs::{LAS_PROJECTION, WKT_RECORD};
+use crate::crs::{CrsRecord, LAS_PROJECTION};
 
 /// Coordinate resolution of written files, in the file's unit (mm, or 0.001 ft).
 pub const SCALE: f64 = 0.001;
@@ -45,7 +45,9 @@ pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
         builder.point_format.extra_bytes = extra_bytes::LEN;
         builder.vlrs.push(extra_bytes::building_vlr());
     }
-    builder.vlrs.extend(crs_vlrs(cloud));
+    if let Some(crs) = &cloud.crs {
+        builder.vlrs.extend(crs_vlrs(crs.las_records_for(true)));
+    }
     let f = cloud.to_metre();
     let [x, y, z] = [0, 1, 2].map(|k| Transform {
         scale: SCALE,
@@ -69,28 +71,14 @@ pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
     Ok(writer.into_inner()?)
 }
 
-/// The CRS records to write: those read, else a WKT record of the known WKT.
-fn crs_vlrs(cloud: &Cloud) -> Vec<Vlr> {
-    let Some(crs) = &cloud.crs else {
-        return Vec::new();
-    };
-    let vlr = |record_id, description: &str, data: Vec<u8>| Vlr {
+/// `records` as the file's `LASF_Projection` records.
+pub(super) fn crs_vlrs(records: Vec<CrsRecord>) -> impl Iterator<Item = Vlr> {
+    records.into_iter().map(|r| Vlr {
         user_id: LAS_PROJECTION.into(),
-        record_id,
-        description: description.into(),
-        data,
-    };
-    if crs.las_records.is_empty() {
-        return crs
-            .wkt
-            .iter()
-            .map(|w| vlr(WKT_RECORD, "OGC WKT", [w.as_bytes(), &[0u8][..]].concat()))
-            .collect();
-    }
-    crs.las_records
-        .iter()
-        .map(|r| vlr(r.record_id, &r.description, r.data.clone()))
-        .collect()
+        record_id: r.record_id,
+        description: r.description,
+        data: r.data,
+    })
 }
 
 /// Appends point `i` as a format 6 record (+ building u32 when present).
