@@ -333,7 +333,10 @@ fn the_forest_the_shipped_model_learned_held_out() {
 /// to 22 % of its pulses, 2.2 pts/m². Below 4 pts/m² the roof check counts
 /// a roof's area in cells of the point spacing and links its points within
 /// twice it; with 0.5 m cells and 1 m links it called roofs crowns
-/// (building F1 0.79 on this copy, 0.86 with the rule).
+/// (building F1 0.79 on this copy, 0.86 with the rule). Its growing angle
+/// also widens with the spacing (12° → 23° here; a roof then holds at most
+/// 30 % multiple-return points), without which roof faces fall apart into
+/// pieces: 0.886 with it, 0.860 without.
 #[test]
 fn a_sparse_survey_keeps_its_roofs() {
     let name = "ahn3_delft_2.laz";
@@ -354,5 +357,5 @@ fn a_sparse_survey_keeps_its_roofs() {
         report.table()
     );
     let f1 = report.class(BUILDING).map_or(0.0, |m| m.f1);
-    assert!(f1 >= 0.83, "building F1 {f1:.3}");
+    assert!(f1 >= 0.87, "building F1 {f1:.3}");
 }

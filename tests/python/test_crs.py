@@ -299,7 +299,8 @@ def test_a_crs_the_file_does_not_state(tmp_path):
 
 def test_classify_says_the_roof_check_it_applied(tmp_path):
     """The roof check's cell and link follow the point spacing below
-    4 pts/m² and are the model's above: `classify --json` says which."""
+    4 pts/m², its growing angle below about 8, and they are the model's
+    above: `classify --json` says which."""
     import laspy
 
     src = real_file("ahn3_delft_2.laz")
@@ -315,5 +316,11 @@ def test_classify_says_the_roof_check_it_applied(tmp_path):
     s = r["density"]["spacing_m"]
     assert r["density"]["points_per_m2"] < 4 and s > 0.5, r["density"]
     assert r["roof_check"]["cell_m"] == pytest.approx(s) and r["roof_check"]["link_m"] == pytest.approx(2 * s)
+    # The growing angle widens by the spacing over the voxel, and the
+    # roofs' multiple-return share is bounded; the full file keeps both.
+    voxel = r["roof_check"]["voxel_m"]
+    assert r["roof_check"]["grow_angle_deg"] == pytest.approx(min(40.0, 12.0 * s / voxel), rel=1e-4)
+    assert r["roof_check"]["max_multiple_share"] == pytest.approx(0.3)
+    assert (full["roof_check"]["grow_angle_deg"], full["roof_check"]["max_multiple_share"]) == (12.0, 1.0)
     building = next(c for c in r["report"]["per_class"] if c["class"] == 6)
     assert building["f1"] >= 0.8, building
