@@ -74,6 +74,7 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
         labels,
         &detection.missing_xyz(),
         &targets.positions(),
+        detection.outline_cell_m() as f32,
     );
 
     let graph = GroundGraph::build_largest(&cloud.xyz, labels, &GraphParams::default()).unwrap();
@@ -100,7 +101,7 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
          ground → node spacing {} m: {} of {} candidate nodes reachable ({:.3}; \
          with only ground, buildings, water and bridges standing {} of {}, {:.3}); \
          {} of {} missing points nearest a producer building point ({:.3}), \
-         {} within 0.5 m of one in plan ({:.3}); \
+         {} within {} m of one in plan ({:.3}); \
          {} target positions ({} points, {} regions), farthest {:.1} m from a building point, {} beyond 30 m",
         detection.density.map_or(f32::NAN, |d| d.points_per_m2),
         dp.slice.spacing,
@@ -118,6 +119,7 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
         check.missing_points,
         check.missing_on_building_share,
         check.missing_on_outline,
+        check.outline_reach_m,
         check.missing_on_outline_share,
         check.targets,
         targets.points.len(),
@@ -136,8 +138,9 @@ fn detect_and_plan(name: &str, cloud: &Cloud) -> Bars {
 fn assert_met_bars(name: &str, b: &Bars) {
     assert!(
         b.check.missing_on_outline_share >= 0.95,
-        "{name}: {:.3} of missing points within 0.5 m (plan) of a building point",
-        b.check.missing_on_outline_share
+        "{name}: {:.3} of missing points within {} m (plan) of a building point",
+        b.check.missing_on_outline_share,
+        b.check.outline_reach_m
     );
     assert!(
         b.check.targets_beyond_reach == 0,

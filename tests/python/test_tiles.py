@@ -37,6 +37,10 @@ def test_adjacent_tiles_are_one_survey(tmp_path):
     check = both["producer_check"]
     assert check["targets"] > 0 and check["targets_beyond_reach"] == 0, check
     assert check["missing_on_outline_share"] >= 0.95, check
+    # At their density (about 10 pts/m²) outlines are drawn in 0.5 m cells,
+    # so the outline reach is the half metre.
+    assert check["outline_reach_m"] == 0.5, check
+    assert check["missing_within_half_metre"] == check["missing_on_outline"], check
     # LAZ tiles in, LAZ out.
     classified = tmp_path / "both" / "classified.laz"
     assert both["outputs"]["classified"] == str(classified)

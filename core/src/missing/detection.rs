@@ -176,6 +176,16 @@ impl Detection {
             .collect()
     }
 
+    /// The outline raster's cell in use, metres: the most an outline can
+    /// stand off its wall (the high-density cell when not run by
+    /// [`super::detect_all`]).
+    pub fn outline_cell_m(&self) -> f64 {
+        self.params.as_ref().map_or_else(
+            || crate::slice::SliceParams::default().cell_m(),
+            |p| p.slice.cell_m(),
+        )
+    }
+
     /// Missing over boundary points of all analysed buildings.
     pub fn r_missing(&self) -> f32 {
         let (m, n) = self.buildings.iter().fold((0, 0), |(m, n), b| {

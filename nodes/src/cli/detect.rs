@@ -258,14 +258,17 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
             truth,
             &detection.missing_xyz(),
             &targets.positions(),
+            detection.outline_cell_m() as f32,
         );
         if !a.json && check.missing_points == 0 {
             eprintln!("against the producer's classes: no missing points to check");
         } else if !a.json {
             eprintln!(
-                "against the producer's classes: {:.3} of {} missing points have a building point nearest; targets at most {:.1} m from one ({} beyond {TARGET_REACH_M} m)",
-                check.missing_on_building_share,
+                "against the producer's classes: {:.3} of {} missing points within {:.2} m in plan of a building point ({:.3} have one nearest in 3D); targets at most {:.1} m from one ({} beyond {TARGET_REACH_M} m)",
+                check.missing_on_outline_share,
                 check.missing_points,
+                check.outline_reach_m,
+                check.missing_on_building_share,
                 check.target_building_max_m,
                 check.targets_beyond_reach
             );
