@@ -16,8 +16,8 @@ use serde::{Deserialize, Serialize};
 use crate::cloud::class::{BUILDING, VEGETATION};
 use crate::features::Echoes;
 use crate::reconstruct::ReconstructParams;
-use crate::reconstruct::normals::neighbourhoods;
-use crate::reconstruct::planes::{NO_PLANE, grow_planes_with};
+use crate::reconstruct::normals::{Neighbourhoods, neighbourhoods};
+use crate::reconstruct::planes::{NO_PLANE, RoofPlane, grow_planes_with};
 
 /// The widest growing angle (°) [`RoofCheck::for_spacing`] gives a sparse
 /// cloud: the widest measured on thinned copies of real tiles, at 1 pts/m².
@@ -52,6 +52,13 @@ pub struct RoofCheck {
     pub grow_angle_deg: f64,
     /// Growing distance (m).
     pub grow_dist_m: f64,
+    /// Each roof then grows over neighbours whose normal lies within this
+    /// angle (°) of the roof plane's, and within `grow_dist_m` of it: the
+    /// faces' edges, which the growing angle leaves off. Chosen on
+    /// Montpellier (16 / 20 / 25 / 30°: building F1 0.9493 / 0.9493 /
+    /// 0.9487 / 0.9479 against 0.9476 without; missing points in plan of a
+    /// producer building point 0.9645 / 0.9694 at 16 / 20°). 0: off.
+    pub extend_angle_deg: f64,
     /// Building points within this distance (m) form one object, which
     /// keeps its label only when it holds a roof.
     pub link_m: f32,
@@ -152,6 +159,7 @@ impl Default for RoofCheck {
             k: 12,
             grow_angle_deg: 12.0,
             grow_dist_m: 0.15,
+            extend_angle_deg: 20.0,
             link_m: 1.0,
             under_roof_m: 0.5,
             close_m: 0.0,
@@ -414,11 +422,52 @@ fn roof_voxels(reps: &[[f32; 3]], pulses: &[[u32; 2]], check: &RoofCheck) -> (Ve
                 && f64::from(*multiple) <= max_multi * f64::from(*points)
         })
         .collect();
-    let roof = label
+    let mut roof: Vec<bool> = label
         .iter()
         .map(|&l| l != NO_PLANE && is_roof[l as usize])
         .collect();
+    extend_roofs(reps, &nb, (&planes, &label), &mut roof, check);
     (roof, is_roof.iter().filter(|r| **r).count())
+}
+
+/// Grows every roof over its neighbours whose normal lies within
+/// `extend_angle_deg` of the roof plane's (at least the growing angle) and
+/// which lie within `grow_dist_m` of it: the edge of a roof face, whose
+/// normals the eave or the ridge tilts past the growing angle. Only roofs
+/// grow, so a crown without a roof-sized plane stays out.
+fn extend_roofs(
+    reps: &[[f32; 3]],
+    nb: &Neighbourhoods,
+    (planes, label): (&[RoofPlane], &[u32]),
+    roof: &mut [bool],
+    check: &RoofCheck,
+) {
+    let angle = check.extend_angle_deg.max(check.grow_angle_deg);
+    if !(check.extend_angle_deg > 0.0 && angle.is_finite()) || nb.k == 0 {
+        return;
+    }
+    let cos_max = angle.to_radians().cos();
+    let mut plane_of = label.to_vec();
+    let mut queue: Vec<usize> = (0..reps.len()).filter(|&i| roof[i]).collect();
+    while let Some(i) = queue.pop() {
+        let Some(plane) = planes.get(plane_of[i] as usize) else {
+            continue;
+        };
+        for &j in nb.of(i) {
+            let j = j as usize;
+            if roof[j] {
+                continue;
+            }
+            let n = nb.normal[j];
+            let cos = n[0] * plane.normal[0] + n[1] * plane.normal[1] + n[2] * plane.normal[2];
+            if cos < cos_max || plane.distance(reps[j].map(f64::from)).abs() > check.grow_dist_m {
+                continue;
+            }
+            roof[j] = true;
+            plane_of[j] = plane_of[i];
+            queue.push(j);
+        }
+    }
 }
 
 /// Per voxel: it is a building voxel whose object (building voxels linked
@@ -557,6 +606,60 @@ mod tests {
         assert_eq!(on().for_spacing(f32::NAN), on());
         let sparse = on().for_spacing(s);
         assert_eq!((sparse.cell_m, sparse.link_m), (0.7, 1.4));
+    }
+
+    #[test]
+    fn a_roof_grows_over_its_tilted_edge_but_not_off_its_plane() {
+        // A row along x at 6 m: points 0–3 are a found roof; 4 lies on its
+        // plane with its normal tilted 15° (an eave), 5 beyond it tilted
+        // 30°, 6 tilted 10° but 0.3 m over the plane.
+        let reps: Vec<[f32; 3]> = (0..7)
+            .map(|i| [i as f32 * 0.4, 0.0, if i == 6 { 6.3 } else { 6.0 }])
+            .collect();
+        let tilt = |deg: f64| [deg.to_radians().sin(), 0.0, deg.to_radians().cos()];
+        let normal = vec![
+            tilt(0.0),
+            tilt(0.0),
+            tilt(0.0),
+            tilt(0.0),
+            tilt(15.0),
+            tilt(30.0),
+            tilt(10.0),
+        ];
+        // Each point's neighbours: the one before and the one after.
+        let knn: Vec<u32> = (0..7u32)
+            .flat_map(|i| [i.saturating_sub(1), (i + 1).min(6)])
+            .collect();
+        let nb = Neighbourhoods {
+            normal,
+            curvature: vec![0.0; 7],
+            knn,
+            k: 2,
+        };
+        let planes = [RoofPlane {
+            normal: [0.0, 0.0, 1.0],
+            d: -6.0,
+            points: 4,
+        }];
+        let label = [0, 0, 0, 0, NO_PLANE, NO_PLANE, NO_PLANE];
+        let grown = |check: &RoofCheck| {
+            let mut roof = vec![true, true, true, true, false, false, false];
+            extend_roofs(&reps, &nb, (&planes, &label), &mut roof, check);
+            roof
+        };
+        assert_eq!(grown(&on()), [true, true, true, true, true, false, false]);
+        let off = RoofCheck {
+            extend_angle_deg: 0.0,
+            ..on()
+        };
+        assert_eq!(grown(&off), [true, true, true, true, false, false, false]);
+        // Point 6 joins through 5 only if 5 joins: at 35° both are within
+        // the angle, and 6 is still off the plane.
+        let wide = RoofCheck {
+            extend_angle_deg: 35.0,
+            ..on()
+        };
+        assert_eq!(grown(&wide), [true, true, true, true, true, true, false]);
     }
 
     #[test]
