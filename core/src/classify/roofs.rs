@@ -131,22 +131,18 @@ impl RoofCheck {
         } else {
             0.0
         };
-        let widen = f64::from(s / self.voxel_m.max(1e-3));
-        if widen <= 1.0 {
-            return Self {
-                cell_m: self.cell_m.max(s),
-                link_m: self.link_m.max(2.0 * s),
-                ..self.clone()
-            };
-        }
-        Self {
+        let mut check = Self {
             cell_m: self.cell_m.max(s),
             link_m: self.link_m.max(2.0 * s),
-            grow_angle_deg: (self.grow_angle_deg * widen)
-                .min(MAX_GROW_ANGLE_DEG.max(self.grow_angle_deg)),
-            max_multiple_share: self.max_multiple_share.min(SPARSE_MAX_MULTIPLE),
             ..self.clone()
+        };
+        let widen = f64::from(s / self.voxel_m.max(1e-3));
+        if widen > 1.0 {
+            check.grow_angle_deg =
+                (self.grow_angle_deg * widen).min(MAX_GROW_ANGLE_DEG.max(self.grow_angle_deg));
+            check.max_multiple_share = self.max_multiple_share.min(SPARSE_MAX_MULTIPLE);
         }
+        check
     }
 }
 
@@ -223,16 +219,21 @@ pub fn check_roofs(
     if reps.len() <= check.k {
         return counts;
     }
-    // Per voxel: its points, and those of pulses that gave several returns.
-    let mut pulses = vec![[0u32; 2]; reps.len()];
-    if let Some(e) = echoes.as_ref() {
-        for (n, &i) in cand.iter().enumerate() {
-            let c = &mut pulses[vox[n] as usize];
-            c[0] += 1;
-            c[1] += u32::from(e.is_multiple(i));
-        }
-    }
-    let (roof, roofs) = roof_voxels(&reps, &pulses, check);
+    // Per voxel: its points, and those of pulses that gave several returns;
+    // counted only where the check bounds their share.
+    let pulses = echoes
+        .as_ref()
+        .filter(|_| check.max_multiple_share < 1.0)
+        .map(|e| {
+            let mut pulses = vec![[0u32; 2]; reps.len()];
+            for (n, &i) in cand.iter().enumerate() {
+                let c = &mut pulses[vox[n] as usize];
+                c[0] += 1;
+                c[1] += u32::from(e.is_multiple(i));
+            }
+            pulses
+        });
+    let (roof, roofs) = roof_voxels(&reps, pulses.as_deref(), check);
     counts.roofs = roofs;
     // Building voxels: those holding a building point after the forest.
     let mut building = vec![false; reps.len()];
@@ -392,8 +393,12 @@ fn spread_max(values: &HashMap<[i32; 2], f32>, r: i32) -> HashMap<[i32; 2], f32>
 
 /// Voxels on a plane covering at least `min_roof_m2`, and how many such planes.
 /// `pulses` holds each voxel's point count and how many of its points came
-/// from pulses with several returns (zeros without echoes).
-fn roof_voxels(reps: &[[f32; 3]], pulses: &[[u32; 2]], check: &RoofCheck) -> (Vec<bool>, usize) {
+/// from pulses with several returns (`None`: no bound on their share).
+fn roof_voxels(
+    reps: &[[f32; 3]],
+    pulses: Option<&[[u32; 2]]>,
+    check: &RoofCheck,
+) -> (Vec<bool>, usize) {
     let params = ReconstructParams {
         k: check.k,
         grow_angle_deg: check.grow_angle_deg,
@@ -406,11 +411,13 @@ fn roof_voxels(reps: &[[f32; 3]], pulses: &[[u32; 2]], check: &RoofCheck) -> (Ve
     let cell = check.cell();
     let mut cells: Vec<HashSet<[i32; 2]>> = vec![HashSet::new(); planes.len()];
     let mut echo = vec![[0u32; 2]; planes.len()];
-    for ((p, &l), e) in reps.iter().zip(&label).zip(pulses) {
+    for (v, (p, &l)) in reps.iter().zip(&label).enumerate() {
         if l != NO_PLANE {
             cells[l as usize].insert(plan_cell(p, cell));
-            echo[l as usize][0] += e[0];
-            echo[l as usize][1] += e[1];
+            if let Some(e) = pulses.and_then(|c| c.get(v)) {
+                echo[l as usize][0] += e[0];
+                echo[l as usize][1] += e[1];
+            }
         }
     }
     let max_multi = f64::from(check.max_multiple_share);
