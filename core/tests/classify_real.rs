@@ -12,7 +12,7 @@
 //! The floors are the bars where the held-out figure meets them
 //! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
 //! total error ≤ 5 % on the IGN tiles) and the measured figure less a small
-//! margin where it does not (St Barth building F1 0.873, the Nebraska
+//! margin where it does not (St Barth building F1 0.880, the Nebraska
 //! snippet 0.738); see the README's "Classification on real surveys".
 //! There the test also checks what the missed building points look like
 //! (`shapes_by_pairing`): shaped as the vegetation both sides agree on.
@@ -143,7 +143,7 @@ fn left_out(name: &str, other: &str, building_floor: f64) {
 
 #[test]
 fn ign_st_barth_left_out() {
-    left_out(IGN[1], IGN[0], 0.87);
+    left_out(IGN[1], IGN[0], 0.875);
 }
 
 #[test]
@@ -338,7 +338,8 @@ fn the_forest_the_shipped_model_learned_held_out() {
 /// (building F1 0.79 on this copy, 0.86 with the rule). Its growing angle
 /// also widens with the spacing (12° → 23° here; a roof then holds at most
 /// 30 % multiple-return points), without which roof faces fall apart into
-/// pieces: 0.886 with it, 0.860 without.
+/// pieces: 0.891 with it (0.886 before each roof grew over its faces'
+/// edges), 0.860 without.
 #[test]
 fn a_sparse_survey_keeps_its_roofs() {
     let name = "ahn3_delft_2.laz";

@@ -191,7 +191,7 @@ fn ign_detection_on_classes_of_a_model_that_never_saw_the_tile() {
 
 /// A sparse survey: outlines in cells of the building points' spacing
 /// (0.82 m here), and missing points within that cell of a producer
-/// building point in plan, targets within 30 m: 0.974 within the cell,
+/// building point in plan, targets within 30 m: 0.973 within the cell,
 /// 0.83 within 0.5 m, which is finer than the survey's sampling.
 #[test]
 fn a_sparse_survey_puts_its_missing_points_beside_buildings() {

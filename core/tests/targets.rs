@@ -58,25 +58,36 @@ fn reference_targets_are_outside_obstacles_and_in_range() {
     }
     assert_eq!(inside, 0, "targets inside buildings or trees");
 
-    // Every point target stands on the ray of a missing point of its
-    // building, within the standoff range.
+    // Every point target stands within the standoff range of a missing
+    // point of its building, or nearer on open ground where every standoff
+    // was blocked (an alley).
     let lo = tp.standoffs.iter().cloned().fold(f32::MAX, f32::min) - 0.01;
     let hi = tp.standoffs.iter().cloned().fold(f32::MIN, f32::max) + 0.01;
+    let mut nearer = 0;
     for t in &set.points {
         let b = det
             .buildings
             .iter()
             .find(|b| b.building == t.building)
             .unwrap();
-        let ok = b.missing.iter().any(|m| {
-            let d = (t.xyz[0] - m.xyz[0]).hypot(t.xyz[1] - m.xyz[1]);
-            (lo..=hi).contains(&d)
-        });
+        let nearest = b
+            .missing
+            .iter()
+            .map(|m| (t.xyz[0] - m.xyz[0]).hypot(t.xyz[1] - m.xyz[1]))
+            .collect::<Vec<_>>();
+        if nearest.iter().any(|d| (lo..=hi).contains(d)) {
+            continue;
+        }
+        let k = site.index(t.xyz[0], t.xyz[1]).unwrap();
         assert!(
-            ok,
-            "target {t:?} not within standoff range of a missing point"
+            nearest.iter().any(|&d| d >= site.cell() && d < lo)
+                && !site.building[k]
+                && !site.vegetation[k],
+            "target {t:?} neither in standoff range nor on open ground nearer"
         );
+        nearer += 1;
     }
+    println!("{nearer} targets nearer than the least standoff");
     // Regions: counter-clockwise, not closed, at least a triangle.
     for r in &set.regions {
         let p = &r.polygon;

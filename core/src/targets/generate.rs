@@ -135,8 +135,52 @@ fn standoff_candidates(
     open.iter()
         .find(|(_, sees)| *sees)
         .or(open.last())
-        .map(|(p, _)| vec![*p])
-        .unwrap_or_default()
+        .map(|(p, _)| *p)
+        .or_else(|| alley_stop(m, dir, site, params))
+        .into_iter()
+        .collect()
+}
+
+/// Where every standoff is blocked, the middle of the open stretch right in
+/// front of the wall, if it is at least a cell long: in an alley narrower
+/// than the least standoff every standoff lands in the building opposite,
+/// yet a robot driving down the alley sees its lower walls best.
+fn alley_stop(
+    m: &MissingPoint,
+    dir: [f32; 2],
+    site: &Site,
+    params: &TargetParams,
+) -> Option<[f32; 3]> {
+    let at = |t: f32| [m.xyz[0] + dir[0] * t, m.xyz[1] + dir[1] * t];
+    let cell_at = |t: f32| {
+        let p = at(t);
+        site.index(p[0], p[1])
+    };
+    let open = |t: f32| {
+        cell_at(t).is_some_and(|k| {
+            !site.building[k] && !site.vegetation[k] && site.ground.heights[k].is_finite()
+        })
+    };
+    let own = own_wall(site, params);
+    let reach = params.standoffs.iter().copied().fold(0.0, f32::max);
+    let mut t = 0.0;
+    while cell_at(t).is_some_and(|k| site.building[k]) {
+        t += STEP;
+        if t > own {
+            return None;
+        }
+    }
+    let start = t;
+    while t <= reach && open(t) {
+        t += STEP;
+    }
+    let end = t - STEP;
+    if end - start < site.cell() {
+        return None;
+    }
+    let p = at(0.5 * (start + end));
+    let g = site.ground_at(p[0], p[1])?;
+    Some([p[0], p[1], g])
 }
 
 /// How far a ray may run through its own building's grown cells.
@@ -266,6 +310,48 @@ fn link_clusters(pts: &[[f64; 2]], link: f64) -> Vec<Vec<usize>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// 40 m × 40 m of ground (0.5 m lattice) with two 10 m high blocks,
+    /// x 5..35, one y 5..15 and the other from y 15 + `gap` on, 10 m deep.
+    fn alley(gap: f32) -> Site {
+        let (mut xyz, mut labels) = crate::geom::fixtures::flat_ground(80, 80, 0.5);
+        for [x, y, _] in xyz.clone() {
+            let in_a = (5.0..35.0).contains(&x) && (5.0..15.0).contains(&y);
+            let in_b = (5.0..35.0).contains(&x) && (15.0 + gap..25.0 + gap).contains(&y);
+            if in_a || in_b {
+                xyz.push([x, y, 10.0]);
+                labels.push(crate::cloud::class::BUILDING);
+            }
+        }
+        Site::from_cloud(&xyz, &labels, 1.0, 1.0).expect("site")
+    }
+
+    fn wall_gap() -> MissingPoint {
+        MissingPoint {
+            xyz: [20.0, 15.0, 1.0],
+            building: 1,
+            normal: [0.0, 1.0],
+            skeleton: [20.0, 10.0],
+        }
+    }
+
+    #[test]
+    fn a_wall_on_a_narrow_alley_gets_a_stop_in_the_alley() {
+        let params = TargetParams::default();
+        let mut dropped = Dropped::default();
+        let stops = standoff_candidates(&wall_gap(), &alley(4.0), &params, &mut dropped);
+        // Every standoff (6–22 m) lands in the block opposite or behind it.
+        assert_eq!(dropped.inside_building + dropped.occluded, 4, "{dropped:?}");
+        let [stop] = stops[..] else {
+            panic!("one stop expected, got {stops:?}");
+        };
+        assert!((stop[0] - 20.0).abs() < 1e-3, "{stop:?}");
+        assert!((16.0..18.0).contains(&stop[1]), "{stop:?}");
+        // A 2 m alley leaves no open cell once both walls are grown by the clearance.
+        let mut dropped = Dropped::default();
+        let none = standoff_candidates(&wall_gap(), &alley(2.0), &params, &mut dropped);
+        assert!(none.is_empty(), "{none:?}");
+    }
 
     #[test]
     fn clusters_split_at_the_link_distance() {

@@ -177,6 +177,12 @@ impl Vehicle {
             terrain.obstacle(p, [nx, ny, nz], self.config.radius, self.config.body_height)
             && at < step + 1e-3
         {
+            // A follower still turning towards its way-point turns on the
+            // spot first: swinging round beside a wall is not a blocked way.
+            if (err - turn).abs() > ALIGNED_RAD {
+                self.state.speed = 0.0;
+                return Step::Moving;
+            }
             return block(
                 self,
                 format!("obstacle {at:.2} m ahead at ({:.1}, {:.1})", p[0], p[1]),
@@ -188,6 +194,10 @@ impl Vehicle {
         Step::Moving
     }
 }
+
+/// Heading error (radians) under which an obstacle ahead blocks the way
+/// rather than the vehicle turning on the spot first.
+const ALIGNED_RAD: f32 = 0.05;
 
 fn wrap(a: f32) -> f32 {
     let mut a = a % (2.0 * PI);
@@ -306,6 +316,17 @@ mod tests {
                 assert!(v.state.position[0] < 5.0);
             }
         }
+    }
+
+    #[test]
+    fn turns_on_the_spot_beside_a_wall_rather_than_give_up() {
+        // 0.7 m north of the wall at y = 10, facing 35° into it, sent east
+        // along it: moving while turning would graze the wall.
+        let c = Caster::new(&scene()).unwrap();
+        let mut v = Vehicle::new(VehicleConfig::default(), &c, 24.0, 10.7, -0.6).unwrap();
+        v.set_goal([29.0, 10.7]);
+        assert_eq!(run(&mut v, &c, 30.0), vec![Step::Arrived([29.0, 10.7])]);
+        assert!(v.state.position[1] > 10.5, "{:?}", v.state.position);
     }
 
     #[test]
