@@ -70,17 +70,17 @@ fn reference_targets_are_outside_obstacles_and_in_range() {
             .iter()
             .find(|b| b.building == t.building)
             .unwrap();
-        let nearest = b
+        let dists = b
             .missing
             .iter()
             .map(|m| (t.xyz[0] - m.xyz[0]).hypot(t.xyz[1] - m.xyz[1]))
             .collect::<Vec<_>>();
-        if nearest.iter().any(|d| (lo..=hi).contains(d)) {
+        if dists.iter().any(|d| (lo..=hi).contains(d)) {
             continue;
         }
         let k = site.index(t.xyz[0], t.xyz[1]).unwrap();
         assert!(
-            nearest.iter().any(|&d| d >= site.cell() && d < lo)
+            dists.iter().any(|&d| d >= site.cell() && d < lo)
                 && !site.building[k]
                 && !site.vegetation[k],
             "target {t:?} neither in standoff range nor on open ground nearer"

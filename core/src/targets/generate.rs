@@ -156,10 +156,12 @@ fn alley_stop(
         let p = at(t);
         site.index(p[0], p[1])
     };
+    // The ground height where a robot may stand at `t`.
     let open = |t: f32| {
-        cell_at(t).is_some_and(|k| {
-            !site.building[k] && !site.vegetation[k] && site.ground.heights[k].is_finite()
-        })
+        cell_at(t)
+            .filter(|&k| !site.building[k] && !site.vegetation[k])
+            .map(|k| site.ground.heights[k])
+            .filter(|g| g.is_finite())
     };
     let own = own_wall(site, params);
     let reach = params.standoffs.iter().copied().fold(0.0, f32::max);
@@ -171,16 +173,16 @@ fn alley_stop(
         }
     }
     let start = t;
-    while t <= reach && open(t) {
+    while t <= reach && open(t).is_some() {
         t += STEP;
     }
     let end = t - STEP;
     if end - start < site.cell() {
         return None;
     }
-    let p = at(0.5 * (start + end));
-    let g = site.ground_at(p[0], p[1])?;
-    Some([p[0], p[1], g])
+    let mid = 0.5 * (start + end);
+    let [x, y] = at(mid);
+    Some([x, y, open(mid)?])
 }
 
 /// How far a ray may run through its own building's grown cells.
