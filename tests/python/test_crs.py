@@ -279,8 +279,8 @@ def test_a_crs_the_file_does_not_state(tmp_path):
     assert copy.header.version == laspy.read(str(src)).header.version
     assert copy.header.parse_crs() == rd
     missing = laspy.read(str(out / "missing.las")).header.parse_crs()
-    # The registry's WKT carries its datum shift (a bound CRS around RD New).
-    assert (missing.source_crs or missing).to_epsg() == 28992, missing
+    # RD New itself, not a bound CRS around it (the registry's datum shift is left out).
+    assert missing == rd and missing.to_epsg() == 28992, missing.to_wkt()
     for f in ["targets.geojson", "completeness.geojson"]:
         doc = json.loads((out / f).read_text())
         assert doc["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::28992", f

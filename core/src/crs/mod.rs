@@ -18,7 +18,7 @@ pub use frame::SourceFrame;
 pub use geotiff::{GeoKeyValue, GeoTiffError, GeoTiffFacts, geotiff_facts};
 pub use json::{JsonCrs, cityjson_crs, geojson_crs};
 pub use unit::{FOOT_M, LinearUnit, US_SURVEY_FOOT_M};
-pub use wkt::{WktArg, WktError, WktFacts, WktNode, parse_wkt, wkt_facts};
+pub use wkt::{WktArg, WktError, WktFacts, WktNode, parse_wkt, without_nodes, wkt_facts};
 
 /// `user_id` of the LAS CRS records.
 pub const LAS_PROJECTION: &str = "LASF_Projection";
@@ -190,7 +190,11 @@ impl Crs {
             name: f.name,
             epsg: Some(code),
             vertical_epsg: f.vertical_epsg,
-            wkt: Some(entry.wkt.to_string()),
+            // The table's WKT1 carries a datum shift (TOWGS84) for some codes
+            // (RD New). The code itself defines none; GDAL 3 and PROJ write
+            // none, and pyproj reads a WKT with one as a bound CRS without
+            // an EPSG code.
+            wkt: Some(without_nodes(entry.wkt, "TOWGS84")),
             las_records: Vec::new(),
             vertical_unit: f.vertical_unit.unwrap_or_else(|| h.clone()),
             horizontal_unit: h,
@@ -333,6 +337,11 @@ mod tests {
             assert_eq!(back.vertical_epsg, Some(5709), "extended {extended}");
             assert!(back.is_metric());
         }
+        // The registry's datum shift is not written: the text names RD New
+        // alone, as GDAL 3 writes it.
+        let wkt = stated.wkt.as_deref().unwrap_or_default();
+        assert!(wkt.contains("28992") && !wkt.contains("TOWGS84"), "{wkt}");
+        assert!(epsg_entry(7415).unwrap().wkt.contains("TOWGS84"));
         // In feet, the keys carry the unit: read back in US survey feet.
         let feet = Crs::from_epsg(2994).unwrap();
         let back = Crs::from_las_records(feet.las_records_for(false))

@@ -172,6 +172,81 @@ pub fn wkt_facts(text: &str) -> Result<WktFacts, WktError> {
     Ok(facts)
 }
 
+/// `text` without its `keyword[...]` nodes (and the comma that joined
+/// each to its neighbours); `text` unchanged when that would not parse.
+pub fn without_nodes(text: &str, keyword: &str) -> String {
+    let (b, kw) = (text.as_bytes(), keyword.as_bytes());
+    let is_word = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let mut out = String::with_capacity(text.len());
+    let (mut i, mut kept, mut quoted) = (0, 0, false);
+    while i < b.len() {
+        if b[i] == b'"' {
+            quoted = !quoted;
+            i += 1;
+            continue;
+        }
+        let starts = !quoted
+            && (i == 0 || !is_word(b[i - 1]))
+            && b.len() >= i + kw.len()
+            && b[i..i + kw.len()].eq_ignore_ascii_case(kw)
+            && !b.get(i + kw.len()).copied().is_some_and(is_word);
+        let Some(end) = starts.then(|| node_end(b, i + kw.len())).flatten() else {
+            i += 1;
+            continue;
+        };
+        let mut from = i;
+        while from > kept && b[from - 1].is_ascii_whitespace() {
+            from -= 1;
+        }
+        let mut to = end;
+        if from > kept && b[from - 1] == b',' {
+            from -= 1;
+        } else {
+            // The first argument: the comma after it goes instead.
+            while to < b.len() && b[to].is_ascii_whitespace() {
+                to += 1;
+            }
+            if b.get(to) == Some(&b',') {
+                to += 1;
+            }
+        }
+        out.push_str(&text[kept..from]);
+        (kept, i) = (to, to);
+    }
+    out.push_str(&text[kept..]);
+    if parse_wkt(&out).is_ok() {
+        out
+    } else {
+        text.to_string()
+    }
+}
+
+/// The byte after the bracket closing the one that opens at or after `at`
+/// (spaces allowed before it).
+fn node_end(b: &[u8], mut at: usize) -> Option<usize> {
+    while b.get(at).is_some_and(|c| c.is_ascii_whitespace()) {
+        at += 1;
+    }
+    if !matches!(b.get(at), Some(b'[' | b'(')) {
+        return None;
+    }
+    let (mut depth, mut quoted) = (0usize, false);
+    for (j, &c) in b.iter().enumerate().skip(at) {
+        match c {
+            b'"' => quoted = !quoted,
+            b'[' | b'(' if !quoted => depth += 1,
+            b']' | b')' if !quoted => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(j + 1);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
 struct Parser<'a> {
     s: &'a [u8],
     at: usize,
@@ -301,6 +376,24 @@ mod tests {
 
     /// The WKT record of laspy's Nebraska test file (EPSG:6880, no AUTHORITY).
     const NEBRASKA: &str = r#"PROJCS["NAD83_2011_Nebraska_ft",GEOGCS["GCS_NAD_1983_2011",DATUM["D_NAD83_NATIONAL_SPATIAL_REFERENCE_SYSTEM_2011",SPHEROID["GRS_1980",6378137,298.257222101]],PRIMEM["Greenwich",0],UNIT["Degree",0.017453292519943295]],PROJECTION["Lambert_Conformal_Conic"],PARAMETER["scale_factor",1],PARAMETER["standard_parallel_1",40],PARAMETER["false_easting",1640416.666666667],UNIT["Foot_US",0.30480060960121924]]"#;
+
+    #[test]
+    fn a_datum_shift_comes_out_and_the_rest_stays() {
+        let rd = r#"PROJCS["Amersfoort / RD New",GEOGCS["Amersfoort",DATUM["Amersfoort",SPHEROID["Bessel 1841",6377397.155,299.1528128],TOWGS84[565.2369,50.0087,465.658,-0.406857,0.350733,-1.87035,4.0812],AUTHORITY["EPSG","6289"]],UNIT["degree",0.0174532925199433]],UNIT["metre",1],AUTHORITY["EPSG","28992"]]"#;
+        let out = without_nodes(rd, "TOWGS84");
+        assert!(!out.contains("TOWGS84"), "{out}");
+        assert!(
+            out.contains(r#"299.1528128],AUTHORITY["EPSG","6289"]]"#),
+            "{out}"
+        );
+        assert_eq!(wkt_facts(&out), wkt_facts(rd));
+        // First argument, spaces, a keyword inside a name, and no such node.
+        let first = r#"A["x TOWGS84[", TOWGS84 [1, 2] , B[3]]"#;
+        assert_eq!(without_nodes(first, "towgs84"), r#"A["x TOWGS84[" , B[3]]"#);
+        assert_eq!(without_nodes(NEBRASKA, "TOWGS84"), NEBRASKA);
+        // A text that does not parse after the cut stays as it was.
+        assert_eq!(without_nodes("A[TOWGS84[1]", "TOWGS84"), "A[TOWGS84[1]");
+    }
 
     #[test]
     fn wkt1_projected_in_us_feet() {
