@@ -10,7 +10,7 @@
 use crate::graph::{GraphParams, GroundGraph};
 use crate::missing::MissingPoint;
 use crate::route::{
-    Ground, Route, RouteParams, Stop, Visited, drop_seen_on_the_way, next_set_down, replan,
+    Ground, Route, RouteParams, Stop, Visited, drop_seen_on_the_way, next_set_down, replan, way_out,
 };
 use crate::targets::{Region, Site, TargetParams, TargetPoint, TargetSet};
 
@@ -452,7 +452,7 @@ impl Planner {
 
     /// Asks for a set-down if one helps, else ends the round's driving.
     fn route_done(&mut self) {
-        if self.ask_set_down() {
+        if self.carry_out() || self.ask_set_down() {
             return;
         }
         self.phase = Phase::Done;
@@ -501,22 +501,55 @@ impl Planner {
                 return false;
             }
         };
-        self.set_downs += 1;
-        let [x, y, _] = set_down.start;
-        self.out.push(PlannerCommand::Warn(format!(
-            "round {}: route done, {} more stops on another piece of ground: carry the robot to ({x:.1}, {y:.1}) (set-down {} of at most {})",
-            self.round,
-            set_down.route.order.len(),
-            self.set_downs,
-            self.config.set_downs
-        )));
         self.pieces.push(set_down.start);
-        self.phase = Phase::Carrying;
-        self.carry_to = Some(set_down.start);
-        self.out.push(PlannerCommand::ActiveRegion(None));
-        self.out.push(PlannerCommand::SetDown(set_down.start));
-        self.out.push(PlannerCommand::Status(self.status()));
+        let why = format!(
+            "route done, {} more stops on another piece of ground",
+            set_down.route.order.len()
+        );
+        self.carry(set_down.start, &why);
         true
+    }
+
+    /// Spots the robot found blocked have cut it off from every stop left
+    /// (a dead end whose way out it reported blocked): when set-downs are
+    /// left this round, asks for it to be carried to the nearest ground that
+    /// still reaches one. True when it asked.
+    fn carry_out(&mut self) -> bool {
+        if self.set_downs >= self.config.set_downs || self.blocked.is_empty() {
+            return false;
+        }
+        let (Some(graph), Some(at)) = (self.graph.as_ref(), self.position) else {
+            return false;
+        };
+        let Some(to) = way_out(
+            graph,
+            &self.targets,
+            &self.dealt_with(),
+            at,
+            &self.config.route,
+        ) else {
+            return false;
+        };
+        let why = format!(
+            "the spots found blocked cut the robot off at ({:.1}, {:.1}) from every stop left",
+            at[0], at[1]
+        );
+        self.carry(to, &why);
+        true
+    }
+
+    /// Asks for the robot to be carried to `to` (a set-down of this round).
+    fn carry(&mut self, to: [f32; 3], why: &str) {
+        self.set_downs += 1;
+        self.out.push(PlannerCommand::Warn(format!(
+            "round {}: {why}: carry the robot to ({:.1}, {:.1}) (set-down {} of at most {})",
+            self.round, to[0], to[1], self.set_downs, self.config.set_downs
+        )));
+        self.phase = Phase::Carrying;
+        self.carry_to = Some(to);
+        self.out.push(PlannerCommand::ActiveRegion(None));
+        self.out.push(PlannerCommand::SetDown(to));
+        self.out.push(PlannerCommand::Status(self.status()));
     }
 
     /// Targets reached, given up, or left off as seen on the way this round.

@@ -443,3 +443,65 @@ fn a_target_behind_walls_gets_a_set_down_and_is_driven_after_it() {
     assert_eq!(s.visited.points.len(), 2);
     assert_eq!(s.unreachable_points, 0);
 }
+
+/// A corridor 40 m × 1.25 m, the robot at its west end, a target at x = 30.
+/// The robot reports the way east blocked: the spot cuts it off. With a
+/// set-down left, the planner asks for it to be carried past the spot and
+/// drives on from there; without, the round ends with the target out of reach.
+#[test]
+fn a_robot_its_blocked_spots_cut_off_is_carried_out() {
+    let run = |set_downs: usize| {
+        let mut p = Planner::new(PlannerConfig {
+            graph: GraphParams::default(),
+            route: RouteParams::default(),
+            block_retries: 2,
+            targets: TargetParams::default(),
+            set_downs,
+        });
+        let (xyz, labels) = flat_ground(160, 6, 0.25);
+        p.handle(PlannerEvent::Cloud { xyz, labels });
+        p.handle(PlannerEvent::Position([1.2, 0.6, 0.0]));
+        let target = TargetPoint {
+            xyz: [30.0, 0.6, 0.0],
+            building: 1,
+        };
+        let out = points_only(&mut p, vec![target], 1);
+        let goal = *legs(&out)[0].last().expect("a leg has a pose");
+        p.handle(blocked(goal, [1.2, 0.6]));
+        let out = p.handle(PlannerEvent::Tick);
+        (p, out)
+    };
+
+    let (mut p, out) = run(1);
+    assert_eq!(p.phase(), Phase::Carrying, "{out:?}");
+    let to = out
+        .iter()
+        .find_map(|c| match c {
+            PlannerCommand::SetDown(at) => Some(*at),
+            _ => None,
+        })
+        .expect("a set-down");
+    let spot = p.status().blocked[0];
+    assert!(
+        to[0] - spot.at[0] > spot.radius && to[0] < 1.2 + crate::route::WAY_OUT_MAX_M,
+        "carried just past the spot: {to:?}, {spot:?}"
+    );
+    assert!(
+        out.iter()
+            .any(|c| matches!(c, PlannerCommand::Warn(w) if w.contains("cut the robot off"))),
+        "{out:?}"
+    );
+    p.handle(PlannerEvent::Position(to));
+    let out = p.handle(PlannerEvent::Tick);
+    assert_eq!(drive(&mut p, out), vec!["point at 30"]);
+    assert_eq!(p.phase(), Phase::Done);
+    assert_eq!(p.status().visited.points, vec![0]);
+
+    let (p, out) = run(0);
+    assert!(
+        !out.iter().any(|c| matches!(c, PlannerCommand::SetDown(_))),
+        "{out:?}"
+    );
+    assert_eq!(p.phase(), Phase::Done);
+    assert_eq!(p.status().unreachable_points, 1);
+}

@@ -154,19 +154,7 @@ pub fn replan(
     position: [f32; 3],
     params: &RouteParams,
 ) -> Result<Route, RouteError> {
-    let point_ids: Vec<usize> = (0..targets.points.len())
-        .filter(|i| !visited.points.contains(i))
-        .collect();
-    let region_ids: Vec<usize> = (0..targets.regions.len())
-        .filter(|i| !visited.regions.contains(i))
-        .collect();
-    let rest = TargetSet {
-        points: point_ids.iter().map(|&i| targets.points[i]).collect(),
-        regions: region_ids
-            .iter()
-            .map(|&i| targets.regions[i].clone())
-            .collect(),
-    };
+    let (rest, point_ids, region_ids) = remaining(targets, visited);
     let mut route = plan(graph, &rest, position, params)?;
     for s in &mut route.order {
         *s = match *s {
@@ -183,6 +171,28 @@ pub fn replan(
         .iter_mut()
         .for_each(|i| *i = region_ids[*i]);
     Ok(route)
+}
+
+/// The targets not in `visited`, with each one's index in `targets`
+/// (points, then regions).
+pub(crate) fn remaining(
+    targets: &TargetSet,
+    visited: &Visited,
+) -> (TargetSet, Vec<usize>, Vec<usize>) {
+    let point_ids: Vec<usize> = (0..targets.points.len())
+        .filter(|i| !visited.points.contains(i))
+        .collect();
+    let region_ids: Vec<usize> = (0..targets.regions.len())
+        .filter(|i| !visited.regions.contains(i))
+        .collect();
+    let rest = TargetSet {
+        points: point_ids.iter().map(|&i| targets.points[i]).collect(),
+        regions: region_ids
+            .iter()
+            .map(|&i| targets.regions[i].clone())
+            .collect(),
+    };
+    (rest, point_ids, region_ids)
 }
 
 /// The paper's Table 1: graph distances start–stop and stop–stop, a region's

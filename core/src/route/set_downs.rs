@@ -4,14 +4,52 @@
 
 use super::error::RouteError;
 use super::params::RouteParams;
-use super::plan::{Route, Visited, plan, replan};
-use super::stops::Stop;
+use super::plan::{Route, Visited, plan, remaining, replan};
+use super::stops::{Stop, snap};
 use crate::graph::{GraphError, GraphParams, GroundGraph};
 use crate::targets::TargetSet;
 
 /// Pieces of ground tried for a set-down after the first, largest first:
 /// beyond these the pieces are yards and gardens a team rarely enters.
 pub const PIECES_TRIED: usize = 12;
+
+/// How far (m, in plan) [`way_out`] looks for ground that reaches a target:
+/// a field team carries a stuck robot a few metres, not across the site.
+pub const WAY_OUT_MAX_M: f32 = 25.0;
+
+/// Where to carry a robot that spots it found blocked have cut off from
+/// every target not in `done` (a dead end whose one way out it reported
+/// blocked): the node nearest `position`, within [`WAY_OUT_MAX_M`], from
+/// which one of them is still reached in `graph`. `None` when the robot is
+/// not cut off, or no such node is near.
+pub fn way_out(
+    graph: &GroundGraph,
+    targets: &TargetSet,
+    done: &Visited,
+    position: [f32; 3],
+    params: &RouteParams,
+) -> Option<[f32; 3]> {
+    let (rest, _, _) = remaining(targets, done);
+    let sources: Vec<usize> = snap(graph, &rest, params.max_snap_m)
+        .stops
+        .into_iter()
+        .flat_map(|(_, nodes)| nodes)
+        .collect();
+    if sources.is_empty() {
+        return None;
+    }
+    let to_a_target = graph.shortest_paths(&sources);
+    let xy = [position[0], position[1]];
+    let (start, _) = graph.start_node_from(xy, params.max_snap_m)?;
+    if to_a_target.dist[start].is_finite() {
+        return None;
+    }
+    graph
+        .nodes_near(xy, WAY_OUT_MAX_M, usize::MAX)
+        .into_iter()
+        .find(|&(n, _)| to_a_target.dist[n].is_finite())
+        .map(|(n, _)| graph.positions()[n])
+}
 
 /// One place the robot is set down and the route it drives from there.
 #[derive(Debug, Clone)]
@@ -231,6 +269,41 @@ mod tests {
             s.length_m(),
             s.set_downs[0].route.length_m + pen.route.length_m
         );
+    }
+
+    #[test]
+    fn a_robot_cut_off_by_its_blocked_spots_gets_the_nearest_way_out() {
+        // A corridor 40 m × 1.25 m: the robot at x = 1.2, a target at x = 30.
+        let (xyz, labels) = crate::geom::fixtures::flat_ground(160, 6, 0.25);
+        let params = GraphParams::default();
+        let mut g = GroundGraph::build(&xyz, &labels, [1.2, 0.6, 0.0], &params).unwrap();
+        let targets = TargetSet {
+            points: vec![at(30.0, 0.6)],
+            regions: Vec::new(),
+        };
+        let (rp, done) = (RouteParams::default(), Visited::default());
+        let robot = [1.2, 0.6, 0.0];
+        assert_eq!(
+            way_out(&g, &targets, &done, robot, &rp),
+            None,
+            "not cut off"
+        );
+        assert!(g.block_near([2.1, 0.6], 0.9) > 0);
+        let to = way_out(&g, &targets, &done, robot, &rp).expect("a way out");
+        assert!(
+            (3.0..=2.1 + WAY_OUT_MAX_M).contains(&to[0]),
+            "past the spot, the nearest node that reaches the target: {to:?}"
+        );
+        assert!(!plan(&g, &targets, to, &rp).unwrap().order.is_empty());
+        // Reached already, or no target left: nothing to carry it to.
+        let reached = Visited {
+            points: vec![0],
+            regions: Vec::new(),
+        };
+        assert_eq!(way_out(&g, &targets, &reached, robot, &rp), None);
+        // A spot as wide as the reach leaves no way out near.
+        assert!(g.block_near([15.0, 0.6], 13.0) > 0);
+        assert_eq!(way_out(&g, &targets, &done, robot, &rp), None);
     }
 
     #[test]
