@@ -165,37 +165,47 @@ def test_detect_keeps_the_producers_compression(tmp_path):
     assert p.returncode != 0 and "no classified.laz or classified.las" in p.stderr, p.stderr
 
 
-def test_plan_says_what_tree_crowns_cost(tmp_path):
-    """On our classes AHN3 Delft 1's street trees are vegetation, and with
-    the default rule a crown blocks its whole column: `plan` says how much
-    ground the start's piece would hold with crowns blocking only in the
-    vehicle's height band, and the params file that gives it exactly that."""
+def test_plan_opens_the_streets_under_tree_crowns(tmp_path):
+    """On our classes AHN3 Delft 1's street trees are vegetation. `plan` is
+    for a robot in the field, which steers round trunks: by default a crown
+    blocks only in the vehicle's height band, and the quays under the trees
+    join the start's ground. With the planner node's rule (the whole column,
+    `canopy_is_obstacle: true` in a params file) `plan` says how much ground
+    the start's piece would hold with its own default, which is exactly that."""
     d1 = real_file("ahn3_delft_1.laz")
     out = tmp_path / "d1"
     run("detect", "--in", d1, "--out", out, "--classify", "--json")
     p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--json"],
                        capture_output=True, text=True, timeout=600)
     assert p.returncode == 0, p.stderr
+    band = json.loads(p.stdout)
+    assert band["graph_params"]["canopy_is_obstacle"] is False
+    assert band["if_crowns_block_only_in_band"] is None
+    assert "canopy_is_obstacle" not in p.stderr, p.stderr
+    params = tmp_path / "column.yaml"
+    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: true\n")
+    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--params-file", params, "--json"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
     whole = json.loads(p.stdout)
     open_ = whole["if_crowns_block_only_in_band"]
-    # Measured: 1,096 nodes, and 3,702 with crowns open (docs/density.md).
-    assert open_["graph"]["nodes"] > 2 * whole["nodes"], (whole["nodes"], open_)
-    assert "graph.canopy_is_obstacle: false" in p.stderr and str(open_["graph"]["nodes"]) in p.stderr
-    params = tmp_path / "band.yaml"
-    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: false\n")
-    band = json.loads(run("plan", "--in", out, "--params-file", params, "--json").stdout)
-    assert band["if_crowns_block_only_in_band"] is None
-    assert band["nodes"] >= open_["graph"]["nodes"]
+    # Measured: 1,109 nodes with whole columns, 3,702 by default (docs/density.md).
+    assert open_["graph"]["nodes"] == band["nodes"] > 2 * whole["nodes"], (whole["nodes"], band["nodes"])
+    assert "skyground plan's default" in p.stderr and str(band["nodes"]) in p.stderr, p.stderr
     assert band["reachable_points"] + band["reachable_regions"] > whole["reachable_points"] + whole["reachable_regions"]
+    assert band["set_down_node_share"] > whole["set_down_node_share"]
 
 
 def test_no_crown_hint_where_no_target_is_cut_off(tmp_path):
-    """A forest without buildings has no targets: `plan` still reports
-    what open crowns would reach in the JSON, but does not tell the user
-    to change the vehicle's rule for ground no target needs."""
+    """A forest without buildings has no targets: with crowns blocking
+    their whole column, `plan` still reports what open crowns would reach
+    in the JSON, but does not tell the user to change the vehicle's rule
+    for ground no target needs."""
     out = tmp_path / "forest"
     run("detect", "--in", real_file("lidr_mixedconifer.laz"), "--out", out, "--classify", "--json")
-    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--json"],
+    params = tmp_path / "column.yaml"
+    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: true\n")
+    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--params-file", params, "--json"],
                        capture_output=True, text=True, timeout=600)
     assert p.returncode == 0, p.stderr
     plan = json.loads(p.stdout)

@@ -71,8 +71,22 @@ pub fn section<T: serde::de::DeserializeOwned>(
     file: Option<&Path>,
     keys: &[&str],
 ) -> Result<T, RuntimeError> {
+    section_over(node, (defaults, None), file, keys)
+}
+
+/// As [`section`], with the command's own defaults (`(origin, yaml)`) over
+/// the node's and under the file's.
+pub fn section_over<T: serde::de::DeserializeOwned>(
+    node: &str,
+    (defaults, own): (&str, Option<(&str, &str)>),
+    file: Option<&Path>,
+    keys: &[&str],
+) -> Result<T, RuntimeError> {
     let mut params = ParamSet::default();
     params.merge_yaml(defaults, node, &format!("config/{node}.yaml"))?;
+    if let Some((origin, yaml)) = own {
+        params.merge_yaml(yaml, node, origin)?;
+    }
     if let Some(f) = file {
         params.merge_file(f, node)?;
     }

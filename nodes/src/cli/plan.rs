@@ -16,9 +16,20 @@ use skyground_core::route::{
 };
 use skyground_core::targets::{Site, TargetParams, TargetSet};
 
-use super::detect::section;
+use super::detect::section_over;
 use super::err;
 use crate::runtime::RuntimeError;
+
+/// `skyground plan`'s own ground-graph default, over the planner node's: a
+/// tree crown blocks only where points stand in the vehicle's height band.
+/// The plan is for a robot in the field, which steers round the trunks it
+/// meets, over a survey whose split pulses measure the ground under the
+/// crowns; `demo --prior` drives a real prior the same way. The node's
+/// default (the whole column) is for the simulated world, whose vehicle
+/// does not steer round trunks the prior cannot show. On AHN3 Delft 1 with
+/// our classes the start's ground holds 3,702 nodes instead of 1,109.
+const FIELD_GRAPH: &str =
+    "global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: false\n";
 
 /// Options of `skyground plan`.
 #[derive(Debug, Clone, clap::Args)]
@@ -30,7 +41,10 @@ pub struct PlanArgs {
     /// the largest piece of drivable ground, where a robot reaches most).
     #[arg(long, value_delimiter = ',', num_args = 2)]
     pub start: Option<Vec<f32>>,
-    /// A params file (section global_planner: graph, route, targets).
+    /// A params file (section global_planner: graph, route, targets). Tree
+    /// crowns block only in the vehicle's height band here, unlike the
+    /// planner node's default; `graph.canopy_is_obstacle: true` blocks
+    /// their whole column.
     #[arg(long)]
     pub params_file: Option<PathBuf>,
     /// Where the ground comes in pieces no drivable way joins (a canal, a
@@ -66,9 +80,12 @@ struct TargetsFile {
 /// Builds the graph and the route from the start, then more set-downs
 /// where targets remain; writes DIR/route.json, route.geojson and plan.png.
 pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
-    let p: PlannerParams = section(
+    let p: PlannerParams = section_over(
         "global_planner",
-        crate::node::global_planner::SPEC.default_params,
+        (
+            crate::node::global_planner::SPEC.default_params,
+            Some(("skyground plan", FIELD_GRAPH)),
+        ),
         a.params_file.as_deref(),
         &["graph", "route", "targets"],
     )?;
@@ -143,7 +160,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         crowns_open.filter(|o| cut_off && o.nodes as f64 > 1.1 * report.nodes as f64)
     {
         eprintln!(
-            "tree crowns block their whole column here (graph.canopy_is_obstacle): the start's ground holds {} nodes ({:.3} of candidates); with crowns blocking only in the vehicle's height band it would hold {} ({:.3}). For a robot that avoids trunks on its own: --params-file with graph.canopy_is_obstacle: false",
+            "tree crowns block their whole column here (graph.canopy_is_obstacle: true in the params file): the start's ground holds {} nodes ({:.3} of candidates); with crowns blocking only in the vehicle's height band it would hold {} ({:.3}). For a robot that avoids trunks on its own: graph.canopy_is_obstacle: false (skyground plan's default)",
             report.nodes,
             report.reachable_share(),
             open.nodes,
@@ -198,10 +215,15 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
         .map_err(err)?;
     if !a.json {
         eprintln!(
-            "graph: {} nodes, {} edges ({:.2} s); {} set-down(s); targets reachable: {} of {} points, {} of {} regions (from the start: {} and {}); tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), driven {:.0} m ({:.2} s)",
+            "graph: {} nodes, {} edges ({:.2} s; tree crowns block {}); {} set-down(s); targets reachable: {} of {} points, {} of {} regions (from the start: {} and {}); tours: greedy {:.0} m, TSP {:.0} m ({:.2}×), driven {:.0} m ({:.2} s)",
             graph.len(),
             report.edges,
             graph_s,
+            if p.graph.canopy_is_obstacle {
+                "their whole column"
+            } else {
+                "only in the vehicle's height band"
+            },
             plan.set_downs.len(),
             reach_points,
             points,
