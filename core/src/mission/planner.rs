@@ -10,7 +10,8 @@
 use crate::graph::{GraphParams, GroundGraph};
 use crate::missing::MissingPoint;
 use crate::route::{
-    Ground, Route, RouteParams, Stop, Visited, drop_seen_on_the_way, next_set_down, replan, way_out,
+    Ground, Route, RouteError, RouteParams, Stop, Visited, drop_seen_on_the_way, next_set_down,
+    replan, way_out,
 };
 use crate::targets::{Region, Site, TargetParams, TargetPoint, TargetSet};
 
@@ -379,6 +380,8 @@ impl Planner {
                 self.out.push(PlannerCommand::ActiveRegion(None));
                 self.start_leg(0);
             }
+            // Spots the robot found blocked took out the ground around it.
+            Err(RouteError::StartOffGraph { .. }) if self.carry_out() => {}
             Err(e) => self
                 .out
                 .push(PlannerCommand::Error(format!("cannot plan: {e}"))),

@@ -504,4 +504,37 @@ fn a_robot_its_blocked_spots_cut_off_is_carried_out() {
     );
     assert_eq!(p.phase(), Phase::Done);
     assert_eq!(p.status().unreachable_points, 1);
+
+    // Set down past the spot, then blocked on both sides until no node is
+    // left within the snap distance: no route can start there, and the
+    // robot is carried out all the same (the round's second set-down).
+    let (mut p, out) = run(2);
+    let to = out
+        .iter()
+        .find_map(|c| match c {
+            PlannerCommand::SetDown(at) => Some(*at),
+            _ => None,
+        })
+        .expect("a set-down");
+    p.handle(PlannerEvent::Position(to));
+    let out = p.handle(PlannerEvent::Tick);
+    let goal = *legs(&out)[0].last().expect("a leg has a pose");
+    let r = [to[0], to[1]];
+    for (gx, ax) in [
+        (-9.0, 0.0),
+        (-9.0, -1.5),
+        (-9.0, -2.4),
+        (9.0, -0.9),
+        (9.0, 1.5),
+        (9.0, 2.4),
+    ] {
+        p.handle(blocked([r[0] + gx, r[1], 0.0], [r[0] + ax, r[1]]));
+    }
+    p.handle(blocked(goal, r));
+    let out = p.handle(PlannerEvent::Tick);
+    assert_eq!(p.phase(), Phase::Carrying, "{out:?}");
+    assert!(
+        !out.iter().any(|c| matches!(c, PlannerCommand::Error(_))),
+        "{out:?}"
+    );
 }

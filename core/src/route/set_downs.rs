@@ -21,7 +21,8 @@ pub const WAY_OUT_MAX_M: f32 = 25.0;
 /// every target not in `done` (a dead end whose one way out it reported
 /// blocked): the node nearest `position`, within [`WAY_OUT_MAX_M`], from
 /// which one of them is still reached in `graph`. `None` when the robot is
-/// not cut off, or no such node is near.
+/// not cut off, or no such node is near. A robot whose spots took out every
+/// node within the snap distance is cut off too.
 pub fn way_out(
     graph: &GroundGraph,
     targets: &TargetSet,
@@ -40,8 +41,8 @@ pub fn way_out(
     }
     let to_a_target = graph.shortest_paths(&sources);
     let xy = [position[0], position[1]];
-    let (start, _) = graph.start_node_from(xy, params.max_snap_m)?;
-    if to_a_target.dist[start].is_finite() {
+    let start = graph.start_node_from(xy, params.max_snap_m);
+    if start.is_some_and(|(s, _)| to_a_target.dist[s].is_finite()) {
         return None;
     }
     graph
@@ -301,6 +302,12 @@ mod tests {
             regions: Vec::new(),
         };
         assert_eq!(way_out(&g, &targets, &reached, robot, &rp), None);
+        // Every node within the snap distance taken out: still a way out.
+        let mut bare = g.clone();
+        assert!(bare.block_near([1.2, 0.6], 3.5) > 0);
+        assert!(bare.start_node_from([1.2, 0.6], rp.max_snap_m).is_none());
+        let to = way_out(&bare, &targets, &done, robot, &rp).expect("a way out");
+        assert!(to[0] > 4.7, "{to:?}");
         // A spot as wide as the reach leaves no way out near.
         assert!(g.block_near([15.0, 0.6], 13.0) > 0);
         assert_eq!(way_out(&g, &targets, &done, robot, &rp), None);
