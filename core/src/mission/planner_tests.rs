@@ -79,6 +79,25 @@ fn ready(block_retries: u32, stamp: u64) -> (Planner, Vec<PlannerCommand>) {
     (p, out)
 }
 
+/// A planner with two tries per blocked stop and `set_downs` a round.
+fn with_set_downs(set_downs: usize) -> Planner {
+    Planner::new(PlannerConfig {
+        graph: GraphParams::default(),
+        route: RouteParams::default(),
+        block_retries: 2,
+        targets: TargetParams::default(),
+        set_downs,
+    })
+}
+
+/// Where `out` asks for the robot to be set down, if it does.
+fn set_down_of(out: &[PlannerCommand]) -> Option<[f32; 3]> {
+    out.iter().find_map(|c| match c {
+        PlannerCommand::SetDown(at) => Some(*at),
+        _ => None,
+    })
+}
+
 fn legs(out: &[PlannerCommand]) -> Vec<Vec<[f32; 3]>> {
     out.iter()
         .filter_map(|c| match c {
@@ -365,13 +384,7 @@ fn stops_whose_gaps_the_route_sees_anyway_are_left_off_and_stay_off() {
 #[test]
 fn a_target_behind_walls_gets_a_set_down_and_is_driven_after_it() {
     let run = |set_downs: usize| {
-        let mut p = Planner::new(PlannerConfig {
-            graph: GraphParams::default(),
-            route: RouteParams::default(),
-            block_retries: 2,
-            targets: TargetParams::default(),
-            set_downs,
-        });
+        let mut p = with_set_downs(set_downs);
         let (xyz, labels) = crate::geom::fixtures::pens(&[([25.0, 5.0], [35.0, 15.0])]);
         p.handle(PlannerEvent::Cloud { xyz, labels });
         p.handle(PlannerEvent::Position([2.0, 2.0, 0.0]));
@@ -403,11 +416,7 @@ fn a_target_behind_walls_gets_a_set_down_and_is_driven_after_it() {
             .any(|c| matches!(c, PlannerCommand::Warn(w) if w.contains("set-down at") && w.contains("failed"))),
         "{refused:?}"
     );
-    assert!(
-        !refused
-            .iter()
-            .any(|c| matches!(c, PlannerCommand::SetDown(_)))
-    );
+    assert_eq!(set_down_of(&refused), None);
     assert_eq!(p.phase(), Phase::Done);
 
     let (mut p, out) = run(1);
@@ -417,13 +426,7 @@ fn a_target_behind_walls_gets_a_set_down_and_is_driven_after_it() {
     let ended = p.handle(arrived(goal));
     assert_eq!(p.phase(), Phase::Carrying);
     assert_eq!(p.status().phase, "carrying");
-    let to = ended
-        .iter()
-        .find_map(|c| match c {
-            PlannerCommand::SetDown(at) => Some(*at),
-            _ => None,
-        })
-        .expect("a set-down with the route's end");
+    let to = set_down_of(&ended).expect("a set-down with the route's end");
     assert!(
         (25.0..35.0).contains(&to[0]) && (5.0..15.0).contains(&to[1]),
         "the set-down is inside the pen: {to:?}"
@@ -451,13 +454,7 @@ fn a_target_behind_walls_gets_a_set_down_and_is_driven_after_it() {
 #[test]
 fn a_robot_its_blocked_spots_cut_off_is_carried_out() {
     let run = |set_downs: usize| {
-        let mut p = Planner::new(PlannerConfig {
-            graph: GraphParams::default(),
-            route: RouteParams::default(),
-            block_retries: 2,
-            targets: TargetParams::default(),
-            set_downs,
-        });
+        let mut p = with_set_downs(set_downs);
         let (xyz, labels) = flat_ground(160, 6, 0.25);
         p.handle(PlannerEvent::Cloud { xyz, labels });
         p.handle(PlannerEvent::Position([1.2, 0.6, 0.0]));
@@ -474,13 +471,7 @@ fn a_robot_its_blocked_spots_cut_off_is_carried_out() {
 
     let (mut p, out) = run(1);
     assert_eq!(p.phase(), Phase::Carrying, "{out:?}");
-    let to = out
-        .iter()
-        .find_map(|c| match c {
-            PlannerCommand::SetDown(at) => Some(*at),
-            _ => None,
-        })
-        .expect("a set-down");
+    let to = set_down_of(&out).expect("a set-down");
     let spot = p.status().blocked[0];
     assert!(
         to[0] - spot.at[0] > spot.radius && to[0] < 1.2 + crate::route::WAY_OUT_MAX_M,
@@ -498,10 +489,7 @@ fn a_robot_its_blocked_spots_cut_off_is_carried_out() {
     assert_eq!(p.status().visited.points, vec![0]);
 
     let (p, out) = run(0);
-    assert!(
-        !out.iter().any(|c| matches!(c, PlannerCommand::SetDown(_))),
-        "{out:?}"
-    );
+    assert_eq!(set_down_of(&out), None, "{out:?}");
     assert_eq!(p.phase(), Phase::Done);
     assert_eq!(p.status().unreachable_points, 1);
 
@@ -509,13 +497,7 @@ fn a_robot_its_blocked_spots_cut_off_is_carried_out() {
     // left within the snap distance: no route can start there, and the
     // robot is carried out all the same (the round's second set-down).
     let (mut p, out) = run(2);
-    let to = out
-        .iter()
-        .find_map(|c| match c {
-            PlannerCommand::SetDown(at) => Some(*at),
-            _ => None,
-        })
-        .expect("a set-down");
+    let to = set_down_of(&out).expect("a set-down");
     p.handle(PlannerEvent::Position(to));
     let out = p.handle(PlannerEvent::Tick);
     let goal = *legs(&out)[0].last().expect("a leg has a pose");
