@@ -127,10 +127,16 @@ impl WktNode {
 
 /// Parses a WKT text into its top node (trailing NULs and spaces are ignored).
 pub fn parse_wkt(text: &str) -> Result<WktNode, WktError> {
+    parse_with_spans(text).map(|(node, _)| node)
+}
+
+/// The top node, and every node's keyword with the bytes it spans in `text`.
+fn parse_with_spans(text: &str) -> Result<(WktNode, Vec<NodeSpan>), WktError> {
     let text = text.trim_end_matches(['\0', ' ', '\n', '\r', '\t']);
     let mut p = Parser {
         s: text.as_bytes(),
         at: 0,
+        spans: Vec::new(),
     };
     p.skip_space();
     let node = p.node()?;
@@ -138,8 +144,11 @@ pub fn parse_wkt(text: &str) -> Result<WktNode, WktError> {
     if p.at != p.s.len() {
         return Err(p.error("end of text after the top node"));
     }
-    Ok(node)
+    Ok((node, p.spans))
 }
+
+/// A node's keyword, and where it starts and ends (byte offsets, end excluded).
+type NodeSpan = (String, usize, usize);
 
 /// The name, EPSG codes and units a WKT text states.
 pub fn wkt_facts(text: &str) -> Result<WktFacts, WktError> {
@@ -173,32 +182,27 @@ pub fn wkt_facts(text: &str) -> Result<WktFacts, WktError> {
 }
 
 /// `text` without its `keyword[...]` nodes (and the comma that joined
-/// each to its neighbours); `text` unchanged when that would not parse.
+/// each to its neighbours); `text` unchanged when it or the result does
+/// not parse.
 pub fn without_nodes(text: &str, keyword: &str) -> String {
-    let (b, kw) = (text.as_bytes(), keyword.as_bytes());
-    let is_word = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let Ok((_, mut spans)) = parse_with_spans(text) else {
+        return text.to_string();
+    };
+    let keyword = keyword.to_ascii_uppercase();
+    spans.retain(|(k, _, _)| *k == keyword);
+    spans.sort_by_key(|&(_, start, _)| start);
+    let b = text.as_bytes();
     let mut out = String::with_capacity(text.len());
-    let (mut i, mut kept, mut quoted) = (0, 0, false);
-    while i < b.len() {
-        if b[i] == b'"' {
-            quoted = !quoted;
-            i += 1;
+    let mut kept = 0;
+    // A node inside one already cut starts before `kept`.
+    for (_, start, end) in spans {
+        if start < kept {
             continue;
         }
-        let starts = !quoted
-            && (i == 0 || !is_word(b[i - 1]))
-            && b.len() >= i + kw.len()
-            && b[i..i + kw.len()].eq_ignore_ascii_case(kw)
-            && !b.get(i + kw.len()).copied().is_some_and(is_word);
-        let Some(end) = starts.then(|| node_end(b, i + kw.len())).flatten() else {
-            i += 1;
-            continue;
-        };
-        let mut from = i;
+        let (mut from, mut to) = (start, end);
         while from > kept && b[from - 1].is_ascii_whitespace() {
             from -= 1;
         }
-        let mut to = end;
         if from > kept && b[from - 1] == b',' {
             from -= 1;
         } else {
@@ -211,7 +215,7 @@ pub fn without_nodes(text: &str, keyword: &str) -> String {
             }
         }
         out.push_str(&text[kept..from]);
-        (kept, i) = (to, to);
+        kept = to;
     }
     out.push_str(&text[kept..]);
     if parse_wkt(&out).is_ok() {
@@ -221,35 +225,10 @@ pub fn without_nodes(text: &str, keyword: &str) -> String {
     }
 }
 
-/// The byte after the bracket closing the one that opens at or after `at`
-/// (spaces allowed before it).
-fn node_end(b: &[u8], mut at: usize) -> Option<usize> {
-    while b.get(at).is_some_and(|c| c.is_ascii_whitespace()) {
-        at += 1;
-    }
-    if !matches!(b.get(at), Some(b'[' | b'(')) {
-        return None;
-    }
-    let (mut depth, mut quoted) = (0usize, false);
-    for (j, &c) in b.iter().enumerate().skip(at) {
-        match c {
-            b'"' => quoted = !quoted,
-            b'[' | b'(' if !quoted => depth += 1,
-            b']' | b')' if !quoted => {
-                depth -= 1;
-                if depth == 0 {
-                    return Some(j + 1);
-                }
-            }
-            _ => {}
-        }
-    }
-    None
-}
-
 struct Parser<'a> {
     s: &'a [u8],
     at: usize,
+    spans: Vec<NodeSpan>,
 }
 
 impl Parser<'_> {
@@ -279,6 +258,7 @@ impl Parser<'_> {
     }
 
     fn node(&mut self) -> Result<WktNode, WktError> {
+        let start = self.at;
         let keyword = self.word().to_ascii_uppercase();
         if keyword.is_empty() {
             return Err(self.error("a keyword"));
@@ -308,6 +288,7 @@ impl Parser<'_> {
                 _ => return Err(self.error("`,` or a closing bracket")),
             }
         }
+        self.spans.push((keyword.clone(), start, self.at));
         Ok(WktNode { keyword, args })
     }
 
