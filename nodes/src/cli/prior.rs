@@ -116,19 +116,6 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
     Ok((spec, survey, crop))
 }
 
-/// Ground-graph parameters for the planner and the explorer on a real
-/// prior: a multi-return survey measures the space under tree crowns (AHN3
-/// Delft: 43–52 % of points from pulses with several returns), so a crown
-/// blocks only where points stand in the vehicle's height band, not its
-/// whole column (on AHN3 Delft 1 that joins 1,091 → 3,709 reachable nodes).
-pub fn graph_params(p: &PriorArgs) -> Vec<String> {
-    if p.files.is_empty() {
-        Vec::new()
-    } else {
-        vec!["graph.canopy_is_obstacle:=false".into()]
-    }
-}
-
 /// Where the vehicle starts on a real prior: of free spots of the model on
 /// a 4 × 4 grid over the prior's extent, the one whose ground graph (built
 /// on the producer's classes, as the planner will on the classifier's) is
