@@ -6,8 +6,11 @@
 //! median height above the ground. Beside the points both call alike it
 //! says which side a disputed point resembles: a crown a producer drew
 //! into a building's footprint has a crown's shape and echoes; a roof we
-//! missed has a roof's.
+//! missed has a roof's. And where both call a roof, whether the disputed
+//! point stands well above it: a crown over the house, which a label taken
+//! from a footprint polygon calls building.
 
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use serde::{Deserialize, Serialize};
 
 use super::error::ClassifyError;
@@ -17,6 +20,14 @@ use crate::features::{Echoes, FeatureParams, R1_PLANARITY, compute_subset};
 
 /// Most points profiled per pairing; beyond, an evenly spread sample.
 pub const MAX_PER_PAIR: usize = 5_000;
+
+/// A point stands over an agreed roof when it is more than this (m) above
+/// the highest point both call building within [`ROOF_REACH_M`] in plan:
+/// higher than a chimney or a parapet (roof_check's `above_roof_m`).
+pub const OVER_ROOF_M: f32 = 2.0;
+
+/// Plan radius (m) in which the agreed roof under a point is looked for.
+pub const ROOF_REACH_M: f32 = 1.0;
 
 /// The shape of the points one pairing of classes holds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -36,6 +47,11 @@ pub struct PairShape {
     pub multiple_returns_share: Option<f32>,
     /// Median height above the ground model, metres.
     pub hag_median_m: f32,
+    /// Share of the points standing more than [`OVER_ROOF_M`] above the
+    /// highest point both call building within [`ROOF_REACH_M`] in plan
+    /// (a crown over a roof); `None` when no point is called building by
+    /// both.
+    pub over_agreed_roof_share: Option<f32>,
 }
 
 /// The four pairings of vegetation and building (the producer's class
@@ -81,6 +97,7 @@ pub fn shapes_by_pairing(
         return Ok(Vec::new());
     }
     let features = compute_subset(xyz, hag, echoes, &rows, params)?;
+    let roofs = AgreedRoofs::new(xyz, truth, ours);
     let mut out = Vec::new();
     let mut at = 0;
     for ((&(producer, ours), all), sample) in pairs.iter().zip(&members).zip(&samples) {
@@ -103,9 +120,52 @@ pub fn shapes_by_pairing(
             planarity_median: median(plan),
             multiple_returns_share: multiple,
             hag_median_m: median(heights),
+            over_agreed_roof_share: roofs.as_ref().map(|r| {
+                sample.iter().filter(|&&i| r.is_over(xyz[i])).count() as f32 / sample.len() as f32
+            }),
         });
     }
     Ok(out)
+}
+
+/// The points both call building, in plan, with their heights.
+struct AgreedRoofs {
+    tree: ImmutableKdTree<f32, 2>,
+    z: Vec<f32>,
+}
+
+impl AgreedRoofs {
+    /// `None` when no finite point is building in both labellings.
+    fn new(xyz: &[[f32; 3]], truth: &[u8], ours: &[u8]) -> Option<Self> {
+        let (plan, z): (Vec<[f32; 2]>, Vec<f32>) = xyz
+            .iter()
+            .zip(truth.iter().zip(ours))
+            .filter(|(p, (t, o))| {
+                fold(**t) == BUILDING && **o == BUILDING && p.iter().all(|v| v.is_finite())
+            })
+            .map(|(p, _)| ([p[0], p[1]], p[2]))
+            .unzip();
+        if plan.is_empty() {
+            return None;
+        }
+        let tree = ImmutableKdTree::<f32, 2>::new_from_slice(&plan).ok()?;
+        Some(Self { tree, z })
+    }
+
+    /// Whether `p` stands more than [`OVER_ROOF_M`] above the highest
+    /// agreed building point within [`ROOF_REACH_M`] in plan.
+    fn is_over(&self, p: [f32; 3]) -> bool {
+        let top = self
+            .tree
+            .query(&[p[0], p[1]])
+            .within::<SquaredEuclidean<f32>>(ROOF_REACH_M * ROOF_REACH_M)
+            .unsorted()
+            .execute()
+            .iter()
+            .filter_map(|nb| self.z.get(nb.item as usize))
+            .fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+        top.is_finite() && p[2] > top + OVER_ROOF_M
+    }
 }
 
 /// The profiles as a table, one pairing a line, for a terminal.
@@ -118,20 +178,19 @@ pub fn table(shapes: &[PairShape]) -> String {
         }
     };
     let mut s = format!(
-        "{:<24} {:>9} {:>10} {:>16} {:>14}\n",
-        "producer -> ours", "points", "planarity", "several returns", "height"
+        "{:<24} {:>9} {:>10} {:>16} {:>14} {:>15}\n",
+        "producer -> ours", "points", "planarity", "several returns", "height", "over a roof"
     );
+    let share = |v: Option<f32>| v.map_or_else(|| "-".to_string(), |v| format!("{v:.2}"));
     for p in shapes {
-        let several = p
-            .multiple_returns_share
-            .map_or_else(|| "-".to_string(), |v| format!("{v:.2}"));
         s += &format!(
-            "{:<24} {:>9} {:>10.2} {:>16} {:>12.1} m\n",
+            "{:<24} {:>9} {:>10.2} {:>16} {:>12.1} m {:>15}\n",
             format!("{} -> {}", name(p.producer), name(p.ours)),
             p.points,
             p.planarity_median,
-            several,
-            p.hag_median_m
+            share(p.multiple_returns_share),
+            p.hag_median_m,
+            share(p.over_agreed_roof_share)
         );
     }
     s
@@ -234,6 +293,53 @@ mod tests {
         let s =
             shapes_by_pairing(&xyz, &hag, None, &truth, &ours, &FeatureParams::default()).unwrap();
         assert!(s.iter().all(|x| x.multiple_returns_share.is_none()));
+    }
+
+    #[test]
+    fn a_crown_over_a_roof_both_call_building_is_told_apart_from_the_roof() {
+        // A roof at 6 m both call building; over its east half, a crown 3–7 m
+        // above it that the producer's footprint calls building and we call
+        // vegetation; and a crown with no roof beneath, beside the house.
+        let mut xyz = Vec::new();
+        let (mut truth, mut ours) = (Vec::new(), Vec::new());
+        for i in 0..40 {
+            for j in 0..40 {
+                let (x, y) = (i as f32 * 0.25, j as f32 * 0.25);
+                xyz.push([x, y, 6.0]);
+                truth.push(BUILDING);
+                ours.push(BUILDING);
+                let h = ((i * 7919 + j * 104_729) % 97) as f32 / 97.0;
+                if x >= 5.0 {
+                    xyz.push([x, y, 9.0 + 4.0 * h]);
+                    truth.push(BUILDING);
+                    ours.push(VEGETATION);
+                }
+                xyz.push([30.0 + x, y, 4.0 + 4.0 * h]);
+                truth.push(BUILDING);
+                ours.push(VEGETATION);
+            }
+        }
+        let hag: Vec<f32> = xyz.iter().map(|p| p[2]).collect();
+        let s =
+            shapes_by_pairing(&xyz, &hag, None, &truth, &ours, &FeatureParams::default()).unwrap();
+        let get = |p: u8, o: u8| s.iter().find(|x| x.producer == p && x.ours == o).unwrap();
+        assert_eq!(get(BUILDING, BUILDING).over_agreed_roof_share, Some(0.0));
+        // 800 points over the roof of 2,400 disputed.
+        let disputed = get(BUILDING, VEGETATION);
+        let share = disputed.over_agreed_roof_share.unwrap();
+        assert!((share - 1.0 / 3.0).abs() < 0.01, "{disputed:?}");
+        assert!(table(&s).contains("0.33"), "{}", table(&s));
+        // Nothing both call building: the share is unknown.
+        let s = shapes_by_pairing(
+            &xyz,
+            &hag,
+            None,
+            &truth,
+            &vec![VEGETATION; xyz.len()],
+            &FeatureParams::default(),
+        )
+        .unwrap();
+        assert!(s.iter().all(|x| x.over_agreed_roof_share.is_none()));
     }
 
     #[test]
