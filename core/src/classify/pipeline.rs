@@ -2,6 +2,7 @@
 
 use super::blocks::{BLOCK_POINTS, votes};
 use super::error::ClassifyError;
+use super::grade::{AtGrade, join_terrain};
 use super::model::Model;
 use super::roofs::check_roofs;
 use super::smooth::{argmax_rows, smooth_votes};
@@ -37,6 +38,20 @@ pub fn classify_at(
     model: &Model,
     spacing_m: f32,
 ) -> Result<Vec<u8>, ClassifyError> {
+    classify_counted(xyz, hag, is_ground, echoes, model, spacing_m).map(|(labels, _)| labels)
+}
+
+/// [`classify_at`], and which building points turned out to continue the
+/// terrain ([`join_terrain`]): those are ground (2) or bridge deck (17),
+/// though the ground filter left them standing.
+pub fn classify_counted(
+    xyz: &[[f32; 3]],
+    hag: &[f32],
+    is_ground: &[bool],
+    echoes: Option<Echoes<'_>>,
+    model: &Model,
+    spacing_m: f32,
+) -> Result<(Vec<u8>, AtGrade), ClassifyError> {
     if xyz.is_empty() {
         return Err(ClassifyError::Empty);
     }
@@ -47,7 +62,7 @@ pub fn classify_at(
     let rows: Vec<usize> = (0..xyz.len()).filter(|&i| !is_ground[i]).collect();
     let mut out = vec![GROUND; xyz.len()];
     if rows.is_empty() {
-        return Ok(out);
+        return Ok((out, AtGrade::default()));
     }
     let proba = votes(xyz, hag, echoes, &rows, model, BLOCK_POINTS)?;
     let classes = model.forest.classes();
@@ -65,5 +80,6 @@ pub fn classify_at(
         echoes,
         &model.roof_check.for_spacing(spacing_m),
     );
-    Ok(out)
+    let at_grade = join_terrain(xyz, &mut out, spacing_m);
+    Ok((out, at_grade))
 }

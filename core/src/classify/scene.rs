@@ -4,8 +4,9 @@
 use std::time::Instant;
 
 use super::error::ClassifyError;
+use super::grade::AtGrade;
 use super::model::Model;
-use super::pipeline::classify_at;
+use super::pipeline::classify_counted;
 use crate::cloud::{Cloud, ColumnLength, class};
 use crate::features::Echoes;
 use crate::ground::{CsfParams, GroundSplit, csf};
@@ -30,6 +31,9 @@ pub struct Classified {
     pub seconds_csf: f64,
     /// Seconds in features and forest.
     pub seconds_classify: f64,
+    /// Building points found to continue the terrain: now ground (and
+    /// ground in `ground.is_ground`) or bridge deck.
+    pub at_grade: AtGrade,
 }
 
 impl Classified {
@@ -138,7 +142,7 @@ impl SceneClassifier {
             return Err(ClassifyError::NonFinite { index });
         }
         let spacing = ground.density.spacing_m;
-        let labels = classify_at(
+        let (labels, at_grade) = classify_counted(
             xyz,
             &ground.hag,
             &ground.is_ground,
@@ -146,11 +150,19 @@ impl SceneClassifier {
             &self.model,
             spacing,
         )?;
+        let mut ground = ground;
+        // Terrain the cloth hung below is ground for every later step (the
+        // ground report, the ground graph), though its height above the
+        // terrain model stays as the cloth measured it.
+        for (g, &l) in ground.is_ground.iter_mut().zip(&labels) {
+            *g |= l == class::GROUND;
+        }
         Ok(Classified {
             labels,
             ground,
             seconds_csf,
             seconds_classify: t1.elapsed().as_secs_f64(),
+            at_grade,
         })
     }
 }

@@ -16,6 +16,9 @@ pub const VEGETATION: u8 = 5;
 /// Building (LAS 6).
 pub const BUILDING: u8 = 6;
 
+/// Bridge deck (LAS 17).
+pub const BRIDGE_DECK: u8 = 17;
+
 /// Low noise (LAS 7).
 pub const LOW_NOISE: u8 = 7;
 /// High noise (LAS 18, from LAS 1.4).

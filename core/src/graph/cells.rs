@@ -5,8 +5,6 @@ use crate::cloud::class;
 use crate::geom::grid::{self, GridFrame, Neighbours};
 use crate::geom::tiled::TiledFrame;
 
-/// ASPRS class 17: bridge deck.
-const BRIDGE_DECK: u8 = 17;
 /// AHN's class 26: civil structures (bridges, viaducts, quays).
 const AHN_STRUCTURE: u8 = 26;
 
@@ -14,7 +12,7 @@ const AHN_STRUCTURE: u8 = 26;
 /// (producers class them apart from ground; without them a canal or a river
 /// cuts the graph in two where a road crosses it).
 pub fn drivable(label: u8) -> bool {
-    matches!(label, class::GROUND | BRIDGE_DECK | AHN_STRUCTURE)
+    matches!(label, class::GROUND | class::BRIDGE_DECK | AHN_STRUCTURE)
 }
 
 /// Node-grid cells per tile side: 8 × 1.25 m = 10 m, more than the height

@@ -197,6 +197,7 @@ fn classify_one(
         // The check as applied: its cell and link follow the spacing.
         "roof_check": classifier.model().roof_check.for_spacing(classified.ground.density.spacing_m),
         "raised_ground": classified.ground.raised,
+        "at_grade": classified.at_grade,
     });
     // Water, bridges, wires, noise and producers' own codes stay theirs
     // (noise also stays out of the ground filter and the features).
@@ -214,7 +215,14 @@ fn classify_one(
         );
     }
     out["producer_classes_kept"] = serde_json::json!(kept);
-    if let Some(m) = classified.ground.raised.message().filter(|_| !json) {
+    for m in [
+        classified.ground.raised.message(),
+        classified.at_grade.message(),
+    ]
+    .into_iter()
+    .flatten()
+    .filter(|_| !json)
+    {
         eprintln!("{m}");
     }
     if let Some(m) = classifier.echo_note(&cloud).filter(|_| !json) {

@@ -97,7 +97,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             classified.seconds_csf,
             classified.summary()
         ));
-        if let Some(m) = classified.ground.raised.message() {
+        for m in [
+            classified.ground.raised.message(),
+            classified.at_grade.message(),
+        ]
+        .into_iter()
+        .flatten()
+        {
             rt.log.info(&m);
         }
         if let Some(m) = classifier.echo_note(&cloud) {
