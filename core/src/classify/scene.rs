@@ -50,6 +50,7 @@ impl Classified {
                 class::GROUND => "ground",
                 class::VEGETATION => "vegetation",
                 class::BUILDING => "building",
+                class::BRIDGE_DECK => "bridge deck",
                 _ => "other",
             };
             *out.entry(name).or_insert(0) += 1;
