@@ -102,20 +102,17 @@ pub fn join_terrain(xyz: &[[f32; 3]], labels: &mut [u8], spacing_m: f32) -> AtGr
     }
     let is_building = |c: &Cell| c.building_top.is_finite();
     // Surface height of each joined cell, seeded by the ground cells
-    // without a building point.
+    // without a building point; a building cell is in it once joined.
     let mut surface: HashMap<[i32; 2], f32> = HashMap::new();
-    let mut queue: VecDeque<[i32; 2]> = VecDeque::new();
+    let mut queue: VecDeque<([i32; 2], f32)> = VecDeque::new();
     for (k, c) in &cells {
         if !is_building(c) && c.ground_max.is_finite() {
             surface.insert(*k, c.ground_max);
-            queue.push_back(*k);
+            queue.push_back((*k, c.ground_max));
         }
     }
-    let mut joined: HashMap<[i32; 2], f32> = HashMap::new();
-    while let Some(k) = queue.pop_front() {
-        let Some(&z) = surface.get(&k) else {
-            continue;
-        };
+    let seeds = surface.len();
+    while let Some((k, z)) = queue.pop_front() {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 let n = [k[0] + dx, k[1] + dy];
@@ -127,13 +124,12 @@ pub fn join_terrain(xyz: &[[f32; 3]], labels: &mut [u8], spacing_m: f32) -> AtGr
                 };
                 if (c.building_top - z).abs() <= STEP_M {
                     surface.insert(n, c.building_top);
-                    joined.insert(n, c.building_top);
-                    queue.push_back(n);
+                    queue.push_back((n, c.building_top));
                 }
             }
         }
     }
-    if joined.is_empty() {
+    if surface.len() == seeds {
         return counts;
     }
     for (p, l) in xyz.iter().zip(labels.iter_mut()) {
@@ -141,7 +137,7 @@ pub fn join_terrain(xyz: &[[f32; 3]], labels: &mut [u8], spacing_m: f32) -> AtGr
             continue;
         }
         let k = key(p);
-        let Some(&top) = joined.get(&k) else {
+        let Some(&top) = surface.get(&k) else {
             continue;
         };
         let over_ground = cells

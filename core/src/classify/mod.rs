@@ -35,7 +35,7 @@ pub use error::ClassifyError;
 pub use grade::{AtGrade, join_terrain};
 pub use hag::hag_from_ground_points;
 pub use model::{Model, Smoothing};
-pub use pipeline::{classify, classify_at, classify_counted};
+pub use pipeline::{classify, classify_at};
 pub use report::{ClassMetrics, ClassReport, is_scored};
 pub use roofs::{RoofCheck, RoofCheckCounts, check_roofs};
 pub use scene::{Classified, GroundReport, SceneClassifier, echoes_of};

@@ -13,7 +13,8 @@ use crate::features::Echoes;
 
 /// LAS class of every point: 2 where `is_ground`, else the forest's
 /// vegetation (5) or building (6). A non-ground point the forest calls
-/// ground (a low object the ground filter left standing) gets 1.
+/// ground (a low object the ground filter left standing) gets 1, and a
+/// building surface that continues the terrain 2 or 17 ([`join_terrain`]).
 /// `hag`: height above the ground model, metres; `echoes`: the cloud's
 /// return numbers, when it has them.
 pub fn classify(
@@ -24,27 +25,15 @@ pub fn classify(
     model: &Model,
 ) -> Result<Vec<u8>, ClassifyError> {
     let spacing = Density::measure(xyz).map_or(0.0, |d| d.spacing_m);
-    classify_at(xyz, hag, is_ground, echoes, model, spacing)
+    classify_at(xyz, hag, is_ground, echoes, model, spacing).map(|(labels, _)| labels)
 }
 
 /// [`classify`] of a cloud whose point spacing (m) is already measured
 /// (the ground filter measures it): the roof check's cells and links
-/// follow it below 4 pts/m².
+/// follow it below 4 pts/m². Also says which building points turned out
+/// to continue the terrain ([`join_terrain`]): those are ground (2) or
+/// bridge deck (17), though the ground filter left them standing.
 pub fn classify_at(
-    xyz: &[[f32; 3]],
-    hag: &[f32],
-    is_ground: &[bool],
-    echoes: Option<Echoes<'_>>,
-    model: &Model,
-    spacing_m: f32,
-) -> Result<Vec<u8>, ClassifyError> {
-    classify_counted(xyz, hag, is_ground, echoes, model, spacing_m).map(|(labels, _)| labels)
-}
-
-/// [`classify_at`], and which building points turned out to continue the
-/// terrain ([`join_terrain`]): those are ground (2) or bridge deck (17),
-/// though the ground filter left them standing.
-pub fn classify_counted(
     xyz: &[[f32; 3]],
     hag: &[f32],
     is_ground: &[bool],

@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::error::ClassifyError;
 use super::grade::AtGrade;
 use super::model::Model;
-use super::pipeline::classify_counted;
+use super::pipeline::classify_at;
 use crate::cloud::{Cloud, ColumnLength, class};
 use crate::features::Echoes;
 use crate::ground::{CsfParams, GroundSplit, csf};
@@ -56,6 +56,14 @@ impl Classified {
             *out.entry(name).or_insert(0) += 1;
         }
         out
+    }
+
+    /// What the user is told about points relabelled after the forest:
+    /// ground the filter raised, terrain read as roofs.
+    pub fn messages(&self) -> impl Iterator<Item = String> {
+        [self.ground.raised.message(), self.at_grade.message()]
+            .into_iter()
+            .flatten()
     }
 
     /// The counts as one line.
@@ -135,7 +143,7 @@ impl SceneClassifier {
         echoes: Option<Echoes<'_>>,
     ) -> Result<Classified, ClassifyError> {
         let t0 = Instant::now();
-        let ground = csf(xyz, &self.csf)?;
+        let mut ground = csf(xyz, &self.csf)?;
         let seconds_csf = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         // Points the filter skipped (non-finite) have a NaN height: keep them out of the features.
@@ -143,7 +151,7 @@ impl SceneClassifier {
             return Err(ClassifyError::NonFinite { index });
         }
         let spacing = ground.density.spacing_m;
-        let (labels, at_grade) = classify_counted(
+        let (labels, at_grade) = classify_at(
             xyz,
             &ground.hag,
             &ground.is_ground,
@@ -151,7 +159,6 @@ impl SceneClassifier {
             &self.model,
             spacing,
         )?;
-        let mut ground = ground;
         // Terrain the cloth hung below is ground for every later step (the
         // ground report, the ground graph), though its height above the
         // terrain model stays as the cloth measured it.

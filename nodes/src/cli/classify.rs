@@ -215,14 +215,7 @@ fn classify_one(
         );
     }
     out["producer_classes_kept"] = serde_json::json!(kept);
-    for m in [
-        classified.ground.raised.message(),
-        classified.at_grade.message(),
-    ]
-    .into_iter()
-    .flatten()
-    .filter(|_| !json)
-    {
+    for m in classified.messages().filter(|_| !json) {
         eprintln!("{m}");
     }
     if let Some(m) = classifier.echo_note(&cloud).filter(|_| !json) {

@@ -97,13 +97,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             classified.seconds_csf,
             classified.summary()
         ));
-        for m in [
-            classified.ground.raised.message(),
-            classified.at_grade.message(),
-        ]
-        .into_iter()
-        .flatten()
-        {
+        for m in classified.messages() {
             rt.log.info(&m);
         }
         if let Some(m) = classifier.echo_note(&cloud) {
