@@ -302,6 +302,54 @@ def test_a_crs_the_file_does_not_state(tmp_path):
         assert ("does not reproject" in p.stderr) if args[1] != "RD New" else ("names no EPSG code" in p.stderr), p.stderr
 
 
+def test_crs_records_nobody_can_read(tmp_path):
+    """A file whose CRS records are malformed (a GeoKeyDirectory shorter
+    than its key count; a LAS 1.4 extended WKT record of 600 kB of nested
+    brackets, which overflowed the parser's stack and aborted the process)
+    is refused with the fault and the way round it named; with `--crs` its
+    points are read all the same, and the output carries the stated CRS in
+    place of the records nobody can read."""
+    import struct
+
+    import laspy
+    import pyproj
+    from laspy.vlrs.vlrlist import VLRList
+
+    src = laspy.read(str(real_file("sample_c.las")))
+    assert src.header.parse_crs() is None
+    keys = tmp_path / "keys.las"
+    # Version 1.1.0, 4 keys declared, one given.
+    directory = struct.pack("<8H", 1, 1, 0, 4, 1024, 0, 1, 1)
+    src.header.vlrs.append(laspy.VLR(user_id="LASF_Projection", record_id=34735,
+                                     description="GeoKeyDirectoryTag", record_data=directory))
+    src.write(str(keys))
+
+    deep = tmp_path / "deep.las"
+    d = laspy.convert(laspy.read(str(real_file("sample_c.las"))), point_format_id=6, file_version="1.4")
+    d.header.evlrs = VLRList()
+    nested = b"A[" * 200_000 + b"]" * 200_000 + b"\0"
+    d.header.evlrs.append(laspy.VLR(user_id="LASF_Projection", record_id=2112, description="OGC WKT",
+                                    record_data=nested))
+    d.write(str(deep))
+
+    lambert = pyproj.CRS.from_epsg(2154)
+    for f, fault in [(keys, "declares 4 keys"), (deep, "nested at most 64 deep")]:
+        p = subprocess.run([str(BIN / "skyground"), "info", str(f)], capture_output=True, text=True, timeout=600)
+        assert p.returncode == 1, (p.returncode, p.stderr)
+        assert fault in p.stderr and "--crs EPSG:N" in p.stderr, p.stderr
+        out = tmp_path / f"{f.stem}_classified.las"
+        r = run("classify", "--in", f, "--out", out, "--crs", "EPSG:2154", "--json")
+        assert fault in r.stderr and "taken in EPSG:2154" in r.stderr, r.stderr
+        back = laspy.read(str(out))
+        assert back.header.parse_crs() == lambert
+        assert len(back.points) == len(src.points)
+        assert json.loads(r.stdout)["report"]["per_class"], "the producer's classes are scored"
+        projection = [v.record_id for v in [*back.header.vlrs, *(back.header.evlrs or [])]
+                      if v.user_id == "LASF_Projection"]
+        assert projection.count(34735) == 1 if f == keys else projection == [2112], projection
+        assert not any(len(v.record_data) > 10_000 for v in back.header.evlrs or [])
+
+
 def test_classify_says_the_roof_check_it_applied(tmp_path):
     """The roof check's cell and link follow the point spacing below
     4 pts/m², its growing angle below about 8, and they are the model's

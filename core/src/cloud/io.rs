@@ -4,9 +4,9 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::Cloud;
-use super::las::{LasError, read_las, read_las_bounds, relabel_las, write_las};
+use super::las::{LasError, UnreadableCrs, read_las_bounds, read_las_with, relabel_las, write_las};
 use super::ply::{PlyError, parse_ply, write_ply};
-use crate::crs::Crs;
+use crate::crs::{Crs, CrsError};
 use crate::file::{self, FileError};
 
 /// Reading or writing a cloud file failed; the message starts with the path.
@@ -58,6 +58,18 @@ impl CloudIoError {
             | Self::Las { path, .. } => path,
         }
     }
+
+    /// The file's CRS records are malformed (not merely geographic): its
+    /// points read with [`UnreadableCrs::Skip`].
+    pub fn is_unreadable_crs(&self) -> bool {
+        matches!(
+            self,
+            Self::Las {
+                source: LasError::Crs(CrsError::Wkt(_) | CrsError::GeoTiff(_)),
+                ..
+            }
+        )
+    }
 }
 
 /// File formats we know, by extension.
@@ -83,6 +95,11 @@ fn kind(path: &Path) -> Result<Kind, CloudIoError> {
 
 /// Reads a `.ply`, `.las` or `.laz` file (extension case-insensitive).
 pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
+    read_cloud_with(path, UnreadableCrs::Fail)
+}
+
+/// [`read_cloud`], with CRS records it cannot make out failing or skipped.
+pub fn read_cloud_with(path: &Path, unreadable: UnreadableCrs) -> Result<Cloud, CloudIoError> {
     let kind = kind(path)?;
     let io = |source| FileError::new(path, source);
     let mut file = file::open(path)?;
@@ -100,7 +117,7 @@ pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
             })
         }
         Kind::Las | Kind::Laz => {
-            read_las(BufReader::new(file)).map_err(|source| CloudIoError::Las {
+            read_las_with(BufReader::new(file), unreadable).map_err(|source| CloudIoError::Las {
                 path: path.into(),
                 source,
             })
@@ -112,17 +129,24 @@ pub fn read_cloud(path: &Path) -> Result<Cloud, CloudIoError> {
 /// metres as [`read_cloud`] gives them): a LAS/LAZ header alone, a file
 /// whose header has no usable bounds (and any PLY) read whole.
 pub fn read_bounds(path: &Path) -> Result<Cloud, CloudIoError> {
+    read_bounds_with(path, UnreadableCrs::Fail)
+}
+
+/// [`read_bounds`], with CRS records it cannot make out failing or skipped.
+pub fn read_bounds_with(path: &Path, unreadable: UnreadableCrs) -> Result<Cloud, CloudIoError> {
     if matches!(kind(path)?, Kind::Las | Kind::Laz) {
         let file = file::open(path)?;
-        let bounds = read_las_bounds(BufReader::new(file)).map_err(|source| CloudIoError::Las {
-            path: path.into(),
-            source,
+        let bounds = read_las_bounds(BufReader::new(file), unreadable).map_err(|source| {
+            CloudIoError::Las {
+                path: path.into(),
+                source,
+            }
         })?;
         if let Some(b) = bounds {
             return Ok(b);
         }
     }
-    let c = read_cloud(path)?;
+    let c = read_cloud_with(path, unreadable)?;
     let corners = c.bounds().map_or_else(Vec::new, |(lo, hi)| vec![lo, hi]);
     Ok(Cloud {
         xyz: corners,

@@ -16,6 +16,9 @@ pub mod ply;
 pub mod synthetic;
 
 pub use data::{Cloud, CloudError, ColumnLength, positions_where};
-pub use io::{CloudIoError, read_bounds, read_cloud, relabel_files, write_cloud};
-pub use las::{LasError, read_las, write_las};
+pub use io::{
+    CloudIoError, read_bounds, read_bounds_with, read_cloud, read_cloud_with, relabel_files,
+    write_cloud,
+};
+pub use las::{LasError, UnreadableCrs, read_las, write_las};
 pub use ply::{PlyError, PlyFormat, parse_ply, read_ply, write_ply, write_ply_as};

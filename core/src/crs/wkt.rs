@@ -136,6 +136,7 @@ fn parse_with_spans(text: &str) -> Result<(WktNode, Vec<NodeSpan>), WktError> {
     let mut p = Parser {
         s: text.as_bytes(),
         at: 0,
+        depth: 0,
         spans: Vec::new(),
     };
     p.skip_space();
@@ -149,6 +150,13 @@ fn parse_with_spans(text: &str) -> Result<(WktNode, Vec<NodeSpan>), WktError> {
 
 /// A node's keyword, and where it starts and ends (byte offsets, end excluded).
 type NodeSpan = (String, usize, usize);
+
+/// Deepest nesting of nodes a text may have. A real CRS nests about ten
+/// deep (a bound compound CRS, its projected CRS, base CRS, datum,
+/// ellipsoid, unit, identifier); the parser recurses once per level, so a
+/// record of brackets alone (a LAS 1.4 extended record may hold megabytes)
+/// would otherwise exhaust the stack and abort the process.
+pub const MAX_DEPTH: usize = 64;
 
 /// The name, EPSG codes and units a WKT text states.
 pub fn wkt_facts(text: &str) -> Result<WktFacts, WktError> {
@@ -228,6 +236,8 @@ pub fn without_nodes(text: &str, keyword: &str) -> String {
 struct Parser<'a> {
     s: &'a [u8],
     at: usize,
+    /// Nodes open around the current position.
+    depth: usize,
     spans: Vec<NodeSpan>,
 }
 
@@ -258,6 +268,16 @@ impl Parser<'_> {
     }
 
     fn node(&mut self) -> Result<WktNode, WktError> {
+        if self.depth >= MAX_DEPTH {
+            return Err(self.error("nodes nested at most 64 deep"));
+        }
+        self.depth += 1;
+        let node = self.node_inside();
+        self.depth -= 1;
+        node
+    }
+
+    fn node_inside(&mut self) -> Result<WktNode, WktError> {
         let start = self.at;
         let keyword = self.word().to_ascii_uppercase();
         if keyword.is_empty() {
@@ -421,6 +441,36 @@ mod tests {
         assert!(
             wkt_facts("PROJCS[\"x\",UNIT[\"m\",1]]\0\0").is_ok(),
             "NUL padding"
+        );
+    }
+    /// `depth` nodes, each the only argument of the one around it.
+    fn nested(depth: usize) -> String {
+        format!("{}{}", "A[".repeat(depth), "]".repeat(depth))
+    }
+
+    #[test]
+    fn nesting_past_the_limit_is_an_error_not_a_stack_overflow() {
+        let deepest = parse_wkt(&nested(MAX_DEPTH)).unwrap();
+        let mut levels = 1;
+        let mut node = &deepest;
+        while let Some(inner) = node.children().next() {
+            node = inner;
+            levels += 1;
+        }
+        assert_eq!(levels, MAX_DEPTH);
+        let e = parse_wkt(&nested(MAX_DEPTH + 1)).unwrap_err();
+        assert!(e.what.contains(&MAX_DEPTH.to_string()), "{e}");
+        // Open at byte 2 × MAX_DEPTH: the keyword one level too deep.
+        assert_eq!(e.at, 2 * MAX_DEPTH);
+        // 600 kB of brackets, as a LAS 1.4 extended record may hold: it
+        // aborted the process before the limit (30,000 levels overflowed
+        // a test thread's 2 MiB stack, 200,000 the main thread's 8 MiB).
+        let huge = nested(200_000);
+        assert_eq!(wkt_facts(&huge).unwrap_err().at, 2 * MAX_DEPTH);
+        assert_eq!(
+            without_nodes(&huge, "A"),
+            huge,
+            "unchanged: it does not parse"
         );
     }
 }

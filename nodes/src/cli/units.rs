@@ -4,7 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
-use skyground_core::cloud::{Cloud, read_bounds, read_cloud};
+use skyground_core::cloud::{
+    Cloud, CloudIoError, UnreadableCrs, read_bounds_with, read_cloud_with,
+};
 use skyground_core::crs::{Crs, LinearUnit, epsg_from_reference};
 use skyground_core::prior::join_tiles;
 
@@ -24,13 +26,39 @@ pub struct UnitsArg {
 impl UnitsArg {
     /// Reads the cloud at `path`, in `--crs` and `--units` when given.
     pub fn read(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        self.taken_in(path, read_cloud(path).map_err(super::err)?)
+        let cloud = self.despite_bad_crs(read_cloud_with, path)?;
+        self.taken_in(path, cloud)
     }
 
     /// The bounding box of the cloud at `path` (its two corners; a LAS/LAZ
     /// header alone), in `--crs` and `--units` when given.
     pub fn read_bounds(&self, path: &Path) -> Result<Cloud, RuntimeError> {
-        self.taken_in(path, read_bounds(path).map_err(super::err)?)
+        let corners = self.despite_bad_crs(read_bounds_with, path)?;
+        self.taken_in(path, corners)
+    }
+
+    /// `read` of `path`; where the file's CRS records cannot be read, its
+    /// points all the same when `--crs` states the CRS (said on stderr),
+    /// else an error that says how to state it.
+    fn despite_bad_crs(
+        &self,
+        read: fn(&Path, UnreadableCrs) -> Result<Cloud, CloudIoError>,
+        path: &Path,
+    ) -> Result<Cloud, RuntimeError> {
+        match read(path, UnreadableCrs::Fail) {
+            Err(e) if e.is_unreadable_crs() => match self.crs {
+                Some(code) => {
+                    eprintln!(
+                        "{e}: the records are left out, the file is taken in EPSG:{code} (--crs)"
+                    );
+                    read(path, UnreadableCrs::Skip).map_err(super::err)
+                }
+                None => Err(super::err(format!(
+                    "{e} (state the file's CRS with --crs EPSG:N to read its points all the same)"
+                ))),
+            },
+            read => read.map_err(super::err),
+        }
     }
 
     /// `cloud` (read from `path`) in `--crs`, then `--units`, when given.

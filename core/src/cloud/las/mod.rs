@@ -14,7 +14,7 @@ mod relabel;
 mod write;
 
 pub use error::LasError;
-pub use read::{read_las, read_las_bounds};
+pub use read::{UnreadableCrs, read_las, read_las_bounds, read_las_with};
 pub use relabel::relabel_las;
 pub use write::{SCALE, write_las};
 

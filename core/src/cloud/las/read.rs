@@ -7,7 +7,20 @@ use ::las::{Header, PointData, Reader};
 use super::{LasError, extra_bytes, preflight};
 use crate::cloud::Cloud;
 use crate::cloud::origin::{SMALL_COORDINATE, local_origin, to_local};
-use crate::crs::{Crs, CrsRecord, LAS_PROJECTION};
+use crate::crs::{Crs, CrsError, CrsRecord, LAS_PROJECTION};
+
+/// What reading does with `LASF_Projection` records it cannot make out
+/// (a malformed WKT or GeoTIFF key directory).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UnreadableCrs {
+    /// Reading fails: a CRS is not guessed.
+    #[default]
+    Fail,
+    /// The points are read and the cloud has no CRS: for a caller told the
+    /// CRS another way (the user's `--crs`). A geographic CRS still fails:
+    /// its coordinates are degrees, whatever the caller states.
+    Skip,
+}
 
 /// Points decoded per batch (bounds the temporary record buffer).
 const BATCH: u64 = 1 << 16;
@@ -24,7 +37,15 @@ const MAX_PREALLOC: u64 = 1 << 24;
 /// point when the bounds are not usable).
 /// The CRS records (WKT, GeoTIFF keys) go to `crs`; coordinates in feet are
 /// scaled to metres (see [`Cloud`]'s frame).
-pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result<Cloud, LasError> {
+pub fn read_las<R: Read + Seek + Send + Sync + 'static>(source: R) -> Result<Cloud, LasError> {
+    read_las_with(source, UnreadableCrs::Fail)
+}
+
+/// [`read_las`], with CRS records it cannot make out failing or skipped.
+pub fn read_las_with<R: Read + Seek + Send + Sync + 'static>(
+    mut source: R,
+    unreadable: UnreadableCrs,
+) -> Result<Cloud, LasError> {
     let preflight = preflight::check(&mut source)?;
     let mut reader = Reader::new(source)?;
     let header = reader.header().clone();
@@ -59,7 +80,7 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
         index += batch.len() as u64;
     }
     cloud.origin = origin.unwrap_or_default();
-    cloud.crs = crs_of(&header)?;
+    cloud.crs = crs_of(&header, unreadable)?;
     // Points and origin were read in the file's unit.
     cloud.rescale(cloud.to_metre());
     Ok(cloud)
@@ -71,6 +92,7 @@ pub fn read_las<R: Read + Seek + Send + Sync + 'static>(mut source: R) -> Result
 /// header's bounds are unusable (read the file whole instead).
 pub fn read_las_bounds<R: Read + Seek + Send + Sync + 'static>(
     source: R,
+    unreadable: UnreadableCrs,
 ) -> Result<Option<Cloud>, LasError> {
     let reader = Reader::new(source)?;
     let header = reader.header().clone();
@@ -93,7 +115,7 @@ pub fn read_las_bounds<R: Read + Seek + Send + Sync + 'static>(
     let mut cloud = Cloud {
         xyz,
         origin,
-        crs: crs_of(&header)?,
+        crs: crs_of(&header, unreadable)?,
         ..Cloud::default()
     };
     cloud.rescale(cloud.to_metre());
@@ -101,7 +123,7 @@ pub fn read_las_bounds<R: Read + Seek + Send + Sync + 'static>(
 }
 
 /// The CRS stated by the header's `LASF_Projection` (E)VLRs.
-fn crs_of(header: &Header) -> Result<Option<Crs>, LasError> {
+fn crs_of(header: &Header, unreadable: UnreadableCrs) -> Result<Option<Crs>, LasError> {
     let records = header
         .all_vlrs()
         .filter(|v| v.user_id == LAS_PROJECTION)
@@ -111,7 +133,12 @@ fn crs_of(header: &Header) -> Result<Option<Crs>, LasError> {
             data: v.data.clone(),
         })
         .collect();
-    Ok(Crs::from_las_records(records)?)
+    match Crs::from_las_records(records) {
+        Err(CrsError::Wkt(_) | CrsError::GeoTiff(_)) if unreadable == UnreadableCrs::Skip => {
+            Ok(None)
+        }
+        read => Ok(read?),
+    }
 }
 
 /// The origin from the header, or `None` when its bounds are unusable.

@@ -10,7 +10,7 @@ use ::las::{Builder, PointData, PointDataBuilder, Reader, Writer};
 
 use super::LasError;
 use super::write::crs_vlrs;
-use crate::crs::{Crs, LAS_PROJECTION};
+use crate::crs::{Crs, CrsError, CrsRecord, LAS_PROJECTION};
 
 /// Points copied per batch.
 const BATCH: u64 = 1 << 16;
@@ -22,8 +22,9 @@ const LASZIP_USER_ID: &str = "laszip encoded";
 /// `compressed`. The header is the first source's (bounds and counts those
 /// of what was written); every source must have its point format. A source
 /// with other scales or offsets has its points re-quantised to the first's.
-/// When the first states no CRS, `stated` (the user's `--crs`) is written in
-/// the records its point format calls for.
+/// When the first states no CRS, or records that cannot be read, `stated`
+/// (the user's `--crs`) is written in the records its point format calls
+/// for.
 pub fn relabel_las<R, W>(
     sources: Vec<R>,
     sink: W,
@@ -51,12 +52,27 @@ where
     builder.generating_software = "skyground".into();
     builder.point_format.is_compressed = compressed;
     builder.vlrs.retain(|v| v.user_id != LASZIP_USER_ID);
-    let has_crs = builder
+    let theirs: Vec<CrsRecord> = builder
         .vlrs
         .iter()
         .chain(&builder.evlrs)
-        .any(|v| v.user_id == LAS_PROJECTION);
-    if let (false, Some(crs)) = (has_crs, stated) {
+        .filter(|v| v.user_id == LAS_PROJECTION)
+        .map(|v| CrsRecord {
+            record_id: v.record_id,
+            description: v.description.clone(),
+            data: v.data.clone(),
+        })
+        .collect();
+    let readable = !theirs.is_empty()
+        && !matches!(
+            Crs::from_las_records(theirs),
+            Err(CrsError::Wkt(_) | CrsError::GeoTiff(_))
+        );
+    if let (false, Some(crs)) = (readable, stated) {
+        // Records nobody can read would sit beside the stated ones and
+        // contradict them.
+        builder.vlrs.retain(|v| v.user_id != LAS_PROJECTION);
+        builder.evlrs.retain(|v| v.user_id != LAS_PROJECTION);
         let records = crs.las_records_for(builder.point_format.is_extended);
         builder.vlrs.extend(crs_vlrs(records));
     }

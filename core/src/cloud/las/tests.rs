@@ -313,7 +313,7 @@ fn the_header_alone_gives_the_bounds_read_las_gives() {
     for compressed in [false, true] {
         let data = write(&sample_cloud(), compressed);
         let whole = read(data.clone()).unwrap();
-        let corners = read_las_bounds(Cursor::new(data))
+        let corners = read_las_bounds(Cursor::new(data), UnreadableCrs::Fail)
             .unwrap()
             .expect("usable bounds");
         assert_eq!(corners.origin, whole.origin);
@@ -331,7 +331,11 @@ fn the_header_alone_gives_the_bounds_read_las_gives() {
     let mut data = write(&sample_cloud(), false);
     // Max X is at byte 179 of a LAS 1.4 header, min X at 187.
     data[179..187].copy_from_slice(&(-1.0e9f64).to_le_bytes());
-    assert!(read_las_bounds(Cursor::new(data)).unwrap().is_none());
+    assert!(
+        read_las_bounds(Cursor::new(data), UnreadableCrs::Fail)
+            .unwrap()
+            .is_none()
+    );
 }
 
 #[test]
@@ -367,4 +371,68 @@ fn read_back_bytes(src: &[u8], crs: &crate::crs::Crs) -> Vec<u8> {
     )
     .unwrap()
     .into_inner()
+}
+
+/// Five points in a LAS 1.2 file with one `LASF_Projection` record.
+fn file_with_projection(record_id: u16, data: Vec<u8>) -> Vec<u8> {
+    use ::las::point::Format;
+    use ::las::{Builder, Point, Vlr, Writer};
+    let mut b = Builder::from((1, 2));
+    b.point_format = Format::new(1).unwrap();
+    b.vlrs.push(Vlr {
+        user_id: crate::crs::LAS_PROJECTION.into(),
+        record_id,
+        description: "test".into(),
+        data,
+    });
+    let mut w = Writer::new(Cursor::new(Vec::new()), b.into_header().unwrap()).unwrap();
+    for i in 0..5 {
+        w.write_point(Point {
+            x: 1000.0 + f64::from(i),
+            y: 2000.0,
+            z: 3.0,
+            gps_time: Some(0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    }
+    w.into_inner().unwrap().into_inner()
+}
+
+#[test]
+fn crs_records_nobody_can_read_fail_or_are_skipped_and_a_stated_crs_replaces_them() {
+    use crate::crs::{Crs, CrsError};
+    let broken = file_with_projection(2112, b"PROJCS[\"x\",UNIT[\"m\",1]\0".to_vec());
+    let e = read_las(Cursor::new(broken.clone())).unwrap_err();
+    assert!(matches!(e, LasError::Crs(CrsError::Wkt(_))), "{e}");
+    let skipped = read_las_with(Cursor::new(broken.clone()), UnreadableCrs::Skip).unwrap();
+    assert_eq!((skipped.len(), skipped.crs.is_some()), (5, false));
+    let corners = read_las_bounds(Cursor::new(broken.clone()), UnreadableCrs::Skip).unwrap();
+    assert!(corners.is_some_and(|c| c.crs.is_none()));
+
+    // Degrees stay an error: no stated CRS makes them lengths.
+    // GeoKeyDirectory 1.1.0: model type geographic, EPSG:4326.
+    let wgs84 = [1u16, 1, 0, 2, 1024, 0, 1, 2, 2048, 0, 1, 4326]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let degrees = file_with_projection(34735, wgs84);
+    let e = read_las_with(Cursor::new(degrees), UnreadableCrs::Skip).unwrap_err();
+    assert!(
+        matches!(e, LasError::Crs(CrsError::Geographic { .. })),
+        "{e}"
+    );
+
+    // The copy carries the stated CRS, not beside the broken record.
+    let rd = Crs::from_epsg(28992).unwrap();
+    let copy = read_back_bytes(&broken, &rd);
+    let (header, _) = points_of(copy.clone());
+    let ids: Vec<u16> = header
+        .all_vlrs()
+        .filter(|v| v.user_id == crate::crs::LAS_PROJECTION)
+        .map(|v| v.record_id)
+        .collect();
+    assert!(!ids.contains(&2112) && ids.contains(&34735), "{ids:?}");
+    let back = read_las(Cursor::new(copy)).unwrap();
+    assert_eq!(back.crs.and_then(|c| c.epsg), Some(28992));
 }
