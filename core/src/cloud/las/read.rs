@@ -2,7 +2,7 @@
 
 use std::io::{Read, Seek};
 
-use ::las::{Header, PointData, Reader};
+use ::las::{Header, PointData, Reader, Vlr};
 
 use super::{LasError, extra_bytes, preflight};
 use crate::cloud::Cloud;
@@ -124,8 +124,16 @@ pub fn read_las_bounds<R: Read + Seek + Send + Sync + 'static>(
 
 /// The CRS stated by the header's `LASF_Projection` (E)VLRs.
 fn crs_of(header: &Header, unreadable: UnreadableCrs) -> Result<Option<Crs>, LasError> {
-    let records = header
-        .all_vlrs()
+    Ok(crs_in(header.all_vlrs(), unreadable)?)
+}
+
+/// The CRS stated by the `LASF_Projection` records among `vlrs` (None when
+/// there are none, or, with [`UnreadableCrs::Skip`], none can be read).
+pub(super) fn crs_in<'a>(
+    vlrs: impl Iterator<Item = &'a Vlr>,
+    unreadable: UnreadableCrs,
+) -> Result<Option<Crs>, CrsError> {
+    let records = vlrs
         .filter(|v| v.user_id == LAS_PROJECTION)
         .map(|v| CrsRecord {
             record_id: v.record_id,
@@ -137,7 +145,7 @@ fn crs_of(header: &Header, unreadable: UnreadableCrs) -> Result<Option<Crs>, Las
         Err(CrsError::Wkt(_) | CrsError::GeoTiff(_)) if unreadable == UnreadableCrs::Skip => {
             Ok(None)
         }
-        read => Ok(read?),
+        read => read,
     }
 }
 

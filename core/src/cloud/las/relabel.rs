@@ -9,8 +9,9 @@ use std::io::{Read, Seek, Write};
 use ::las::{Builder, PointData, PointDataBuilder, Reader, Writer};
 
 use super::LasError;
+use super::read::{UnreadableCrs, crs_in};
 use super::write::crs_vlrs;
-use crate::crs::{Crs, CrsError, CrsRecord, LAS_PROJECTION};
+use crate::crs::{Crs, LAS_PROJECTION};
 
 /// Points copied per batch.
 const BATCH: u64 = 1 << 16;
@@ -52,22 +53,13 @@ where
     builder.generating_software = "skyground".into();
     builder.point_format.is_compressed = compressed;
     builder.vlrs.retain(|v| v.user_id != LASZIP_USER_ID);
-    let theirs: Vec<CrsRecord> = builder
-        .vlrs
-        .iter()
-        .chain(&builder.evlrs)
-        .filter(|v| v.user_id == LAS_PROJECTION)
-        .map(|v| CrsRecord {
-            record_id: v.record_id,
-            description: v.description.clone(),
-            data: v.data.clone(),
-        })
-        .collect();
-    let readable = !theirs.is_empty()
-        && !matches!(
-            Crs::from_las_records(theirs),
-            Err(CrsError::Wkt(_) | CrsError::GeoTiff(_))
-        );
+    let readable = !matches!(
+        crs_in(
+            builder.vlrs.iter().chain(&builder.evlrs),
+            UnreadableCrs::Skip
+        ),
+        Ok(None)
+    );
     if let (false, Some(crs)) = (readable, stated) {
         // Records nobody can read would sit beside the stated ones and
         // contradict them.
