@@ -28,8 +28,8 @@ pub enum CityJsonError {
         /// The version found.
         version: String,
     },
-    /// The transform has a non-finite component.
-    #[error("transform has a non-finite scale or translate")]
+    /// The transform has a zero or non-finite scale or a non-finite translate.
+    #[error("transform has a zero or non-finite scale, or a non-finite translate")]
     Transform,
     /// A geometry's `boundaries` do not nest as its type requires.
     #[error("city object `{object}`, geometry {geometry} ({kind}): {reason}")]

@@ -263,7 +263,10 @@ fn real_vertices(
     transform: Option<&Transform>,
 ) -> Result<Vec<[f64; 3]>, CityJsonError> {
     let (scale, translate) = transform.map_or(([1.0; 3], [0.0; 3]), |t| (t.scale, t.translate));
-    if !scale.iter().chain(&translate).all(|v| v.is_finite()) {
+    // A zero scale would fold every vertex onto the translate, and the
+    // buildings would vanish as degenerate faces with no word why.
+    let usable = scale.iter().all(|s| s.is_finite() && *s != 0.0);
+    if !usable || !translate.iter().all(|v| v.is_finite()) {
         return Err(CityJsonError::Transform);
     }
     stored

@@ -140,6 +140,11 @@ fn errors_are_typed() {
         "\"scale\": [1e308, 1e308, 1e308]",
     );
     assert!(matches!(err(&huge), Some(CityJsonError::NonFinite { .. })));
+    let flat = doc("2.0").replace(
+        "\"scale\": [0.001, 0.001, 0.001]",
+        "\"scale\": [0.001, 0.0, 0.001]",
+    );
+    assert_eq!(err(&flat), Some(CityJsonError::Transform));
 }
 
 /// A CityJSONSeq stream of `doc`: the header, then one feature per building
