@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::Cloud;
 use super::las::{LasError, UnreadableCrs, read_las_bounds, read_las_with, relabel_las, write_las};
 use super::ply::{PlyError, parse_ply, write_ply};
-use crate::crs::{Crs, CrsError};
+use crate::crs::Crs;
 use crate::file::{self, FileError};
 
 /// Reading or writing a cloud file failed; the message starts with the path.
@@ -62,13 +62,7 @@ impl CloudIoError {
     /// The file's CRS records are malformed (not merely geographic): its
     /// points read with [`UnreadableCrs::Skip`].
     pub fn is_unreadable_crs(&self) -> bool {
-        matches!(
-            self,
-            Self::Las {
-                source: LasError::Crs(CrsError::Wkt(_) | CrsError::GeoTiff(_)),
-                ..
-            }
-        )
+        matches!(self, Self::Las { source: LasError::Crs(e), .. } if e.is_malformed())
     }
 }
 

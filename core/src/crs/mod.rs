@@ -101,6 +101,14 @@ pub enum CrsError {
     },
 }
 
+impl CrsError {
+    /// The records themselves are malformed (not a CRS skyground refuses):
+    /// a reader told the CRS another way may leave them out.
+    pub fn is_malformed(&self) -> bool {
+        matches!(self, Self::Wkt(_) | Self::GeoTiff(_))
+    }
+}
+
 /// A coordinate reference system as a file stated it, with its linear units.
 ///
 /// `horizontal_unit` applies to x and y, `vertical_unit` to z; when a source

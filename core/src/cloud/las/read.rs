@@ -60,7 +60,9 @@ pub fn read_las_with<R: Read + Seek + Send + Sync + 'static>(
         return_number: Some(Vec::with_capacity(capacity)),
         number_of_returns: Some(Vec::with_capacity(capacity)),
         origin: [0.0; 3],
-        crs: None,
+        // Before the points: a file refused for its CRS records is refused
+        // without decoding them (the CLI then reads it again with `--crs`).
+        crs: crs_of(&header, unreadable)?,
     };
     let mut origin = header_origin(&header);
     let mut index = 0u64;
@@ -80,7 +82,6 @@ pub fn read_las_with<R: Read + Seek + Send + Sync + 'static>(
         index += batch.len() as u64;
     }
     cloud.origin = origin.unwrap_or_default();
-    cloud.crs = crs_of(&header, unreadable)?;
     // Points and origin were read in the file's unit.
     cloud.rescale(cloud.to_metre());
     Ok(cloud)
@@ -142,9 +143,7 @@ pub(super) fn crs_in<'a>(
         })
         .collect();
     match Crs::from_las_records(records) {
-        Err(CrsError::Wkt(_) | CrsError::GeoTiff(_)) if unreadable == UnreadableCrs::Skip => {
-            Ok(None)
-        }
+        Err(e) if e.is_malformed() && unreadable == UnreadableCrs::Skip => Ok(None),
         read => read,
     }
 }
