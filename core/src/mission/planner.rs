@@ -119,6 +119,8 @@ pub struct Planner {
     graph: Option<GroundGraph>,
     route: Option<Route>,
     visited: Visited,
+    /// The part of `visited` given up after blocked tries.
+    given_up: Visited,
     unreachable: (usize, usize),
     phase: Phase,
     need_plan: bool,
@@ -153,6 +155,7 @@ impl Planner {
             graph: None,
             route: None,
             visited: Visited::default(),
+            given_up: Visited::default(),
             unreachable: (0, 0),
             phase: Phase::Waiting,
             need_plan: false,
@@ -235,6 +238,7 @@ impl Planner {
             target_points: self.targets.points.len(),
             target_regions: self.targets.regions.len(),
             visited: self.visited.clone(),
+            given_up: self.given_up.clone(),
             seen_on_the_way: self.seen_on_the_way.clone(),
             unreachable_points: self.unreachable.0,
             unreachable_regions: self.unreachable.1,
@@ -423,6 +427,7 @@ impl Planner {
     /// New targets: a new round, or the restored one if it matches.
     fn new_round(&mut self, targets: TargetSet) {
         self.visited = Visited::default();
+        self.given_up = Visited::default();
         self.seen_on_the_way.clear();
         self.retries = 0;
         self.set_downs = 0;
@@ -434,6 +439,7 @@ impl Planner {
         {
             self.round = s.round;
             self.visited = s.visited;
+            self.given_up = s.given_up;
             self.seen_on_the_way = s.seen_on_the_way;
             self.set_downs = s.set_downs;
         }
@@ -687,10 +693,12 @@ impl Planner {
                 "giving up stop {stop:?} after {} blocked tries",
                 self.retries
             )));
-            match stop {
-                Some(Stop::Point(i)) => self.visited.points.push(i),
-                Some(Stop::Region(i)) => self.visited.regions.push(i),
-                None => {}
+            for v in [&mut self.visited, &mut self.given_up] {
+                match stop {
+                    Some(Stop::Point(i)) => v.points.push(i),
+                    Some(Stop::Region(i)) => v.regions.push(i),
+                    None => {}
+                }
             }
             self.retries = 0;
         }

@@ -270,9 +270,15 @@ fn a_blocked_stop_is_replanned_around_then_given_up() {
             "replanned leg passes the blocked spot at {q:?}"
         );
     }
+    assert!(p.status().given_up.points.is_empty());
     // Once more blocked: more than block_retries = 1 tries, the stop is given up.
     p.handle(blocked(goal, [7.0, 3.0]));
     assert_eq!(p.status().visited.points, vec![0]);
+    assert_eq!(
+        p.status().given_up.points,
+        vec![0],
+        "a given-up stop is dealt with, not reached"
+    );
     let out = p.handle(PlannerEvent::Tick);
     let next = *legs(&out)[0].last().expect("pose");
     assert!(
@@ -289,6 +295,7 @@ fn a_restarted_planner_goes_on_where_it_was() {
     before.handle(blocked([30.0, 5.0, 0.0], [14.0, 5.0]));
     let saved = before.status();
     assert_eq!(saved.visited.points, vec![0]);
+    assert!(saved.given_up.points.is_empty(), "stop 0 was reached");
 
     // Restarted: the latched status arrives before the route.
     let mut p = planner(2);

@@ -256,11 +256,14 @@ struct Watch {
     planner_phase: String,
     stops: usize,
     done: (usize, usize),
+    /// The part of `done` given up after blocked tries.
+    given_up: usize,
     /// Point stops of the round left off: the route sees their gaps anyway.
     seen: usize,
     unreachable: (usize, usize),
-    /// Targets reached / left off as seen / unreachable summed over finished rounds.
+    /// Targets reached / given up / left off as seen / unreachable summed over finished rounds.
     reached_total: usize,
+    given_up_total: usize,
     seen_total: usize,
     unreachable_total: usize,
     /// The planner's set-downs this round, and over the finished rounds.
@@ -516,6 +519,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 }
                 w.stops = s.target_points + s.target_regions;
                 w.done = (s.visited.points.len(), s.visited.regions.len());
+                w.given_up = s.given_up.points.len() + s.given_up.regions.len();
                 w.seen = s.seen_on_the_way.len();
                 w.unreachable = (s.unreachable_points, s.unreachable_regions);
                 w.set_downs = s.set_downs;
@@ -526,11 +530,12 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 }
                 if s.phase == Phase::Done.word() && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
                     w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
-                    w.reached_total += w.done.0 + w.done.1;
+                    w.reached_total += (w.done.0 + w.done.1).saturating_sub(w.given_up);
+                    w.given_up_total += w.given_up;
                     w.seen_total += w.seen;
                     w.unreachable_total += w.unreachable.0 + w.unreachable.1;
                     w.set_downs_total += w.set_downs;
-                    eprintln!("  route of round {} done: {} points, {} regions; {} left off (seen on the way); {} unreachable; {} set-downs", w.planner_round, w.done.0, w.done.1, w.seen, w.unreachable.0 + w.unreachable.1, w.set_downs);
+                    eprintln!("  route of round {} done: {} points, {} regions (of them {} given up, blocked); {} left off (seen on the way); {} unreachable; {} set-downs", w.planner_round, w.done.0, w.done.1, w.given_up, w.seen, w.unreachable.0 + w.unreachable.1, w.set_downs);
                 }
             },
             Some(Ok((arr, _))) = v_s.next() => if let Some(s) = first_status(&arr, VehicleStatus::from_wire) {
@@ -902,6 +907,7 @@ fn report(
         "rounds": w.rounds_driven(),
         "detected_completeness_by_round": w.detected,
         "targets_reached": w.reached_total,
+        "targets_given_up": w.given_up_total,
         "targets_seen_on_the_way": w.seen_total,
         "targets_unreachable": w.unreachable_total,
         "set_downs": w.set_downs_total,
@@ -929,8 +935,8 @@ fn report(
     };
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
-        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / left off (seen on the way) / unreachable | {} / {} / {} |\n| set-downs (the robot carried to another piece of ground) | {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        a.prior.describe(), w.rounds_driven(), w.reached_total, w.seen_total, w.unreachable_total, w.set_downs_total, w.odometer,
+        "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / given up (blocked) / left off (seen on the way) / unreachable | {} / {} / {} / {} |\n| set-downs (the robot carried to another piece of ground) | {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
+        a.prior.describe(), w.rounds_driven(), w.reached_total, w.given_up_total, w.seen_total, w.unreachable_total, w.set_downs_total, w.odometer,
         if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s
     ));
     if a.field.field {

@@ -42,6 +42,50 @@ fn status(header: Header, event: VehicleEvent, goal: [f32; 3], f: &Follower) -> 
     array(header, s.to_wire())
 }
 
+enum Level {
+    Info,
+    Warn,
+}
+
+/// Who listens on /way_point: a robot whose driver never subscribes gets no
+/// orders and stalls, which the log should say rather than leave to guess.
+#[derive(Default)]
+struct Readers {
+    matched: usize,
+    /// Ticks in a row with a way-point waiting and no reader.
+    unheard: u32,
+}
+
+impl Readers {
+    /// Resend ticks between repeated warnings (20 s at the shipped 2 s).
+    const WARN_EVERY: u32 = 10;
+
+    fn on_tick(&mut self, matched: usize, waiting: bool) -> Option<(Level, String)> {
+        let was = std::mem::replace(&mut self.matched, matched);
+        if matched > 0 {
+            self.unheard = 0;
+            return (matched != was).then(|| {
+                (
+                    Level::Info,
+                    format!("/way_point: {matched} subscriber(s) matched"),
+                )
+            });
+        }
+        if !waiting {
+            return None;
+        }
+        self.unheard += 1;
+        (self.unheard % Self::WARN_EVERY == 1).then(|| {
+            (
+                Level::Warn,
+                "a way-point is waiting but nothing subscribes to /way_point \
+                 (geometry_msgs/PointStamped, reliable): is the robot's driver listening there?"
+                    .to_owned(),
+            )
+        })
+    }
+}
+
 /// Runs the node until it is asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
@@ -57,7 +101,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     rt.log
         .info("waiting for legs on /local_path and the robot on /state_estimation");
     let mut seen_robot = false;
+    let mut readers = Readers::default();
     loop {
+        let mut ticked = false;
         let events = tokio::select! {
             _ = rt.shutdown.wait() => break,
             Some(leg) = legs.recv() => {
@@ -80,8 +126,20 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 }
                 Err(e) => { rt.log.error(&format!("/state_estimation: unreadable message: {e}")); continue }
             },
-            _ = resend.tick() => f.waypoint().map(FollowEvent::WayPoint).into_iter().collect(),
+            _ = resend.tick() => {
+                ticked = true;
+                f.waypoint().map(FollowEvent::WayPoint).into_iter().collect()
+            }
         };
+        if ticked {
+            let n = way_pub.get_subscription_count(rt.node());
+            if let Some((level, line)) = readers.on_tick(n, f.waypoint().is_some()) {
+                match level {
+                    Level::Info => rt.log.info(&line),
+                    Level::Warn => rt.log.warn(&line),
+                }
+            }
+        }
         let header = rt.header(&p.frame_id);
         for e in events {
             match e {
@@ -118,4 +176,37 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     rt.log
         .info(&format!("stopped; the robot moved {:.1} m", f.odometer));
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_waypoint_nobody_hears_is_warned_of_and_a_match_is_said_once() {
+        let mut r = Readers::default();
+        assert!(
+            r.on_tick(0, false).is_none(),
+            "no way-point: nothing to say"
+        );
+        let first = r.on_tick(0, true);
+        assert!(matches!(first, Some((Level::Warn, ref l)) if l.contains("nothing subscribes")));
+        let repeats = (0..Readers::WARN_EVERY)
+            .filter(|_| r.on_tick(0, true).is_some())
+            .count();
+        assert_eq!(
+            repeats,
+            1,
+            "warned again once every {} ticks",
+            Readers::WARN_EVERY
+        );
+        assert!(
+            matches!(r.on_tick(1, true), Some((Level::Info, ref l)) if l.contains("1 subscriber"))
+        );
+        assert!(r.on_tick(1, true).is_none(), "said once");
+        assert!(
+            matches!(r.on_tick(0, true), Some((Level::Warn, _))),
+            "lost again: warned at once"
+        );
+    }
 }
