@@ -99,7 +99,7 @@ pub enum PlannerCommand {
     /// Hand a region to the explorer (`None`: take it back).
     ActiveRegion(Option<Region>),
     /// Publish the status.
-    Status(PlannerStatus),
+    Status(Box<PlannerStatus>),
     /// Ask for the robot to be carried to this spot (a node of another
     /// piece of ground); the plan goes on once it is there.
     SetDown([f32; 3]),
@@ -216,7 +216,8 @@ impl Planner {
                 if self.need_plan {
                     self.plan();
                 }
-                self.out.push(PlannerCommand::Status(self.status()));
+                self.out
+                    .push(PlannerCommand::Status(Box::new(self.status())));
             }
         }
         std::mem::take(&mut self.out)
@@ -469,7 +470,8 @@ impl Planner {
             "round {}: route done",
             self.round
         )));
-        self.out.push(PlannerCommand::Status(self.status()));
+        self.out
+            .push(PlannerCommand::Status(Box::new(self.status())));
     }
 
     /// The route is done: when set-downs are left this round and another
@@ -558,7 +560,8 @@ impl Planner {
         self.carry_to = Some(to);
         self.out.push(PlannerCommand::ActiveRegion(None));
         self.out.push(PlannerCommand::SetDown(to));
-        self.out.push(PlannerCommand::Status(self.status()));
+        self.out
+            .push(PlannerCommand::Status(Box::new(self.status())));
     }
 
     /// Targets reached, given up, or left off as seen on the way this round.
@@ -653,7 +656,8 @@ impl Planner {
                 let region = self.targets.regions.get(i).cloned();
                 self.out.push(PlannerCommand::ActiveRegion(region));
                 // The explorer joins the region with this status: send it at once.
-                self.out.push(PlannerCommand::Status(self.status()));
+                self.out
+                    .push(PlannerCommand::Status(Box::new(self.status())));
             }
             None => {}
         }
