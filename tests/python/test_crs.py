@@ -266,6 +266,35 @@ def test_detect_says_what_it_found(tmp_path):
     assert "against the producer's classes" in p.stderr, p.stderr
 
 
+def test_detect_and_plan_a_tile_without_buildings(tmp_path):
+    """A survey tile with no building (a park, a field) is an answer, not an
+    error: `detect` writes every output with 0 buildings and 0 targets (its
+    picture spans the tile), and `plan` plans nothing. Before, `detect`
+    stopped with "nothing to draw" after writing half its outputs."""
+    import laspy
+
+    full = laspy.read(str(real_file("sample_c.las")))
+    ground = laspy.LasData(full.header)
+    ground.points = full.points[np.asarray(full.classification) == 2]
+    src = tmp_path / "ground_only.las"
+    ground.write(str(src))
+    out = tmp_path / "detect"
+    s = json.loads(run("detect", "--in", src, "--out", out, "--json").stdout)
+    assert (s["buildings"], s["target_points"], s["target_regions"]) == (0, 0, 0), s
+    for f in ["detection.png", "detection.json", "targets.json", "missing.las", "completeness.csv"]:
+        assert (out / f).exists(), f
+    assert json.loads((out / "targets.geojson").read_text())["features"] == []
+    assert laspy.read(str(out / "classified.las")).header.parse_crs() == full.header.parse_crs()
+    png = (out / "detection.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    w, h = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+    span = ground.header.maxs - ground.header.mins
+    assert abs(w / h - span[0] / span[1]) < 0.35 * span[0] / span[1], (w, h, span)
+    p = json.loads(run("plan", "--in", out, "--json").stdout)
+    assert (p["target_points"], p["target_regions"], p["stops"]) == (0, 0, 0), p
+    assert p["nodes"] > 0, "the ground graph is built all the same"
+
+
 def test_a_crs_the_file_does_not_state(tmp_path):
     """AHN3 tiles come without CRS records; `--crs EPSG:28992` gives every
     output the CRS (LAS 1.2 copy: GeoTIFF keys; LAS 1.4: WKT; GeoJSON: its

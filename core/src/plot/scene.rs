@@ -49,11 +49,15 @@ const DETECTION_LEGEND: [(Rgb, &str); 7] = [
 /// Detection of a scene from above: building points grey, contours black,
 /// skeletons blue, collected boundary points green, missing ones red,
 /// target points purple, regions orange; legend, north arrow and a scale
-/// bar in `unit` (the input's).
+/// bar in `unit` (the input's). The picture spans the building points and
+/// targets; where they span no area (a tile without buildings) it spans
+/// `survey`, the whole cloud's xy extent, so the picture says "nothing
+/// here" rather than the command failing.
 pub fn detection_picture(
     building_points: &[[f32; 3]],
     detection: &Detection,
     targets: Option<&TargetSet>,
+    survey: Option<([f64; 2], [f64; 2])>,
     max_px: u32,
     unit: &LinearUnit,
 ) -> Result<Canvas, PlotError> {
@@ -65,10 +69,12 @@ pub fn detection_picture(
             .iter()
             .map(|p| [f64::from(p.xyz[0]), f64::from(p.xyz[1])])
     });
-    let (lo, hi) = bounds(xy.chain(tp)).ok_or(PlotError::EmptyArea {
-        min: [0.0; 2],
-        max: [0.0; 2],
-    })?;
+    let (lo, hi) = bounds(xy.chain(tp))
+        .or(survey)
+        .ok_or(PlotError::EmptyArea {
+            min: [0.0; 2],
+            max: [0.0; 2],
+        })?;
     let mut c = Canvas::new(lo, hi, 5.0, max_px)?;
     for p in building_points {
         c.dot([f64::from(p[0]), f64::from(p[1])], 0, GREY);
@@ -162,4 +168,27 @@ pub fn mission_picture(
     ];
     c.furnish(&legend, unit);
     Ok(c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_detection_without_buildings_draws_the_survey_or_says_why_not() {
+        let empty = Detection::default();
+        let none = detection_picture(&[], &empty, None, None, 400, &LinearUnit::Metre);
+        assert!(matches!(none, Err(PlotError::EmptyArea { .. })));
+        let tile = ([500.0, 6000.0], [520.0, 6030.0]);
+        let c = detection_picture(&[], &empty, None, Some(tile), 400, &LinearUnit::Metre)
+            .expect("a tile without buildings is drawn");
+        let (w, h) = c.size();
+        assert!(h > w, "the 20 x 30 m tile is drawn upright: {w} x {h}");
+        // Building points win over the survey's extent.
+        let one = [[0.0f32, 0.0, 3.0], [10.0, 5.0, 3.0]];
+        let c = detection_picture(&one, &empty, None, Some(tile), 400, &LinearUnit::Metre)
+            .expect("drawn");
+        let (w, h) = c.size();
+        assert!(w > h, "the 10 x 5 m building spans the picture: {w} x {h}");
+    }
 }

@@ -194,7 +194,12 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     let field = super::field::write_detection(&a.out, &cloud, &detection, &targets)?;
     let png = a.out.join("detection.png");
     let unit = cloud.frame().unit();
-    detection_picture(&bpts, &detection, Some(&targets), 2400, &unit)
+    // A tile without buildings still gets its picture, of the whole tile.
+    let survey = cloud
+        .bounds()
+        .map(|(lo, hi)| ([lo[0], lo[1]].map(f64::from), [hi[0], hi[1]].map(f64::from)))
+        .filter(|(lo, hi)| lo[0] < hi[0] && lo[1] < hi[1]);
+    detection_picture(&bpts, &detection, Some(&targets), survey, 2400, &unit)
         .and_then(|c| c.save(&png))
         .map_err(err)?;
 
