@@ -72,7 +72,7 @@ fn city3d_001_gives_a_valid_model_close_to_its_points() {
     };
     let path =
         std::env::temp_dir().join(format!("skyground_city3d_{}.city.json", std::process::id()));
-    cityjson::write_cityjson(&path, &rec, None).unwrap_or_else(|e| panic!("{e}"));
+    cityjson::write_cityjson(&path, &rec).unwrap_or_else(|e| panic!("{e}"));
     let out = std::process::Command::new(&cjval)
         .arg("-s")
         .arg(&path)

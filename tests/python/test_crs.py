@@ -295,6 +295,43 @@ def test_detect_and_plan_a_tile_without_buildings(tmp_path):
     assert p["nodes"] > 0, "the ground graph is built all the same"
 
 
+def test_reconstruct_writes_models_in_the_clouds_feet_and_crs(tmp_path):
+    """LoD2 models of a cloud in US survey feet: models.city.json names the
+    file's CRS (metadata.referenceSystem) and holds its vertices in feet, as
+    do the OBJ and reconstruct.json's bases; cjval finds the file valid.
+    Before, the models came out in metres with no CRS."""
+    import os
+
+    import laspy
+
+    src = real_file("laspy_nebraska_ftus.las")
+    classified = tmp_path / "classified.las"
+    run("classify", "--in", src, "--out", classified)
+    out = tmp_path / "models"
+    r = json.loads(run("reconstruct", "--in", classified, "--out", out, "--json").stdout)
+    epsg = laspy.read(str(src)).header.parse_crs().to_epsg()
+    assert (r["crs"]["epsg"], r["crs"]["unit"]) == (epsg, "US survey foot"), r["crs"]
+    assert r["models"] >= 1, r
+    hdr = laspy.read(str(src)).header
+    lo, hi = hdr.mins - 5, hdr.maxs + 5
+    doc = json.loads((out / "models.city.json").read_text())
+    assert doc["metadata"]["referenceSystem"] == f"https://www.opengis.net/def/crs/EPSG/0/{epsg}"
+    t = doc["transform"]
+    xyz = np.asarray(doc["vertices"], dtype=float) * t["scale"] + t["translate"]
+    assert (xyz >= lo).all() and (xyz <= hi).all(), (xyz.min(axis=0), xyz.max(axis=0), lo, hi)
+    obj = np.asarray([line.split()[1:] for line in (out / "models.obj").read_text().splitlines()
+                      if line.startswith("v ")], dtype=float)
+    assert (obj >= lo).all() and (obj <= hi).all(), (obj.min(axis=0), obj.max(axis=0))
+    for m in r["per_model"]:
+        assert lo[2] <= m["base"] <= hi[2], m["base"]
+    cjval = os.environ.get("SKYGROUND_CJVAL")
+    if cjval:
+        p = subprocess.run([cjval, "-s", str(out / "models.city.json")], capture_output=True, text=True,
+                           timeout=120)
+        text = p.stdout + p.stderr
+        assert "File is valid" in text and "File is invalid" not in text, text
+
+
 def test_a_crs_the_file_does_not_state(tmp_path):
     """AHN3 tiles come without CRS records; `--crs EPSG:28992` gives every
     output the CRS (LAS 1.2 copy: GeoTIFF keys; LAS 1.4: WKT; GeoJSON: its

@@ -1,30 +1,24 @@
 //! CityJSON 2.0 output: one Building per model, its LoD 2.2 Solid with
 //! RoofSurface / WallSurface / GroundSurface semantics, integer vertices
-//! under a millimetre transform, in the source coordinates of the cloud.
+//! under a transform of a thousandth of the unit, in the source coordinates
+//! and unit of the cloud, its CRS in `metadata.referenceSystem`.
 
 use std::path::Path;
 
 use serde_json::{Value, json};
 
 use super::{ReconstructError, Reconstruction};
+use crate::scene::cityjson::crs_url;
 
-/// Millimetre vertex precision.
+/// Vertex precision: a thousandth of the source unit (1 mm, or 0.001 ft).
 const SCALE: f64 = 0.001;
 
-/// The CityJSON `referenceSystem` URL of `crs` ("EPSG:2056", "2056" or a URL).
-fn reference_system(crs: &str) -> String {
-    let c = crs.trim();
-    if c.starts_with("http") {
-        return c.to_string();
-    }
-    let code = c.rsplit(':').next().unwrap_or(c);
-    format!("https://www.opengis.net/def/crs/EPSG/0/{code}")
-}
-
-/// The reconstruction as a CityJSON 2.0 document; `crs` (e.g. "EPSG:7415")
-/// goes to `metadata.referenceSystem` when known.
-pub fn to_cityjson(rec: &Reconstruction, crs: Option<&str>) -> Value {
-    let world = |p: [f64; 3]| [0, 1, 2].map(|k| p[k] + rec.origin[k]);
+/// The reconstruction as a CityJSON 2.0 document in the cloud's coordinates
+/// and unit; its CRS goes to `metadata.referenceSystem` when it has an EPSG
+/// code (CityJSON names a CRS by URL only).
+pub fn to_cityjson(rec: &Reconstruction) -> Value {
+    let frame = rec.frame();
+    let world = |p: [f64; 3]| frame.to_source(p);
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for m in &rec.models {
@@ -129,8 +123,8 @@ pub fn to_cityjson(rec: &Reconstruction, crs: Option<&str>) -> Value {
         "geographicalExtent": [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]],
         "title": "skyground LoD2 reconstruction",
     });
-    if let Some(c) = crs {
-        metadata["referenceSystem"] = Value::from(reference_system(c));
+    if let Some(code) = rec.crs.as_ref().and_then(|c| c.epsg) {
+        metadata["referenceSystem"] = Value::from(crs_url(&format!("EPSG:{code}")));
     }
     json!({
         "type": "CityJSON",
@@ -143,32 +137,9 @@ pub fn to_cityjson(rec: &Reconstruction, crs: Option<&str>) -> Value {
 }
 
 /// Writes [`to_cityjson`] to `path`.
-pub fn write_cityjson(
-    path: &Path,
-    rec: &Reconstruction,
-    crs: Option<&str>,
-) -> Result<(), ReconstructError> {
-    std::fs::write(path, to_cityjson(rec, crs).to_string()).map_err(|source| {
-        ReconstructError::Write {
-            what: path.display().to_string(),
-            source,
-        }
+pub fn write_cityjson(path: &Path, rec: &Reconstruction) -> Result<(), ReconstructError> {
+    std::fs::write(path, to_cityjson(rec).to_string()).map_err(|source| ReconstructError::Write {
+        what: path.display().to_string(),
+        source,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reference_system_urls() {
-        assert_eq!(
-            reference_system("EPSG:2056"),
-            "https://www.opengis.net/def/crs/EPSG/0/2056"
-        );
-        assert_eq!(
-            reference_system("7415"),
-            "https://www.opengis.net/def/crs/EPSG/0/7415"
-        );
-    }
 }

@@ -57,12 +57,21 @@ const TERRAIN_FILL: usize = 60;
 pub struct Reconstruction {
     /// The cloud's origin: model vertices are relative to it.
     pub origin: [f64; 3],
+    /// The cloud's CRS: the writers put the models in its coordinates and unit.
+    pub crs: Option<crate::crs::Crs>,
     /// Models, by building id.
     pub models: Vec<Model>,
     /// Buildings without a model, and why.
     pub skipped: Vec<(u32, Skip)>,
     /// Footprints came from the caller (else derived from the points).
     pub footprints_given: bool,
+}
+
+impl Reconstruction {
+    /// The frame the models' vertices go back to the cloud's CRS and unit by.
+    pub fn frame(&self) -> crate::crs::SourceFrame {
+        crate::crs::SourceFrame::new(self.origin, self.crs.clone())
+    }
 }
 
 /// Reconstructs every building of `cloud`: its building points (class 6;
@@ -117,6 +126,7 @@ pub fn reconstruct_cloud(
         .collect();
     let mut out = Reconstruction {
         origin: cloud.origin,
+        crs: cloud.crs.clone(),
         models: Vec::new(),
         skipped: Vec::new(),
         footprints_given: footprints.is_some(),

@@ -1,5 +1,5 @@
 //! Wavefront OBJ output: a group per building, faces triangulated, in the
-//! source coordinates of the cloud.
+//! source coordinates and unit of the cloud (OBJ names neither).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -10,18 +10,14 @@ use super::{ReconstructError, Reconstruction};
 pub fn obj_text(rec: &Reconstruction) -> String {
     let mut s = String::from("# skyground LoD2 reconstruction\n");
     let mut next = 1usize;
+    let frame = rec.frame();
     for m in &rec.models {
         let _ = writeln!(s, "o building_{}\ng building_{}", m.id, m.id);
         let tris = m.shell.triangles();
         for (t, _) in &tris {
             for p in t {
-                let _ = writeln!(
-                    s,
-                    "v {:.3} {:.3} {:.3}",
-                    p[0] + rec.origin[0],
-                    p[1] + rec.origin[1],
-                    p[2] + rec.origin[2]
-                );
+                let q = frame.to_source(*p);
+                let _ = writeln!(s, "v {:.3} {:.3} {:.3}", q[0], q[1], q[2]);
             }
         }
         for k in 0..tris.len() {

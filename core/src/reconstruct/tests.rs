@@ -153,11 +153,58 @@ fn bad_input_is_typed() {
 }
 
 #[test]
+fn models_are_written_in_the_clouds_unit_with_its_crs() {
+    let s = scene();
+    let metres =
+        reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
+    let mut feet = metres.clone();
+    feet.crs = Some(crate::crs::Crs::from_epsg(6880).unwrap());
+    let ft = crate::crs::US_SURVEY_FOOT_M;
+    let (m, f) = (cityjson::to_cityjson(&metres), cityjson::to_cityjson(&feet));
+    assert!(m["metadata"].get("referenceSystem").is_none());
+    assert_eq!(
+        f["metadata"]["referenceSystem"],
+        "https://www.opengis.net/def/crs/EPSG/0/6880"
+    );
+    let extent = |v: &serde_json::Value| -> Vec<f64> {
+        v["metadata"]["geographicalExtent"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    for (a, b) in extent(&m).iter().zip(extent(&f)) {
+        assert!(
+            (a / ft - b).abs() < 0.01,
+            "{a} m is {} ft, written {b}",
+            a / ft
+        );
+    }
+    let first_v = |text: String| -> Vec<f64> {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("v "))
+            .unwrap()
+            .to_owned();
+        line[2..].split(' ').map(|x| x.parse().unwrap()).collect()
+    };
+    let (vm, vf) = (
+        first_v(obj::obj_text(&metres)),
+        first_v(obj::obj_text(&feet)),
+    );
+    for (a, b) in vm.iter().zip(&vf) {
+        assert!((a / ft - b).abs() < 0.01, "OBJ: {a} m written as {b} ft");
+    }
+}
+
+#[test]
 fn cityjson_has_one_solid_per_building_with_semantics() {
     let s = scene();
-    let rec =
-        reconstruct_cloud(&cloud(&s, |_, _| true), None, &ReconstructParams::default()).unwrap();
-    let v = cityjson::to_cityjson(&rec, Some("EPSG:28992"));
+    let mut c = cloud(&s, |_, _| true);
+    c.set_crs(crate::crs::Crs::from_epsg(28992).unwrap());
+    let rec = reconstruct_cloud(&c, None, &ReconstructParams::default()).unwrap();
+    let v = cityjson::to_cityjson(&rec);
     assert_eq!(v["version"], "2.0");
     assert_eq!(
         v["metadata"]["referenceSystem"],

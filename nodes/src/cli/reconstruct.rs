@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use skyground_core::cloud::{Cloud, read_cloud};
+use skyground_core::cloud::Cloud;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
@@ -34,9 +34,8 @@ pub struct ReconstructArgs {
     /// models_before.* / models_after.*, a before/after table (models.md) and models.png.
     #[arg(long, requires = "gt")]
     pub before: Option<PathBuf>,
-    /// The cloud's CRS for the CityJSON metadata (e.g. EPSG:7415).
-    #[arg(long)]
-    pub crs: Option<String>,
+    #[command(flatten)]
+    pub units: super::units::UnitsArg,
     /// Spacing of the surface samples for the accuracy measures, m.
     #[arg(long, default_value_t = 0.25)]
     pub gt_spacing: f32,
@@ -49,17 +48,17 @@ fn metres(v: Option<f64>) -> String {
     v.map_or_else(|| "–".into(), |v| format!("{v:.3}"))
 }
 
-/// Reconstructs `cloud` and writes `DIR/NAME.city.json` and `DIR/NAME.obj`.
+/// Reconstructs `cloud` and writes `DIR/NAME.city.json` and `DIR/NAME.obj`
+/// in its CRS and unit.
 pub fn reconstruct_and_write(
     cloud: &Cloud,
     footprints: Option<&[skyground_core::footprint::Footprint]>,
     dir: &Path,
     name: &str,
-    crs: Option<&str>,
 ) -> Result<Reconstruction, RuntimeError> {
     let rec = reconstruct_cloud(cloud, footprints, &ReconstructParams::default()).map_err(err)?;
     std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
-    cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec, crs).map_err(err)?;
+    cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec).map_err(err)?;
     obj::write_obj(&dir.join(format!("{name}.obj")), &rec).map_err(err)?;
     Ok(rec)
 }
@@ -171,16 +170,18 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
             a.gt_spacing
         )));
     }
-    let cloud = read_cloud(&a.input).map_err(err)?;
+    let cloud = a.units.read(&a.input)?;
+    if let Some(c) = cloud.crs.as_ref().filter(|c| c.epsg.is_none()) {
+        // CityJSON names a CRS by an authority's URL; a WKT alone has none.
+        eprintln!(
+            "note: the cloud's CRS ({}) has no EPSG code, so models.city.json names none (its coordinates are in {}); state the code with --crs EPSG:N",
+            c.label(),
+            c.horizontal_unit.name()
+        );
+    }
     let footprints = a.footprints.load(&cloud.frame())?;
     let t0 = std::time::Instant::now();
-    let rec = reconstruct_and_write(
-        &cloud,
-        footprints.as_deref(),
-        &a.out,
-        "models",
-        a.crs.as_deref(),
-    )?;
+    let rec = reconstruct_and_write(&cloud, footprints.as_deref(), &a.out, "models")?;
     let seconds = t0.elapsed().as_secs_f64();
     let pts = building_points(&cloud, cloud.origin);
     let fit = points_to_models(&rec, &pts);
@@ -198,7 +199,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         (Some(b), Some(s)) => {
             let scene =
                 skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
-            let prior = read_cloud(b).map_err(err)?;
+            let prior = a.units.read(b)?;
             let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
             let pictured = write_picture(&a.out.join("models.png"), &scene, &mb, &ma, 3)?;
             let verdict = skyground_core::reconstruct::compare(
@@ -226,6 +227,8 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         }
         _ => None,
     };
+    // Coordinates in the cloud's CRS and unit; distances in metres.
+    let frame = rec.frame();
     let models: Vec<serde_json::Value> = rec
         .models
         .iter()
@@ -234,13 +237,14 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
             serde_json::json!({
                 "id": m.id, "name": m.name, "faces": m.shell.faces.len(),
                 "vertices": m.shell.vertices.len(), "roof_planes": m.planes,
-                "points": m.points, "base": m.base + rec.origin[2], "open_ground_floor": m.open_base,
+                "points": m.points, "base": frame.to_source([0.0, 0.0, m.base])[2], "open_ground_floor": m.open_base,
                 "walls": m.walls, "check": c, "watertight": c.watertight(), "valid": c.valid(),
             })
         })
         .collect();
     let value = serde_json::json!({
         "input": a.input,
+        "crs": super::info::crs_json(cloud.crs.as_ref()),
         "footprints": a.footprints.footprints,
         "models_written": a.out.join("models.city.json"),
         "models": rec.models.len(),
@@ -298,7 +302,7 @@ pub fn models_of(
     cloud: &Cloud,
     spacing: f32,
 ) -> Result<ModelEvaluation, RuntimeError> {
-    let rec = reconstruct_and_write(cloud, None, dir, name, None)?;
+    let rec = reconstruct_and_write(cloud, None, dir, name)?;
     Ok(evaluate_against(scene, &rec, spacing))
 }
 
