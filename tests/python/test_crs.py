@@ -332,6 +332,26 @@ def test_reconstruct_writes_models_in_the_clouds_feet_and_crs(tmp_path):
         assert "File is valid" in text and "File is invalid" not in text, text
 
 
+def test_aerial_survey_of_a_city_model_keeps_its_crs(tmp_path):
+    """The simulated survey of a CityJSON model in EPSG:7415 is written in
+    that CRS (laspy/pyproj read it back) at the model's coordinates, as the
+    mission's aerial.las and resampled.las are. Before, it named no CRS."""
+    import laspy
+
+    model = real_file("3dbag_2buildings.city.json")
+    doc = json.loads(model.read_text())
+    t = doc["transform"]
+    v = np.asarray(doc["vertices"], dtype=float) * t["scale"] + t["translate"]
+    run("aerial", "--scene", model, "--out", tmp_path / "a")
+    las = laspy.read(str(tmp_path / "a" / "aerial.las"))
+    assert las.header.parse_crs().to_epsg() == 7415, las.header.parse_crs()
+    # The survey reaches past the buildings (ground around them), not elsewhere.
+    for k, axis in enumerate("xy"):
+        c = np.asarray(getattr(las, axis))
+        assert v[:, k].min() - 100 < c.min() <= v[:, k].min(), axis
+        assert v[:, k].max() <= c.max() < v[:, k].max() + 100, axis
+
+
 def test_a_crs_the_file_does_not_state(tmp_path):
     """AHN3 tiles come without CRS records; `--crs EPSG:28992` gives every
     output the CRS (LAS 1.2 copy: GeoTIFF keys; LAS 1.4: WKT; GeoJSON: its

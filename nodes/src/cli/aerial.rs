@@ -83,7 +83,10 @@ pub fn survey_of(
     let p = params(params_file)?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
     let t1 = Instant::now();
-    let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
+    let mut cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
+    // The scene's coordinates are already metres: the CRS names them, it
+    // does not rescale them.
+    cloud.crs = super::field::scene_frame_crs(scene_spec);
     let scan_s = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let (mut s, report) = measured(scene, cloud, &p);

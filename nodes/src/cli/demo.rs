@@ -737,7 +737,12 @@ fn mission_prior(
         return super::prior::real_prior(a);
     }
     let (scene_spec, scene, crop) = mission_scene(a)?;
-    let prior = survey_of(scene, &scene_spec, None)?;
+    let mut prior = survey_of(scene, &scene_spec, None)?;
+    // A crop is written as OBJ, which names no CRS: the city model's holds.
+    if prior.cloud.crs.is_none() {
+        prior.cloud.crs =
+            super::field::scene_frame_crs(a.scenes.first().map_or("", String::as_str));
+    }
     Ok((scene_spec, prior, crop))
 }
 
@@ -988,7 +993,7 @@ fn report(
     }
     let frame = SourceFrame::new(
         prior.cloud.origin,
-        super::field::scene_crs(a.scenes.first().map_or("", String::as_str)),
+        super::field::scene_frame_crs(a.scenes.first().map_or("", String::as_str)),
     );
     let detected = w.detections.rows(&outlines);
     let rows: Vec<super::field::MissionBuilding> = outlines

@@ -74,6 +74,13 @@ pub fn scene_crs(spec: &str) -> Option<skyground_core::crs::Crs> {
     }
 }
 
+/// The CRS of the scene's coordinates as skyground loads them: the city
+/// model's, where its unit is the metre (a scene is read as metres; naming a
+/// CRS in feet would rescale coordinates that were never in feet).
+pub fn scene_frame_crs(spec: &str) -> Option<skyground_core::crs::Crs> {
+    scene_crs(spec).filter(|c| c.to_metre() == [1.0; 3])
+}
+
 /// One building of a mission: outline and measured completeness before/after.
 pub struct MissionBuilding<'a> {
     /// Building id.
