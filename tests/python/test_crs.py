@@ -269,8 +269,9 @@ def test_detect_says_what_it_found(tmp_path):
 def test_detect_and_plan_a_tile_without_buildings(tmp_path):
     """A survey tile with no building (a park, a field) is an answer, not an
     error: `detect` writes every output with 0 buildings and 0 targets (its
-    picture spans the tile), and `plan` plans nothing. Before, `detect`
-    stopped with "nothing to draw" after writing half its outputs."""
+    picture spans the tile), `plan` plans nothing and `reconstruct` models
+    nothing. Before, `detect` stopped with "nothing to draw" after writing
+    half its outputs."""
     import laspy
 
     full = laspy.read(str(real_file("sample_c.las")))
@@ -293,6 +294,11 @@ def test_detect_and_plan_a_tile_without_buildings(tmp_path):
     p = json.loads(run("plan", "--in", out, "--json").stdout)
     assert (p["target_points"], p["target_regions"], p["stops"]) == (0, 0, 0), p
     assert p["nodes"] > 0, "the ground graph is built all the same"
+    # No buildings, no models: an empty, valid CityJSON (before: "classify it first").
+    r = json.loads(run("reconstruct", "--in", out / "classified.las", "--out", tmp_path / "m", "--json").stdout)
+    assert r["models"] == 0 and r["per_model"] == [], r
+    doc = json.loads((tmp_path / "m" / "models.city.json").read_text())
+    assert doc["CityObjects"] == {} and doc["vertices"] == [], doc
 
 
 def test_reconstruct_writes_models_in_the_clouds_feet_and_crs(tmp_path):

@@ -30,7 +30,8 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
             }
         }
     }
-    if !lo[0].is_finite() {
+    let any = lo[0].is_finite();
+    if !any {
         lo = [0.0; 3];
         hi = [0.0; 3];
     }
@@ -119,10 +120,11 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
             }),
         );
     }
-    let mut metadata = json!({
-        "geographicalExtent": [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]],
-        "title": "skyground LoD2 reconstruction",
-    });
+    let mut metadata = json!({"title": "skyground LoD2 reconstruction"});
+    // No models, no extent (not a point at the origin).
+    if any {
+        metadata["geographicalExtent"] = json!([lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]]);
+    }
     if let Some(code) = rec.crs.as_ref().and_then(|c| c.epsg) {
         metadata["referenceSystem"] = Value::from(crs_url(&format!("EPSG:{code}")));
     }

@@ -8,9 +8,9 @@ pub enum ReconstructError {
     /// A reconstruction or footprint parameter is out of range.
     #[error(transparent)]
     Param(#[from] ParamError),
-    /// The cloud has no building points (label 6) to reconstruct from.
+    /// The cloud is empty, or unclassified with no finite point.
     #[error(
-        "the cloud has no building points (LAS class 6): classify it first (`skyground classify`)"
+        "the cloud has no points to take for buildings: give a classified cloud (LAS class 6 = building; `skyground classify`)"
     )]
     NoBuildingPoints,
     /// Writing an output failed.

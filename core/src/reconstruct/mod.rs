@@ -91,7 +91,18 @@ pub fn reconstruct_cloud(
         .collect();
     let building = thin(&building, params.voxel_m);
     if building.is_empty() {
-        return Err(ReconstructError::NoBuildingPoints);
+        // A classified tile without buildings has no models; an empty or
+        // unclassified cloud has nothing to say which points are buildings.
+        return match &cloud.label {
+            Some(_) if !cloud.is_empty() => Ok(Reconstruction {
+                origin: cloud.origin,
+                crs: cloud.crs.clone(),
+                models: Vec::new(),
+                skipped: Vec::new(),
+                footprints_given: footprints.is_some(),
+            }),
+            _ => Err(ReconstructError::NoBuildingPoints),
+        };
     }
     let ground = cloud.xyz_of_class(class::GROUND);
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);

@@ -144,6 +144,15 @@ fn bad_input_is_typed() {
         reconstruct_cloud(&empty, None, &ReconstructParams::default()),
         Err(ReconstructError::NoBuildingPoints)
     ));
+    // A classified tile without buildings is no error: it has no models.
+    let mut field = Cloud::from_xyz(vec![[0.0, 0.0, 0.0], [5.0, 5.0, 0.1]]);
+    field.label = Some(vec![class::GROUND, class::GROUND]);
+    let rec = reconstruct_cloud(&field, None, &ReconstructParams::default())
+        .expect("no buildings, no models");
+    assert!(rec.models.is_empty() && rec.skipped.is_empty());
+    let doc = cityjson::to_cityjson(&rec);
+    assert_eq!(doc["CityObjects"].as_object().map(|o| o.len()), Some(0));
+    assert!(doc["metadata"].get("geographicalExtent").is_none());
     let bad = ReconstructParams {
         cell_m: 0.0,
         ..ReconstructParams::default()
