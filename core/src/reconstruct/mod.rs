@@ -90,17 +90,18 @@ pub fn reconstruct_cloud(
         .filter(|p| p.iter().all(|v| v.is_finite()))
         .collect();
     let building = thin(&building, params.voxel_m);
+    let mut out = Reconstruction {
+        origin: cloud.origin,
+        crs: cloud.crs.clone(),
+        models: Vec::new(),
+        skipped: Vec::new(),
+        footprints_given: footprints.is_some(),
+    };
     if building.is_empty() {
         // A classified tile without buildings has no models; an empty or
         // unclassified cloud has nothing to say which points are buildings.
         return match &cloud.label {
-            Some(_) if !cloud.is_empty() => Ok(Reconstruction {
-                origin: cloud.origin,
-                crs: cloud.crs.clone(),
-                models: Vec::new(),
-                skipped: Vec::new(),
-                footprints_given: footprints.is_some(),
-            }),
+            Some(_) if !cloud.is_empty() => Ok(out),
             _ => Err(ReconstructError::NoBuildingPoints),
         };
     }
@@ -135,13 +136,6 @@ pub fn reconstruct_cloud(
             building::reconstruct_building(pts, &inp, params).map_err(|s| (f.id, s))
         })
         .collect();
-    let mut out = Reconstruction {
-        origin: cloud.origin,
-        crs: cloud.crs.clone(),
-        models: Vec::new(),
-        skipped: Vec::new(),
-        footprints_given: footprints.is_some(),
-    };
     for r in results {
         match r {
             Ok(m) => out.models.push(m),

@@ -83,10 +83,7 @@ pub fn survey_of(
     let p = params(params_file)?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
     let t1 = Instant::now();
-    let mut cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
-    // The scene's coordinates are already metres: the CRS names them, it
-    // does not rescale them.
-    cloud.crs = super::field::scene_frame_crs(scene_spec);
+    let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
     let scan_s = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let (mut s, report) = measured(scene, cloud, &p);
@@ -164,6 +161,9 @@ pub fn survey_of_real(
 pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut s = survey(&a.scene, a.params_file.as_deref())?;
+    // The scene's coordinates are already metres: the CRS names them, it
+    // does not rescale them.
+    s.cloud.crs = super::field::scene_frame_crs(&a.scene);
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     for name in ["aerial.las", "aerial.ply"] {
         write_cloud(&a.out.join(name), &s.cloud).map_err(|e| err(e.to_string()))?;

@@ -738,11 +738,9 @@ fn mission_prior(
     }
     let (scene_spec, scene, crop) = mission_scene(a)?;
     let mut prior = survey_of(scene, &scene_spec, None)?;
-    // A crop is written as OBJ, which names no CRS: the city model's holds.
-    if prior.cloud.crs.is_none() {
-        prior.cloud.crs =
-            super::field::scene_frame_crs(a.scenes.first().map_or("", String::as_str));
-    }
+    // The city model's CRS, also when the mission runs on a crop of it
+    // (written as OBJ, which names none).
+    prior.cloud.crs = super::field::scene_frame_crs(a.scenes.first().map_or("", String::as_str));
     Ok((scene_spec, prior, crop))
 }
 

@@ -197,8 +197,7 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     // A tile without buildings still gets its picture, of the whole tile.
     let survey = cloud
         .bounds()
-        .map(|(lo, hi)| ([lo[0], lo[1]].map(f64::from), [hi[0], hi[1]].map(f64::from)))
-        .filter(|(lo, hi)| lo[0] < hi[0] && lo[1] < hi[1]);
+        .map(|(lo, hi)| ([lo[0], lo[1]].map(f64::from), [hi[0], hi[1]].map(f64::from)));
     detection_picture(&bpts, &detection, Some(&targets), survey, 2400, &unit)
         .and_then(|c| c.save(&png))
         .map_err(err)?;
