@@ -358,6 +358,89 @@ def test_aerial_survey_of_a_city_model_keeps_its_crs(tmp_path):
         assert v[:, k].max() <= c.max() < v[:, k].max() + 100, axis
 
 
+def in_us_feet(model, out, epsg=2263):
+    """`model` with its coordinates in US survey feet, naming a CRS in them
+    (the same buildings: only the unit and the CRS label change)."""
+    doc = json.loads(model.read_text())
+    ft = 1200 / 3937
+    t = doc["transform"]
+    t["scale"] = [s / ft for s in t["scale"]]
+    t["translate"] = [v / ft for v in t["translate"]]
+    doc["metadata"]["referenceSystem"] = f"https://www.opengis.net/def/crs/EPSG/0/{epsg}"
+    out.write_text(json.dumps(doc))
+    return out, ft
+
+
+def test_a_city_model_in_feet_is_simulated_in_metres_and_written_in_feet(tmp_path):
+    """A CityJSON model in US survey feet (as New York's is, EPSG:2263): the
+    buildings are read in metres (not 3.28 times their size), the simulated
+    survey is written in the model's feet and CRS, and `eval` measures it
+    against the model as it measures the same survey in metres. Before, the
+    scene was read as metres and aerial.las named no CRS."""
+    import laspy
+
+    model = real_file("3dbag_2buildings.city.json")
+    feet, ft = in_us_feet(model, tmp_path / "feet.city.json")
+    run("aerial", "--scene", model, "--out", tmp_path / "m")
+    run("aerial", "--scene", feet, "--out", tmp_path / "f")
+    m = laspy.read(str(tmp_path / "m" / "aerial.las"))
+    f = laspy.read(str(tmp_path / "f" / "aerial.las"))
+    assert f.header.parse_crs().to_epsg() == 2263, f.header.parse_crs()
+    assert abs(len(f.points) - len(m.points)) <= 0.005 * len(m.points), (len(f.points), len(m.points))
+    # The same survey, in feet: extents agree within 5 cm once scaled back.
+    fm = [np.asarray(getattr(f, a)) * ft for a in "xyz"]
+    mm = [np.asarray(getattr(m, a)) for a in "xyz"]
+    for k, axis in enumerate("xyz"):
+        assert abs(fm[k].min() - mm[k].min()) < 0.05, axis
+        assert abs(fm[k].max() - mm[k].max()) < 0.05, axis
+    cov = {}
+    for name, scene, d in [("m", model, "m"), ("f", feet, "f")]:
+        las = tmp_path / d / "aerial.las"
+        e = json.loads(run("eval", "--aerial", las, "--resampled", las, "--scene", scene, "--json").stdout)
+        cov[name] = e["coverage_before"]
+    assert cov["m"] > 0.9 and abs(cov["f"] - cov["m"]) < 0.002, cov
+
+
+def test_a_mission_on_a_city_model_in_feet_is_written_in_feet(tmp_path, env):
+    """The demo's closed loop over the same model in feet: it finishes and
+    gains as over the model in metres, and what it writes for the field
+    (merged cloud, driven route, per-building completeness, LoD2 models) is
+    in the model's feet and names EPSG:2263."""
+    import laspy
+
+    model = real_file("3dbag_2buildings.city.json")
+    feet, ft = in_us_feet(model, tmp_path / "feet.city.json")
+    doc = json.loads(model.read_text())
+    t = doc["transform"]
+    v = (np.asarray(doc["vertices"], dtype=float) * t["scale"] + t["translate"]) / ft
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    out = tmp_path / "out"
+    p = subprocess.run([str(BIN / "skyground"), "demo", "--scene", str(feet), "--out", str(out),
+                        "--timeout", "300"], capture_output=True, text=True, timeout=600, env=env)
+    assert p.returncode == 0, p.stderr[-4000:]
+    report = json.loads((out / "report.json").read_text())
+    assert report["finished"] is True
+    assert report["coverage_after"] > report["coverage_before"] + 0.02, report["coverage_after"]
+    # Around the two buildings (the survey reaches 100 m past them), in feet.
+    near = lambda x, y: lo[0] - 400 < x < hi[0] + 400 and lo[1] - 400 < y < hi[1] + 400
+    las = laspy.read(str(out / "resampled.las"))
+    assert las.header.parse_crs().to_epsg() == 2263
+    assert near(las.header.mins[0], las.header.mins[1]) and near(las.header.maxs[0], las.header.maxs[1])
+    route = json.loads((out / "route.geojson").read_text())
+    assert route["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::2263"
+    driven = route["features"][0]
+    assert abs(driven["properties"]["length"] * ft - report["path_length_m"]) < 0.05
+    assert all(near(x, y) for x, y, *_ in driven["geometry"]["coordinates"])
+    fp = json.loads((out / "completeness.geojson").read_text())
+    assert fp["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::2263"
+    ring = np.asarray(fp["features"][0]["geometry"]["coordinates"][0][0])
+    assert (ring.min(axis=0) > lo[:2] - 3).all() and (ring.max(axis=0) < hi[:2] + 3).all(), ring
+    m = json.loads((out / "models_after.city.json").read_text())
+    assert m["metadata"]["referenceSystem"].endswith("/EPSG/0/2263")
+    e = m["metadata"]["geographicalExtent"]
+    assert near(e[0], e[1]) and near(e[3], e[4]), e
+
+
 def test_a_crs_the_file_does_not_state(tmp_path):
     """AHN3 tiles come without CRS records; `--crs EPSG:28992` gives every
     output the CRS (LAS 1.2 copy: GeoTIFF keys; LAS 1.4: WKT; GeoJSON: its

@@ -46,6 +46,7 @@ pub struct Scene {
     pub triangle_object: Vec<u32>,
     /// The objects.
     pub objects: Vec<SceneObject>,
-    /// The local frame's origin in the source coordinate system (e.g. EPSG:2056).
+    /// The local frame's origin in the source coordinate system (e.g. EPSG:2056),
+    /// in metres (a source in feet: its coordinates times the foot's length).
     pub origin: [f64; 3],
 }

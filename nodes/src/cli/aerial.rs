@@ -161,9 +161,8 @@ pub fn survey_of_real(
 pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut s = survey(&a.scene, a.params_file.as_deref())?;
-    // The scene's coordinates are already metres: the CRS names them, it
-    // does not rescale them.
-    s.cloud.crs = super::field::scene_frame_crs(&a.scene);
+    // The scene is in metres inside; the writer gives the model's unit back.
+    s.cloud.crs = super::field::scene_crs(&a.scene);
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     for name in ["aerial.las", "aerial.ply"] {
         write_cloud(&a.out.join(name), &s.cloud).map_err(|e| err(e.to_string()))?;

@@ -3,6 +3,7 @@
 
 use std::str::FromStr;
 
+use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::graph::{GraphParams, MAX_OCCUPANCY_CELLS};
 use skyground_core::scene::{CropError, Cropped, Scene, Window, busiest_window, crop_scene};
 
@@ -82,16 +83,21 @@ pub fn apply(scene: &Scene, name: &str, args: &CropArgs) -> Result<Option<Croppe
     crop_scene(scene, &window).map(Some).map_err(err)
 }
 
-/// What a crop kept, in one line.
-pub fn describe(c: &Cropped) -> String {
-    let (e, origin) = (&c.extent, c.scene.origin);
+/// What a crop kept, in one line; source coordinates in the unit of the
+/// scene's CRS `crs` (metres when it names none).
+pub fn describe(c: &Cropped, crs: Option<&Crs>) -> String {
+    let e = &c.extent;
+    let frame = SourceFrame::new(c.scene.origin, crs.cloned());
+    let lo = frame.to_source_xy([e.min[0], e.min[1]]);
+    let hi = frame.to_source_xy([e.max[0], e.max[1]]);
     format!(
-        "crop {} (local frame; source coordinates x {:.1}..{:.1}, y {:.1}..{:.1}): {} of {} buildings, ground {:.0} m × {:.0} m{}",
+        "crop {} (local frame, m; source coordinates x {:.1}..{:.1}, y {:.1}..{:.1} {}): {} of {} buildings, ground {:.0} m × {:.0} m{}",
         c.window,
-        e.min[0] + origin[0],
-        e.max[0] + origin[0],
-        e.min[1] + origin[1],
-        e.max[1] + origin[1],
+        lo[0],
+        hi[0],
+        lo[1],
+        hi[1],
+        frame.unit().symbol(),
         c.buildings.len(),
         c.buildings_total,
         e.size()[0],
@@ -104,13 +110,15 @@ pub fn describe(c: &Cropped) -> String {
     )
 }
 
-/// The crop as report JSON (window and extent in the source scene's local
-/// frame, whose origin is `source_origin`).
-pub fn to_json(c: &Cropped) -> serde_json::Value {
+/// The crop as report JSON (window and extent in metres in the source scene's
+/// local frame, whose origin is `source_origin`, in the source CRS `crs`'s
+/// coordinates and unit).
+pub fn to_json(c: &Cropped, crs: Option<&Crs>) -> serde_json::Value {
+    let frame = SourceFrame::new(c.scene.origin, crs.cloned());
     serde_json::json!({
         "window": c.window,
         "extent": c.extent,
-        "source_origin": c.scene.origin,
+        "source_origin": frame.to_source([0.0; 3]),
         "buildings_kept": c.buildings.len(),
         "buildings_total": c.buildings_total,
         "ground_filled": c.ground_filled,

@@ -740,7 +740,7 @@ fn mission_prior(
     let mut prior = survey_of(scene, &scene_spec, None)?;
     // The city model's CRS, also when the mission runs on a crop of it
     // (written as OBJ, which names none).
-    prior.cloud.crs = super::field::scene_frame_crs(a.scenes.first().map_or("", String::as_str));
+    prior.cloud.crs = super::field::scene_crs(&a.scene());
     Ok((scene_spec, prior, crop))
 }
 
@@ -809,7 +809,7 @@ pub(super) fn mission_scene(
     write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
     eprintln!(
         "  {}; written to {}",
-        super::crop::describe(&c),
+        super::crop::describe(&c, super::field::scene_crs(&a.scene()).as_ref()),
         path.display()
     );
     let spec = path.display().to_string();
@@ -850,6 +850,8 @@ fn report(
     (t0, prof): (Instant, &mut Profile),
 ) -> Result<Evaluation, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
+    // The city model's CRS, also when the mission ran on a crop of it.
+    let model_crs = super::field::scene_crs(&a.scene());
     let scans = w.resampled.as_ref().map_or(0, Cloud::len);
     let e = compare(prior.tau, prior.gt.len(), before, after_m);
     let mission = Mission {
@@ -891,7 +893,7 @@ fn report(
         // field mode they mean something only if the robot drove in this scene.
         "ground_truth": format!("building surfaces of the scene {}", a.scene()),
         "prior": a.prior.describe(),
-        "crop": crop.map(super::crop::to_json),
+        "crop": crop.map(|c| super::crop::to_json(c, model_crs.as_ref())),
         "finished": finished,
         "ended_because": why,
         "coverage_before": e.before.completeness.overall.ratio,
@@ -989,10 +991,7 @@ fn report(
         .and_then(|c| c.save(&a.out.join("overview.png")))
         .map_err(|e| err(e.to_string()))?;
     }
-    let frame = SourceFrame::new(
-        prior.cloud.origin,
-        super::field::scene_frame_crs(a.scenes.first().map_or("", String::as_str)),
-    );
+    let frame = SourceFrame::new(prior.cloud.origin, model_crs);
     let detected = w.detections.rows(&outlines);
     let rows: Vec<super::field::MissionBuilding> = outlines
         .iter()

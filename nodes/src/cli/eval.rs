@@ -64,8 +64,9 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
     }
     let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
     let crop = super::crop::apply(&full, &a.scene, &a.crop)?;
+    let model_crs = super::field::scene_crs(&a.scene);
     if let Some(c) = &crop {
-        eprintln!("  {}", super::crop::describe(c));
+        eprintln!("  {}", super::crop::describe(c, model_crs.as_ref()));
     }
     let scene = crop.as_ref().map_or(&full, |c| &c.scene);
     let aerial = read_cloud(&a.aerial).map_err(err)?;
@@ -74,7 +75,7 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
     let e = evaluate(scene, &gt, &aerial, &merged, a.tau);
     let value = serde_json::json!({
         "scene": a.scene,
-        "crop": crop.as_ref().map(super::crop::to_json),
+        "crop": crop.as_ref().map(|c| super::crop::to_json(c, model_crs.as_ref())),
         "aerial": a.aerial,
         "resampled": a.resampled,
         "coverage_before": e.before.completeness.overall.ratio,

@@ -60,25 +60,15 @@ pub fn write_route(
     )
 }
 
-/// The CRS of a scene spec: a CityJSON file's `metadata.referenceSystem`
-/// (None for other scenes, or when it names no CRS we resolve).
+/// The CRS of a scene spec: its city model files' `metadata.referenceSystem`
+/// (None for other scenes, or when they name no CRS we resolve).
 pub fn scene_crs(spec: &str) -> Option<skyground_core::crs::Crs> {
-    use skyground_core::crs::{JsonCrs, cityjson_crs};
-    if !spec.to_ascii_lowercase().ends_with(".json") {
+    use skyground_core::scene::cityjson::{city_files, is_city_file, read_city_model};
+    let files = city_files(spec).ok()?;
+    if files.is_empty() || !files.iter().all(|p| is_city_file(p)) {
         return None;
     }
-    let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(spec).ok()?).ok()?;
-    match cityjson_crs(&doc).ok()? {
-        JsonCrs::Epsg(c) => Some(c),
-        _ => None,
-    }
-}
-
-/// The CRS of the scene's coordinates as skyground loads them: the city
-/// model's, where its unit is the metre (a scene is read as metres; naming a
-/// CRS in feet would rescale coordinates that were never in feet).
-pub fn scene_frame_crs(spec: &str) -> Option<skyground_core::crs::Crs> {
-    scene_crs(spec).filter(|c| c.to_metre() == [1.0; 3])
+    read_city_model(&files).ok()?.crs()
 }
 
 /// One building of a mission: outline and measured completeness before/after.

@@ -59,10 +59,7 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         tiles.push((f.display().to_string(), c));
     }
     let mut cloud = join_tiles(&tiles).map_err(|e| err(format!("prior: {e}")))?;
-    let model_crs = a
-        .scenes
-        .first()
-        .and_then(|s| super::field::scene_crs(s.split(',').next().unwrap_or(s)));
+    let model_crs = super::field::scene_crs(&a.scene());
     let check = check_crs(cloud.crs.as_ref(), model_crs.as_ref())
         .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
     eprintln!(

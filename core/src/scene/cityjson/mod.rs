@@ -17,9 +17,10 @@
 //!   and geometry templates are ignored.
 //! - Surfaces (with holes) are triangulated on their best-fit plane by ear
 //!   clipping (robust to non-planar rings); triangles under 1 mm² are dropped.
-//! - Vertices are decompressed with `transform` and moved to a local frame
-//!   whose origin (kept in [`Scene::origin`]) is the buildings' bounding-box
-//!   minimum floored to whole metres.
+//! - Vertices are decompressed with `transform`, scaled to metres when the
+//!   model's CRS (`metadata.referenceSystem`) is in feet, and moved to a
+//!   local frame whose origin (kept in [`Scene::origin`], metres as a cloud's
+//!   origin) is the buildings' bounding-box minimum floored to whole metres.
 //! - A Ground object `terrain` is added around the buildings
 //!   ([`TerrainOptions`], [`terrain_around`]): a grid over each footprint box
 //!   grown by 30 m, through the buildings' base vertices (their `GroundSurface`, or
@@ -107,7 +108,19 @@ pub fn scene_of_model(
     model: &CityModel,
     options: &CityJsonOptions,
 ) -> Result<Scene, CityJsonError> {
-    let vertices = &model.vertices;
+    // Inside, a scene is in metres: a model in feet is scaled on the way in
+    // (its origin too), and outputs divide by the CRS's unit on the way out.
+    let f = model.to_metre();
+    let vertices: std::borrow::Cow<'_, [[f64; 3]]> = if f == [1.0; 3] {
+        std::borrow::Cow::Borrowed(&model.vertices)
+    } else {
+        model
+            .vertices
+            .iter()
+            .map(|p| [0, 1, 2].map(|k| p[k] * f[k]))
+            .collect()
+    };
+    let vertices = &*vertices;
     let parents = parent_map(model);
     let mut loaded: Vec<Loaded<'_>> = Vec::new();
     let mut grounds: Vec<Loaded<'_>> = Vec::new();

@@ -174,6 +174,19 @@ fn check_header(doc: &Document) -> Result<(), CityJsonError> {
 }
 
 impl CityModel {
+    /// The CRS the model names, as the registry resolves it (`None` when it
+    /// names none, or one without an EPSG code we know).
+    pub fn crs(&self) -> Option<crate::crs::Crs> {
+        let code = crate::crs::epsg_from_reference(self.reference_system.as_deref()?)?;
+        crate::crs::Crs::from_epsg(code).ok()
+    }
+
+    /// Metres per unit of the model's coordinates (x, y, z): its CRS's unit,
+    /// metres when it names no CRS we resolve.
+    pub fn to_metre(&self) -> [f64; 3] {
+        self.crs().map_or([1.0; 3], |c| c.to_metre())
+    }
+
     /// Adds one file's documents; a Seq's features use its header's transform.
     fn add_file(&mut self, docs: Vec<Document>) -> Result<(), CityJsonError> {
         let transform = docs.first().and_then(|d| d.transform);

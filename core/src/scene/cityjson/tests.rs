@@ -304,3 +304,45 @@ fn crs_names_compare_by_code() {
     );
     assert_ne!(crs_key("EPSG:2056"), crs_key("EPSG:7415"));
 }
+
+/// `doc` with its transform in US survey feet and a CRS in them (NAD83 /
+/// New York Long Island ftUS), `unit` metres per foot.
+fn in_feet(unit: f64) -> String {
+    let mut d: serde_json::Value = serde_json::from_str(&doc("2.0")).unwrap_or_default();
+    d["transform"] = serde_json::json!({
+        "scale": [0.001 / unit, 0.001 / unit, 0.001 / unit],
+        "translate": [84000.5 / unit, 447000.25 / unit, 1.0 / unit],
+    });
+    d["metadata"] =
+        serde_json::json!({"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/2263"});
+    d.to_string()
+}
+
+#[test]
+fn a_model_in_feet_is_read_in_metres() {
+    let us_foot = 1200.0 / 3937.0;
+    let model = parse_city_model(in_feet(us_foot).as_bytes()).unwrap_or_default();
+    assert_eq!(model.crs().and_then(|c| c.epsg), Some(2263));
+    assert!((model.to_metre()[0] - us_foot).abs() < 1e-12);
+    let feet = parse_cityjson(in_feet(us_foot).as_bytes(), &CityJsonOptions::default())
+        .unwrap_or_default();
+    let metres =
+        parse_cityjson(doc("2.0").as_bytes(), &CityJsonOptions::default()).unwrap_or_default();
+    // Same frame and the same building, 10 m × 10 m × 5 m, not 3.3 times it.
+    assert_eq!(feet.origin, metres.origin);
+    assert_eq!(feet.vertices.len(), metres.vertices.len());
+    for (a, b) in feet.vertices.iter().zip(&metres.vertices) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() < 1e-3, "{a:?} vs {b:?}");
+        }
+    }
+    // Read as if in metres, the same file would be 3.28 times larger.
+    let mut unnamed: serde_json::Value =
+        serde_json::from_str(&in_feet(us_foot)).unwrap_or_default();
+    unnamed["metadata"] = serde_json::json!({});
+    let raw = parse_cityjson(unnamed.to_string().as_bytes(), &CityJsonOptions::default())
+        .unwrap_or_default();
+    let area = |s: &Scene| -> f64 { s.object_triangles(0).map(|t| s.triangle_area(t)).sum() };
+    assert!((area(&feet) - (2.0 * 100.0 + 4.0 * 50.0 - 4.0)).abs() < 1e-2);
+    assert!((area(&raw) / area(&feet) * us_foot * us_foot - 1.0).abs() < 1e-3);
+}
