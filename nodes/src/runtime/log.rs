@@ -114,3 +114,118 @@ impl Logger {
             .is_ok()
     }
 }
+
+/// Warnings and errors of the DDS libraries (RustDDS, ros2-client), which
+/// speak through the `log` facade: on the node's stderr, tagged `NAME/dds`,
+/// so a participant that cannot join a multicast group or bind a port says
+/// so in the node's log instead of showing up later as a silent stall.
+/// Each kind of warning is shown once: RustDDS warns about every datagram
+/// over 1,500 bytes, thousands a mission.
+struct LibraryLog {
+    name: Arc<str>,
+    seen: std::sync::Mutex<std::collections::HashSet<String>>,
+}
+
+/// Library messages that say nothing about a fault: RustDDS notes every
+/// datagram over 1,500 bytes (IP fragments it); ros2-client, that ROS_DISTRO
+/// is unset (we speak kilted's types without a ROS install); every
+/// ros2-client node reads /clock as builtin_interfaces/Time, which RustDDS
+/// calls inconsistent with the rosgraph_msgs/Clock that clocks publish
+/// (the runtime reads /clock itself); and at exit, entities removed after
+/// their event loop stopped.
+const HARMLESS: &[&str] = &[
+    "Message size = ",
+    "ROS_DISTRO is not set",
+    "\"rosgraph_msgs::msg::dds_::Clock_\"",
+    ": TrySendError::Disconnected(..)",
+    "Cannot notify spin task to stop",
+];
+
+/// A message with its numbers (decimal or hex: GUIDs) taken out: what makes
+/// two warnings alike.
+fn kind_of(msg: &str) -> String {
+    msg.chars()
+        .filter(|c| !c.is_ascii_hexdigit())
+        .take(80)
+        .collect()
+}
+
+impl log::Log for LibraryLog {
+    fn enabled(&self, m: &log::Metadata<'_>) -> bool {
+        m.level() <= log::Level::Warn
+    }
+
+    fn log(&self, r: &log::Record<'_>) {
+        if !self.enabled(r.metadata()) {
+            return;
+        }
+        let msg = r.args().to_string();
+        if HARMLESS.iter().any(|h| msg.contains(h)) {
+            return;
+        }
+        let first = self
+            .seen
+            .lock()
+            .map_or(true, |mut seen| seen.insert(kind_of(&msg)));
+        if !first {
+            return;
+        }
+        let level = if r.level() == log::Level::Error {
+            Level::Error
+        } else {
+            Level::Warn
+        };
+        let now = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .unwrap_or_default();
+        eprintln!(
+            "[{}] [{}.{:09}] [{}/dds]: {msg} ({}; alike ones not repeated)",
+            level.tag(),
+            now.as_secs(),
+            now.subsec_nanos(),
+            self.name,
+            r.target()
+        );
+    }
+
+    fn flush(&self) {}
+}
+
+/// Sends the DDS libraries' warnings and errors to stderr as `name`'s (once
+/// per process; later calls keep the first).
+pub fn install_library_log(name: &str) {
+    let logger = Box::new(LibraryLog {
+        name: name.into(),
+        seen: std::sync::Mutex::default(),
+    });
+    if log::set_boxed_logger(logger).is_ok() {
+        log::set_max_level(log::LevelFilter::Warn);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alike_library_warnings_are_shown_once_and_harmless_ones_not_at_all() {
+        let a = "Cannot get multicast discovery listener: Os { code: 19 }";
+        let b = "Cannot get multicast discovery listener: Os { code: 98 }";
+        assert_eq!(kind_of(a), kind_of(b));
+        assert_ne!(kind_of(a), kind_of("Could not find free ParticipantId"));
+        let guid = |g: &str| format!("Cannot remove Reader GUID {{{g}}}: gone");
+        assert_eq!(
+            kind_of(&guid("0112c504b413776e2f43d0f6")),
+            kind_of(&guid("01128cf8d8d1b7d1fff80c66"))
+        );
+        let harmless = |m: &str| HARMLESS.iter().any(|h| m.contains(h));
+        assert!(harmless("try_send_to_locator: Message size = 65348"));
+        assert!(harmless(
+            "Inconsistent topic update from GUID {x}: type was: \"rosgraph_msgs::msg::dds_::Clock_\" new type: \"builtin_interfaces::msg::dds_::Time_\""
+        ));
+        assert!(!harmless(a));
+        assert!(!harmless(
+            "SO_RCVBUF clamped: requested 33554432 bytes but got 8388608 bytes"
+        ));
+    }
+}

@@ -143,6 +143,7 @@ impl NodeRuntime {
             })
             .transpose()?
             .unwrap_or(Level::Info);
+        super::log::install_library_log(&name);
         let domain = DomainConfig::from_env()?;
         let context = Context::from_domain_participant(domain.participant()?).map_err(|e| {
             RuntimeError::Create {
