@@ -153,8 +153,17 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         match planner.waiting_for() {
             Some(what) if lacking_since.elapsed() >= said + WAITING_SAID_EVERY => {
                 let s = lacking_since.elapsed().as_secs();
-                rt.log
-                    .warn(&format!("no route after {s} s: still waiting for {what}"));
+                let node = rt.node();
+                let matched = [
+                    ("/classified_cloud", cloud_sub.publisher_count(node)),
+                    ("/target_points", target_sub.publisher_count(node)),
+                    ("/target_regions", regions_sub.get_publisher_count(node)),
+                    ("/state_estimation", odom_sub.get_publisher_count(node)),
+                ];
+                rt.log.warn(&format!(
+                    "no route after {s} s: still waiting for {what}{}",
+                    publishers_said(&what, &matched)
+                ));
                 said += WAITING_SAID_EVERY;
             }
             Some(_) => {}
@@ -162,6 +171,25 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         }
     }
     Ok(())
+}
+
+/// How many publishers DDS matched to each input named in `what`: none
+/// means discovery never joined the two (another domain, a node down, a
+/// type or QoS that does not match); some means they are joined and silent.
+fn publishers_said(what: &str, matched: &[(&str, usize)]) -> String {
+    let said: Vec<String> = matched
+        .iter()
+        .filter(|(topic, _)| what.split(", ").any(|w| w == *topic))
+        .map(|(topic, n)| match n {
+            0 => format!("{topic}: no publisher matched"),
+            n => format!("{topic}: {n} publisher(s) matched, nothing received"),
+        })
+        .collect();
+    if said.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", said.join("; "))
+    }
 }
 
 async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
@@ -193,5 +221,27 @@ async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
     if !sent {
         rt.log
             .warn("a publish failed (DDS write error); the next tick sends the status again");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_wait_says_which_inputs_have_a_publisher() {
+        let matched = [("/classified_cloud", 1), ("/state_estimation", 0)];
+        assert_eq!(
+            publishers_said("/classified_cloud, /state_estimation", &matched),
+            " (/classified_cloud: 1 publisher(s) matched, nothing received; /state_estimation: no publisher matched)"
+        );
+        assert_eq!(
+            publishers_said("/state_estimation", &matched),
+            " (/state_estimation: no publisher matched)"
+        );
+        assert_eq!(
+            publishers_said("the other half of a target set", &matched),
+            ""
+        );
     }
 }

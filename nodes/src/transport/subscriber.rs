@@ -44,6 +44,11 @@ impl CloudSubscription {
         })
     }
 
+    /// How many publishers DDS has matched to this subscription.
+    pub fn publisher_count(&self, node: &ros2_client::Node) -> usize {
+        self.sub.get_publisher_count(node)
+    }
+
     /// Waits for the next whole cloud (or bad message). `None` when the
     /// subscription ended.
     pub async fn next(&mut self) -> Option<Received> {
