@@ -367,6 +367,9 @@ def in_us_feet(model, out, epsg=2263):
     t["scale"] = [s / ft for s in t["scale"]]
     t["translate"] = [v / ft for v in t["translate"]]
     doc["metadata"]["referenceSystem"] = f"https://www.opengis.net/def/crs/EPSG/0/{epsg}"
+    for o in [doc["metadata"], *doc["CityObjects"].values()]:
+        if "geographicalExtent" in o:
+            o["geographicalExtent"] = [e / ft for e in o["geographicalExtent"]]
     out.write_text(json.dumps(doc))
     return out, ft
 
