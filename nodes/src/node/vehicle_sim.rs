@@ -29,7 +29,7 @@ use tokio::sync::mpsc;
 use crate::convert::diagnostics::array;
 use crate::convert::path::{odometry, read_paths};
 use crate::convert::tf::{tf_message, transform};
-use crate::runtime::{NodeRuntime, RuntimeError, forward, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, forward, publish_watched, qos};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -112,10 +112,13 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     };
     let mount = [0.0, 0.0, f64::from(p.vehicle.sensor_height)];
     let sensor_mount = transform(&body, &p.sensor_frame_id, mount, 0.0);
-    rt.log.sent(
+    let r = publish_watched(
+        &rt.log,
         "/tf_static",
-        tf_static_pub.async_publish(tf_message(sensor_mount)).await,
-    );
+        tf_static_pub.async_publish(tf_message(sensor_mount)),
+    )
+    .await;
+    rt.log.sent("/tf_static", r);
     let (tx, mut paths) = mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
     let mut goals = spots(rt, "/way_point", qos::reliable(10), 16)?;
@@ -171,30 +174,26 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         }
         for done in refused.iter().chain([&step]) {
             if let Some(s) = VehicleStatus::from_step("vehicle_sim", done, &vehicle.state) {
-                let r = status_pub
-                    .async_publish(array(h.clone(), s.to_wire()))
-                    .await;
+                let sent = status_pub.async_publish(array(h.clone(), s.to_wire()));
+                let r = publish_watched(&rt.log, "/vehicle_status", sent).await;
                 rt.log.sent("/vehicle_status", r);
             }
         }
         if clock_due.due(sim) {
-            rt.log.sent(
-                "/clock",
-                clock_pub
-                    .async_publish(Clock {
-                        clock: Time::from_secs(sim),
-                    })
-                    .await,
-            );
+            let sent = clock_pub.async_publish(Clock {
+                clock: Time::from_secs(sim),
+            });
+            let r = publish_watched(&rt.log, "/clock", sent).await;
+            rt.log.sent("/clock", r);
         }
         if odom_due.due(sim) {
             let at = vehicle.state.position.map(f64::from);
             let pose = transform(&h, &p.child_frame_id, at, vehicle.state.yaw);
             let o = odometry(h.clone(), &p.child_frame_id, &vehicle.state);
-            rt.log
-                .sent("/state_estimation", odom_pub.async_publish(o).await);
-            rt.log
-                .sent("/tf", tf_pub.async_publish(tf_message(pose)).await);
+            let r = publish_watched(&rt.log, "/state_estimation", odom_pub.async_publish(o)).await;
+            rt.log.sent("/state_estimation", r);
+            let r = publish_watched(&rt.log, "/tf", tf_pub.async_publish(tf_message(pose))).await;
+            rt.log.sent("/tf", r);
         }
         let sensor = vehicle.sensor_position();
         if scan_due.due(sim, sensor) {
@@ -204,11 +203,12 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             let cloud = points.to_cloud(caster.origin());
             let msg = encode(&cloud, h, &EncodeOptions::default());
             if p.throttle_every > 0 && scans.is_multiple_of(p.throttle_every) {
-                let r = throttle_pub.async_publish(msg.clone()).await;
+                let sent = throttle_pub.async_publish(msg.clone());
+                let r = publish_watched(&rt.log, "/registered_scan_throttle", sent).await;
                 rt.log.sent("/registered_scan_throttle", r);
             }
-            rt.log
-                .sent("/registered_scan", scan_pub.async_publish(msg).await);
+            let r = publish_watched(&rt.log, "/registered_scan", scan_pub.async_publish(msg)).await;
+            rt.log.sent("/registered_scan", r);
             scans += 1;
         }
         if pause > 0.0 {

@@ -10,8 +10,10 @@ pub mod param_services;
 pub mod params;
 pub mod qos;
 pub mod shutdown;
+pub mod watch;
 
 pub use args::RosArgs;
 pub use forward::forward;
 pub use log::Logger;
 pub use node::{NodeRuntime, NodeSpec, RuntimeError, run_node, run_with};
+pub use watch::publish_watched;
