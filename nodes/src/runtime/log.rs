@@ -50,6 +50,20 @@ impl Level {
     }
 }
 
+/// Writes one log line to stderr in rclpy's console format; returns its time.
+fn stderr_line(level: Level, name: &str, msg: &str) -> std::time::Duration {
+    let now = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .unwrap_or_default();
+    eprintln!(
+        "[{}] [{}.{:09}] [{name}]: {msg}",
+        level.tag(),
+        now.as_secs(),
+        now.subsec_nanos(),
+    );
+    now
+}
+
 impl Logger {
     /// A logger writing to stderr, and to /rosout when `rosout` is given.
     pub fn new(name: &str, rosout: Option<NodeLoggingHandle>, min: Level) -> Self {
@@ -65,17 +79,7 @@ impl Logger {
         if level < self.min {
             return;
         }
-        let now = SystemTime::now()
-            .duration_since(UNIX_EPOCH)
-            .unwrap_or_default();
-        eprintln!(
-            "[{}] [{}.{:09}] [{}]: {}",
-            level.tag(),
-            now.as_secs(),
-            now.subsec_nanos(),
-            self.name,
-            msg
-        );
+        let now = stderr_line(level, &self.name, msg);
         if let Some(h) = &self.rosout {
             let stamp = Time::from_nanos(i64::try_from(now.as_nanos()).unwrap_or(i64::MAX));
             let lvl = match level {
@@ -177,17 +181,8 @@ impl log::Log for LibraryLog {
         } else {
             Level::Warn
         };
-        let now = SystemTime::now()
-            .duration_since(UNIX_EPOCH)
-            .unwrap_or_default();
-        eprintln!(
-            "[{}] [{}.{:09}] [{}/dds]: {msg} ({}; alike ones not repeated)",
-            level.tag(),
-            now.as_secs(),
-            now.subsec_nanos(),
-            self.name,
-            r.target()
-        );
+        let text = format!("{msg} ({}; alike ones not repeated)", r.target());
+        stderr_line(level, &format!("{}/dds", self.name), &text);
     }
 
     fn flush(&self) {}
