@@ -155,15 +155,50 @@ fn start(
 
 /// Starts again every node that exited while the mission runs, as ros2
 /// launch's `respawn=True` does: nodes take their state from latched topics.
+/// A node whose DDS start-up deadlocked exits with
+/// [`EXIT_STUCK`](crate::runtime::creation_watch::EXIT_STUCK) for this.
 fn respawn(procs: &mut [Proc], exe: &Path, out: &Path) -> Result<(), RuntimeError> {
     for p in procs.iter_mut() {
         if let Ok(Some(status)) = p.child.try_wait() {
             eprintln!("  {} exited ({status}); starting it again", p.name);
-            p.child = spawn(p.name, exe, &p.args, out)?;
             p.restarts += 1;
+            p.child = spawn(p.name, exe, &args_for_start(&p.args, p.restarts), out)?;
         }
     }
     Ok(())
+}
+
+/// `args` for start `n` (0: the first): a respawned recorder writes split
+/// `n` (`mission_1.mcap`, as rosbag2 numbers its splits) rather than
+/// truncate what its predecessor wrote.
+fn args_for_start(args: &[String], n: u32) -> Vec<String> {
+    let mut args = args.to_vec();
+    if n > 0
+        && let Some(i) = args.iter().position(|a| a == "-o")
+        && let Some(path) = args.get_mut(i + 1)
+    {
+        *path = bag_split(Path::new(path), n).display().to_string();
+    }
+    args
+}
+
+/// Split `n` of the bag at `first` (0: `first` itself).
+fn bag_split(first: &Path, n: u32) -> PathBuf {
+    if n == 0 {
+        return first.to_path_buf();
+    }
+    let stem = first
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    first.with_file_name(format!("{stem}_{n}.mcap"))
+}
+
+/// The bag's size: all its splits.
+fn bag_bytes(first: &Path) -> u64 {
+    (0..)
+        .map_while(|n| std::fs::metadata(bag_split(first, n)).ok())
+        .map(|m| m.len())
+        .sum()
 }
 
 async fn stop(p: &mut Proc) {
@@ -334,7 +369,10 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
     let bag = a.out.join("mission.mcap");
-    let _ = std::fs::remove_file(&bag);
+    // A former run's bag and its splits (their sizes are summed at the end).
+    for n in 0..100 {
+        let _ = std::fs::remove_file(bag_split(&bag, n));
+    }
     eprintln!(
         "skyground demo: scene {}, output {}",
         a.scene(),
@@ -884,7 +922,7 @@ fn report(
     let verdict =
         skyground_core::reconstruct::compare(&mb, &ma, skyground_core::reconstruct::PRIOR_OFF_M);
     prof.stage("report: tables, pictures, GeoJSON");
-    let bag_bytes = std::fs::metadata(a.out.join("mission.mcap")).map_or(0, |m| m.len());
+    let bag_bytes = bag_bytes(&a.out.join("mission.mcap"));
     let wall = t0.elapsed().as_secs_f64();
     let mut value = json!({
         "scene": a.scene(),
@@ -1052,6 +1090,26 @@ mod tests {
         let mut c = Cloud::from_xyz((0..n).map(|i| [i as f32, 0.0, 0.0]).collect());
         c.label = Some(vec![class::BUILDING; n]);
         c
+    }
+
+    #[test]
+    fn a_respawned_recorder_writes_the_next_split_and_the_size_counts_them_all() {
+        let args: Vec<String> = ["record", "-o", "/m/mission.mcap", "/tf"]
+            .iter()
+            .map(|s| (*s).to_string())
+            .collect();
+        assert_eq!(args_for_start(&args, 0), args);
+        assert_eq!(args_for_start(&args, 2)[2], "/m/mission_2.mcap");
+        let other = vec!["vehicle_sim".to_string()];
+        assert_eq!(args_for_start(&other, 3), other);
+        let dir = std::env::temp_dir().join(format!("skyground-splits-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let first = dir.join("mission.mcap");
+        assert_eq!(bag_bytes(&first), 0);
+        std::fs::write(&first, [0u8; 5]).unwrap();
+        std::fs::write(bag_split(&first, 1), [0u8; 7]).unwrap();
+        assert_eq!(bag_bytes(&first), 12);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -51,7 +51,7 @@ impl Level {
 }
 
 /// Writes one log line to stderr in rclpy's console format; returns its time.
-fn stderr_line(level: Level, name: &str, msg: &str) -> std::time::Duration {
+pub(super) fn stderr_line(level: Level, name: &str, msg: &str) -> std::time::Duration {
     let now = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .unwrap_or_default();

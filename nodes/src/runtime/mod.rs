@@ -2,6 +2,7 @@
 //! clock and shutdown. Every skyground node is this plus a library call.
 
 pub mod args;
+pub mod creation_watch;
 pub mod domain;
 pub mod forward;
 pub mod log;

@@ -18,6 +18,7 @@ use skyground_msgs::rosgraph_msgs::Clock;
 use skyground_msgs::std_msgs::Header;
 
 use super::args::{ArgsError, RosArgs};
+use super::creation_watch::{Armed, CreationWatch};
 use super::domain::{DomainConfig, DomainError};
 use super::log::{Level, Logger};
 use super::param_services;
@@ -111,6 +112,7 @@ pub struct NodeRuntime {
     node: Node,
     context: Context,
     sim_time: Option<Arc<Mutex<Time>>>,
+    creation: CreationWatch,
 }
 
 impl NodeRuntime {
@@ -144,13 +146,16 @@ impl NodeRuntime {
             .transpose()?
             .unwrap_or(Level::Info);
         super::log::install_library_log(&name);
+        let creation = CreationWatch::exiting(&name);
         let domain = DomainConfig::from_env()?;
+        let armed = creation.guard("the DDS participant");
         let context = Context::from_domain_participant(domain.participant()?).map_err(|e| {
             RuntimeError::Create {
                 what: "ROS 2 context".into(),
                 reason: e.to_string(),
             }
         })?;
+        drop(armed);
         let node_name = NodeName::new(&namespace, &name).map_err(|e| RuntimeError::Name {
             name: format!("{namespace}/{name}"),
             reason: format!("{e:?}"),
@@ -163,6 +168,7 @@ impl NodeRuntime {
             &params,
             current.clone(),
         );
+        let armed = creation.guard(&format!("node {name}"));
         let mut node = context
             .new_node(node_name, options)
             .map_err(|e| RuntimeError::Create {
@@ -173,6 +179,7 @@ impl NodeRuntime {
             what: "spinner".into(),
             reason: e.to_string(),
         })?;
+        drop(armed);
         tokio::spawn(spinner.spin());
         let log = Logger::new(&name, Some(node.logging_handle()), level);
         let mut rt = Self {
@@ -185,6 +192,7 @@ impl NodeRuntime {
             node,
             context,
             sim_time: None,
+            creation,
         };
         // Always listening, so a `use_sim_time` set at run time (as `ros2
         // param set` does) switches the clock at once; /clock's rate is low.
@@ -266,6 +274,12 @@ impl NodeRuntime {
         &self.context
     }
 
+    /// Marks the creation of a DDS entity this runtime does not wrap (see
+    /// [`CreationWatch`]) until the guard drops.
+    pub fn creating(&self, what: &str) -> Armed<'_> {
+        self.creation.guard(what)
+    }
+
     /// Creates (or finds) the DDS topic for message type `M`.
     pub fn topic<M: RosMessage>(
         &self,
@@ -277,6 +291,7 @@ impl NodeRuntime {
             reason: format!("{e:?}"),
         })?;
         let (pkg, ty) = split_type_name(M::TYPE_NAME);
+        let _armed = self.creation.guard(&format!("topic {topic}"));
         self.node
             .create_topic(&name, MessageTypeName::new(pkg, ty), qos)
             .map_err(create_error(format!("topic {topic}")))
@@ -289,6 +304,7 @@ impl NodeRuntime {
         qos: QosProfile,
     ) -> Result<Publisher<M>, RuntimeError> {
         let t = self.topic::<M>(topic, &qos)?;
+        let _armed = self.creation.guard(&format!("publisher on {topic}"));
         self.node
             .create_publisher(&t, Some(qos))
             .map_err(create_error(format!("publisher on {topic}")))
@@ -301,6 +317,7 @@ impl NodeRuntime {
         qos: QosProfile,
     ) -> Result<Subscription<M>, RuntimeError> {
         let t = self.topic::<M>(topic, &qos)?;
+        let _armed = self.creation.guard(&format!("subscription to {topic}"));
         self.node
             .create_subscription(&t, Some(qos))
             .map_err(create_error(format!("subscription to {topic}")))

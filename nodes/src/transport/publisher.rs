@@ -84,6 +84,7 @@ impl CloudPublisher {
             what: format!("{what} for {topic}"),
             reason: e,
         };
+        let _armed = rt.creating(&format!("DDS writer for {topic}"));
         let publisher = rt
             .context()
             .domain_participant()
