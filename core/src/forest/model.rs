@@ -11,6 +11,9 @@ use super::params::ForestParams;
 use super::rng::Rng;
 use super::tree::{Grow, Tree, grow};
 
+/// Rows voted on together, tree by tree (about 60 kB of 30 features).
+const VOTE_BLOCK: usize = 512;
+
 /// A trained Random Forest over rows of `dims` features.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -148,11 +151,17 @@ impl RandomForest {
         let c = self.classes.len();
         let share = 1.0 / self.trees.len() as f32;
         let mut out = vec![0.0f32; rows.len() / self.dims * c];
-        out.par_chunks_mut(c)
-            .zip(rows.par_chunks(self.dims))
-            .for_each(|(votes, row)| {
+        // Tree by tree over a block of rows: one tree's nodes stay in cache
+        // while the block goes through it; row by row, every row walked all
+        // 48 trees (3.8 MB of nodes) through the cache. Each row still adds
+        // its votes in tree order, so the sums are the same to the bit.
+        out.par_chunks_mut(c * VOTE_BLOCK)
+            .zip(rows.par_chunks(self.dims * VOTE_BLOCK))
+            .for_each(|(votes, block)| {
                 for t in &self.trees {
-                    votes[t.leaf_class(row) as usize] += share;
+                    for (v, row) in votes.chunks_mut(c).zip(block.chunks(self.dims)) {
+                        v[t.leaf_class(row) as usize] += share;
+                    }
                 }
             });
         Ok(out)
@@ -247,6 +256,27 @@ mod tests {
         assert_eq!(back.predict(&xt).unwrap(), pred);
         let proba = f.predict_proba(&xt[..3]).unwrap();
         assert!((proba.iter().sum::<f32>() - 1.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn votes_by_blocks_of_rows_equal_each_row_through_every_tree() {
+        let (x, y) = data(3000, 3);
+        let p = ForestParams {
+            trees: 12,
+            ..ForestParams::default()
+        };
+        let f = RandomForest::fit(&x, 3, &y, &p).unwrap();
+        // Two whole blocks and a part of one.
+        let (xt, _) = data(2 * VOTE_BLOCK + 37, 4);
+        let got = f.predict_proba(&xt).unwrap();
+        let share = 1.0 / f.tree_count() as f32;
+        for (row, votes) in xt.chunks(3).zip(got.chunks(3)) {
+            let mut want = [0.0f32; 3];
+            for t in &f.trees {
+                want[t.leaf_class(row) as usize] += share;
+            }
+            assert_eq!(votes, want);
+        }
     }
 
     #[test]
