@@ -3,7 +3,8 @@
 //! The reference scene's airborne prior, thinned to 1 M points; heights
 //! above ground and ground flags from its labels (set up once, untimed).
 //! Timed: features of every non-ground point plus the forest's votes
-//! (`classify`), and the features alone, with the shipped model.
+//! (`classify`), the features alone and the votes alone, with the shipped
+//! model.
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -61,6 +62,15 @@ fn benches(c: &mut Criterion) {
     });
     g.bench_function("features_all_1M", |b| {
         b.iter(|| compute(black_box(&xyz), &hag, echoes, &model.feature_params).map(|f| f.len()))
+    });
+    let features = compute(&xyz, &hag, echoes, &model.feature_params).unwrap();
+    let forest = model.forest_for(echoes.is_some());
+    g.bench_function("forest_votes_1M", |b| {
+        b.iter(|| {
+            forest
+                .predict_proba(black_box(&features.data))
+                .map(|v| v.len())
+        })
     });
     g.finish();
     real_million(c);
