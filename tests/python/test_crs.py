@@ -402,6 +402,12 @@ def test_a_city_model_in_feet_is_simulated_in_metres_and_written_in_feet(tmp_pat
         e = json.loads(run("eval", "--aerial", las, "--resampled", las, "--scene", scene, "--json").stdout)
         cov[name] = e["coverage_before"]
     assert cov["m"] > 0.9 and abs(cov["f"] - cov["m"]) < 0.002, cov
+    # `info` tells the model's extent in its own unit: feet, the same metres.
+    im, jf = (json.loads(run("info", s, "--json").stdout)["extent"] for s in (model, feet))
+    for k in range(3):
+        assert abs(jf["size_m"][k] - im["size_m"][k]) < 0.01, (jf, im)
+        assert abs(jf["min"][k] * ft - im["min"][k]) < 0.01, (jf, im)
+        assert abs(jf["size"][k] * ft - im["size"][k]) < 0.01, (jf, im)
 
 
 def test_a_mission_on_a_city_model_in_feet_is_written_in_feet(tmp_path, env):

@@ -177,11 +177,12 @@ fn scene(path: &Path, crs: Option<JsonCrs>) -> Result<Value, RuntimeError> {
             }
         }
     });
+    // The scene is loaded in metres; the extent is told in the model's unit.
     let extent = s.bounds().map(|(lo, hi)| {
-        let min = [0, 1, 2].map(|k| s.origin[k] + f64::from(lo[k]));
-        let max = [0, 1, 2].map(|k| s.origin[k] + f64::from(hi[k]));
-        let size = [0, 1, 2].map(|k| max[k] - min[k]);
-        let size_m = [0, 1, 2].map(|k| size[k] * f[k]);
+        let min_m = [0, 1, 2].map(|k| s.origin[k] + f64::from(lo[k]));
+        let max_m = [0, 1, 2].map(|k| s.origin[k] + f64::from(hi[k]));
+        let size_m = [0, 1, 2].map(|k| max_m[k] - min_m[k]);
+        let [min, max, size] = [min_m, max_m, size_m].map(|v| [0, 1, 2].map(|k| v[k] / f[k]));
         json!({"min": min, "max": max, "size": size, "size_m": size_m})
     });
     Ok(json!({
