@@ -370,9 +370,9 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
     let bag = a.out.join("mission.mcap");
     // A former run's bag and its splits (their sizes are summed at the end).
-    for n in 0..100 {
-        let _ = std::fs::remove_file(bag_split(&bag, n));
-    }
+    let _ = (0..)
+        .take_while(|&n| std::fs::remove_file(bag_split(&bag, n)).is_ok())
+        .count();
     eprintln!(
         "skyground demo: scene {}, output {}",
         a.scene(),

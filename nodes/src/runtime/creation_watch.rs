@@ -3,6 +3,7 @@
 //! RustDDS 0.15.1 can deadlock there when its discovery thread is busy
 //! (docs/design.md, "DDS"); a stuck node would otherwise wait in silence.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
 use std::time::{Duration, Instant};
 
@@ -19,7 +20,7 @@ type Slot = Option<(Instant, String, u64)>;
 /// Watches entity creations from a thread of its own; see [`Self::guard`].
 pub struct CreationWatch {
     slot: Arc<Mutex<Slot>>,
-    count: Mutex<u64>,
+    count: AtomicU64,
 }
 
 /// Marks a creation under way until dropped.
@@ -53,7 +54,7 @@ impl CreationWatch {
         });
         Self {
             slot,
-            count: Mutex::new(0),
+            count: AtomicU64::new(0),
         }
     }
 
@@ -76,10 +77,7 @@ impl CreationWatch {
 
     /// Marks the creation of `what` as under way until the guard drops.
     pub fn guard(&self, what: &str) -> Armed<'_> {
-        let n = self.count.lock().map_or(0, |mut c| {
-            *c += 1;
-            *c
-        });
+        let n = self.count.fetch_add(1, Ordering::Relaxed) + 1;
         if let Ok(mut s) = self.slot.lock() {
             *s = Some((Instant::now(), what.to_string(), n));
         }
