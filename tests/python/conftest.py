@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -60,16 +61,50 @@ def real_file(name):
     return path
 
 
-class Proc:
-    """A skyground binary run as a child process in the test's domain."""
+# A node whose DDS creation deadlocked exits with this (nodes/src/runtime/creation_watch.rs).
+EXIT_STUCK = 75
 
-    def __init__(self, args, env, log_path):
+
+class Proc:
+    """A skyground binary run as a child process in the test's domain. One that
+    exits with EXIT_STUCK is started again, up to `respawns` times, as ros2
+    launch's respawn=True does (README, "DDS safety")."""
+
+    def __init__(self, args, env, log_path, respawns=2):
         self.args = args
+        self.env = env
         self.log_path = log_path
+        self.restarts = 0
+        self._respawns = respawns
+        self._stopping = False
+        self._lock = threading.Lock()
         self._log = open(log_path, "wb")
-        self.p = subprocess.Popen(args, env=env, stdout=subprocess.PIPE, stderr=self._log)
+        self.p = self._popen()
+        if respawns > 0:
+            threading.Thread(target=self._respawn_stuck, daemon=True).start()
+
+    def _popen(self):
+        return subprocess.Popen(self.args, env=self.env, stdout=subprocess.PIPE, stderr=self._log)
+
+    def _respawn_stuck(self):
+        while True:
+            p = self.p
+            rc = p.wait()
+            with self._lock:
+                if self._stopping or rc != EXIT_STUCK or self.restarts >= self._respawns:
+                    return
+                self.restarts += 1
+                self._log.write(f"[harness] exited {rc}; starting it again ({self.restarts})\n".encode())
+                self._log.flush()
+                self.p = self._popen()
+
+    def _respawn_pending(self, rc):
+        with self._lock:
+            return rc == EXIT_STUCK and self.restarts < self._respawns and not self._stopping
 
     def stop(self, sig=signal.SIGINT, timeout=10.0):
+        with self._lock:
+            self._stopping = True
         if self.p.poll() is None:
             self.p.send_signal(sig)
             try:
@@ -88,18 +123,21 @@ class Proc:
         """Reads n JSON lines from stdout (raises on timeout)."""
         out = []
         end = time.time() + timeout
-        os.set_blocking(self.p.stdout.fileno(), False)
-        buf = b""
+        p, buf = None, b""
         while len(out) < n:
             if time.time() > end:
                 raise TimeoutError(f"{self.args[0]}: got {len(out)} of {n} lines; stderr:\n{self.stderr()[-3000:]}")
-            chunk = self.p.stdout.read()
+            if p is not self.p:
+                # Started again: a line cut short by the exit is dropped.
+                p, buf = self.p, b""
+                os.set_blocking(p.stdout.fileno(), False)
+            chunk = p.stdout.read()
             if chunk:
                 buf += chunk
                 *lines, buf = buf.split(b"\n")
                 out.extend(json.loads(line) for line in lines if line.strip())
-            elif self.p.poll() is not None:
-                raise RuntimeError(f"{self.args[0]} exited {self.p.returncode}; stderr:\n{self.stderr()[-3000:]}")
+            elif p.poll() is not None and p is self.p and not self._respawn_pending(p.returncode):
+                raise RuntimeError(f"{self.args[0]} exited {p.returncode}; stderr:\n{self.stderr()[-3000:]}")
             else:
                 time.sleep(0.02)
         return out
@@ -122,11 +160,11 @@ def env(domain):
 def spawn(env, tmp_path):
     procs = []
 
-    def start(name, *args, extra_env=None):
+    def start(name, *args, extra_env=None, respawns=2):
         exe = str(BIN / name) if not name.endswith(".py") else sys.executable
         argv = [exe, *map(str, args)] if not name.endswith(".py") else [exe, name, *map(str, args)]
         e = dict(env, **(extra_env or {}))
-        p = Proc(argv, e, tmp_path / f"{Path(name).name}-{len(procs)}.log")
+        p = Proc(argv, e, tmp_path / f"{Path(name).name}-{len(procs)}.log", respawns)
         procs.append(p)
         return p
 

@@ -9,6 +9,7 @@ import subprocess
 import time
 from pathlib import Path
 
+from mcap.reader import make_reader
 from mcap_ros2.reader import read_ros2_messages
 
 from conftest import BIN
@@ -143,6 +144,41 @@ def test_a_killed_planner_is_started_again_and_the_mission_finishes(tmp_path, en
     assert report["finished"] is True
     assert report["coverage_after"] > report["coverage_before"]
     assert (out / "global_planner.log").read_text(errors="replace").count("restored round") >= 2
+
+
+def test_nodes_stuck_creating_dds_entities_exit_75_and_the_demo_starts_them_again(tmp_path, env):
+    """The RustDDS 0.15.1 deadlock (docs/design.md), made to happen once in the
+    simulator's writer of /state_estimation and once in the recorder's reader of
+    /completeness, a topic it finds after it has recorded others: each says why,
+    exits with 75 and is started again; the recorder closes its split first and
+    the next writes mission_1.mcap; the mission finishes."""
+    out, argv = demo(tmp_path, "--timeout", "400")
+    stalls = [f"vehicle_sim:publisher on /state_estimation@{tmp_path / 'sim_stalled'}",
+              f"skyground_record:subscription to /completeness@{tmp_path / 'recorder_stalled'}"]
+    env = dict(env, SKYGROUND_STALL_CREATION=",".join(stalls), SKYGROUND_CREATE_LIMIT_S="3")
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=600, env=env)
+    assert p.returncode == 0, p.stderr[-4000:]
+    for node, what in (("vehicle_sim", "publisher on /state_estimation"),
+                       ("recorder", "subscription to /completeness")):
+        assert f"{node} exited (exit status: 75); starting it again" in p.stderr, p.stderr[-4000:]
+        log = (out / f"{node}.log").read_text(errors="replace")
+        assert f"creating {what} has not returned in 3 s" in log, log[-3000:]
+    assert "bag closed before exiting" in (out / "recorder.log").read_text(errors="replace")
+    report = json.loads((out / "report.json").read_text())
+    assert report["restarts"]["vehicle_sim"] == 1 and report["restarts"]["recorder"] == 1, report["restarts"]
+    assert report["finished"] is True
+    assert report["coverage_after"] > report["coverage_before"] + 0.02
+    first, second = topic_counts(out / "mission.mcap"), topic_counts(out / "mission_1.mcap")
+    # The first split was closed (its summary counts what it holds), and the
+    # topic it hung on is in the second; together they hold the mission.
+    with open(out / "mission.mcap", "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None and summary.statistics.message_count == sum(first.values()), first
+    assert "/completeness" not in first and second.get("/completeness", 0) >= 1, (first, second)
+    for topic in ("/aerial_cloud", "/classified_cloud", "/missing_points", "/target_points", "/global_path",
+                  "/state_estimation", "/registered_scan_throttle", "/tf"):
+        assert first.get(topic, 0) + second.get(topic, 0) >= 1, (topic, first, second)
+    assert report["bag_bytes"] == (out / "mission.mcap").stat().st_size + (out / "mission_1.mcap").stat().st_size
 
 
 def test_sigint_leaves_a_valid_bag_and_a_partial_report(tmp_path, env):

@@ -67,3 +67,44 @@ def test_every_rejects_a_bad_count(spawn, tmp_path):
     rec = spawn("skyground", "record", "-o", tmp_path / "x.mcap", "/a", "--every", "/a=0")
     assert rec.p.wait(10) != 0
     assert "N must be a whole number" in rec.stderr()
+
+
+def test_a_recorder_stuck_creating_a_subscription_closes_its_bag_and_exits_75(spawn, ros, tmp_path):
+    """RustDDS 0.15.1 can deadlock a node creating a reader (docs/design.md); the
+    recorder then exits with 75 for a respawn, and the bag it leaves is whole:
+    summary written, every message it had received kept."""
+    from geometry_msgs.msg import PoseStamped
+    from mcap.reader import make_reader
+    from nav_msgs.msg import Odometry, Path as NavPath
+
+    from conftest import EXIT_STUCK
+
+    bag = tmp_path / "stuck.mcap"
+    path_pub = ros.node.create_publisher(NavPath, "/global_path", qos("latched", 1))
+    path = NavPath()
+    path.header.frame_id = "map"
+    for x in range(5):
+        p = PoseStamped()
+        p.pose.position.x = float(x)
+        path.poses.append(p)
+    path_pub.publish(path)
+    rec = spawn("skyground", "record", "-o", bag, "/global_path", "/state_estimation", respawns=0,
+                extra_env={"SKYGROUND_STALL_CREATION": "subscription to /state_estimation",
+                           "SKYGROUND_CREATE_LIMIT_S": "2"})
+    assert ros.spin_until(lambda: "recording /global_path" in rec.stderr(), 30), rec.stderr()
+    ros.spin_until(lambda: False, 1.0)
+    # The recorder discovers this publisher and hangs creating its reader.
+    ros.node.create_publisher(Odometry, "/state_estimation", qos("reliable", 10))
+    assert ros.spin_until(lambda: rec.p.poll() is not None, 40), rec.stderr()
+    log = rec.stderr()
+    assert rec.p.returncode == EXIT_STUCK, log
+    assert "creating subscription to /state_estimation has not returned in 2 s" in log, log
+    assert "bag closed before exiting" in log, log
+    with open(bag, "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None and summary.statistics is not None, "the bag has no summary"
+    assert summary.statistics.message_count == 1
+    msgs = list(read_ros2_messages(str(bag)))
+    assert [m.channel.topic for m in msgs] == ["/global_path"]
+    assert [p.pose.position.x for p in msgs[0].ros_msg.poses] == [0.0, 1.0, 2.0, 3.0, 4.0]
+

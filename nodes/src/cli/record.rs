@@ -3,9 +3,8 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
-
-use tokio::sync::mpsc;
 
 use super::{qos_for, topic_and_type, wait_for_topic};
 use crate::bag::{BagWriter, TopicQos};
@@ -49,18 +48,49 @@ struct Pending {
     type_name: Option<String>,
 }
 
-/// One message a tap handed over: channel, receive time, publish time, CDR.
-type Received = (u16, u64, u64, Vec<u8>);
+/// The bag and what went into it, shared by the taps that write to it, the
+/// loop that adds topics and the hook that closes it if the node must exit.
+struct Recording {
+    /// `None` once finished.
+    writer: Option<BagWriter>,
+    /// Messages written per channel.
+    counts: BTreeMap<u16, u64>,
+    /// The first write that failed; the recorder stops with it.
+    failed: Option<crate::bag::BagError>,
+}
 
-fn store(
-    writer: &mut BagWriter,
-    counts: &mut BTreeMap<u16, u64>,
-    m: Received,
-) -> Result<(), crate::bag::BagError> {
-    let (ch, log_ns, pub_ns, cdr) = m;
-    writer.write(ch, log_ns, pub_ns, &cdr)?;
-    *counts.entry(ch).or_default() += 1;
-    Ok(())
+type Shared = Arc<Mutex<Recording>>;
+
+fn lock(r: &Shared) -> MutexGuard<'_, Recording> {
+    r.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Writes one message a tap received; false once the bag is closed or failed.
+fn store(r: &Shared, ch: u16, log_ns: u64, pub_ns: u64, cdr: &[u8]) -> bool {
+    let mut r = lock(r);
+    let Recording {
+        writer,
+        counts,
+        failed,
+    } = &mut *r;
+    let Some(w) = writer.as_mut().filter(|_| failed.is_none()) else {
+        return false;
+    };
+    match w.write(ch, log_ns, pub_ns, cdr) {
+        Ok(()) => {
+            *counts.entry(ch).or_default() += 1;
+            true
+        }
+        Err(e) => {
+            *failed = Some(e);
+            false
+        }
+    }
+}
+
+/// Writes the bag's summary; `None` when it was closed already.
+fn finish(r: &Shared) -> Option<Result<(), crate::bag::BagError>> {
+    lock(r).writer.take().map(BagWriter::finish)
 }
 
 fn now_ns() -> u64 {
@@ -72,7 +102,22 @@ fn now_ns() -> u64 {
 /// Runs the recorder.
 pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError> {
     let bag_err = |e: crate::bag::BagError| RuntimeError::Node(e.to_string());
-    let mut writer = BagWriter::create(&a.output).map_err(bag_err)?;
+    let rec: Shared = Arc::new(Mutex::new(Recording {
+        writer: Some(BagWriter::create(&a.output).map_err(bag_err)?),
+        counts: BTreeMap::new(),
+        failed: None,
+    }));
+    {
+        // A stuck DDS creation ends the process without unwinding: close the
+        // bag first, with everything the taps wrote while it hung.
+        let rec = rec.clone();
+        let log = rt.log.stderr_only();
+        rt.before_stuck_exit(move || match finish(&rec) {
+            Some(Ok(())) => log.info("bag closed before exiting"),
+            Some(Err(e)) => log.error(&format!("closing the bag before exiting: {e}")),
+            None => {}
+        });
+    }
     let mut pending: Vec<Pending> = a
         .topics
         .iter()
@@ -81,10 +126,8 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
             Pending { topic, type_name }
         })
         .collect();
-    let (tx, mut rx) = mpsc::channel::<Received>(256);
-    let mut tasks = Vec::new();
-    // Messages written per channel; `names` gives each channel's topic.
-    let mut counts: BTreeMap<u16, u64> = BTreeMap::new();
+    let mut tasks: Vec<tokio::task::JoinHandle<()>> = Vec::new();
+    // Each channel's topic.
     let mut names: BTreeMap<u16, String> = BTreeMap::new();
     let deadline = (a.duration > 0.0).then(|| Instant::now() + Duration::from_secs_f64(a.duration));
     let mut tick = tokio::time::interval(Duration::from_millis(100));
@@ -96,8 +139,16 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
     loop {
         tokio::select! {
             _ = rt.shutdown.wait() => break,
-            Some(m) = rx.recv() => store(&mut writer, &mut counts, m).map_err(bag_err)?,
             _ = tick.tick() => {
+                if let Some(e) = lock(&rec).failed.take() {
+                    for t in &tasks {
+                        t.abort();
+                    }
+                    // The summary of what was written before the failure, if
+                    // the file still takes it; the failure is what is said.
+                    let _ = finish(&rec);
+                    return Err(bag_err(e));
+                }
                 if deadline.is_some_and(|d| Instant::now() > d) {
                     break;
                 }
@@ -118,7 +169,10 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                         }
                     };
                     let mut sub = tap(rt, &p.topic, &info.type_name, q, false)?;
-                    let ch = writer
+                    let ch = lock(&rec)
+                        .writer
+                        .as_mut()
+                        .ok_or_else(|| RuntimeError::Node("the bag was closed".into()))?
                         .add_topic(&p.topic, &info.type_name, &TopicQos {
                             reliable: info.reliable,
                             transient_local: info.transient_local,
@@ -126,9 +180,9 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                         })
                         .map_err(bag_err)?;
                     names.insert(ch, p.topic.clone());
-                    counts.insert(ch, 0);
+                    lock(&rec).counts.insert(ch, 0);
                     rt.log.info(&format!("recording {} ({})", p.topic, info.type_name));
-                    let tx = tx.clone();
+                    let rec = rec.clone();
                     let log = rt.log.clone();
                     let topic = p.topic.clone();
                     let every = a.every.iter().find(|(t, _)| *t == p.topic).map_or(1, |(_, n)| *n);
@@ -142,7 +196,7 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
                                         continue;
                                     }
                                     let pub_ns = if m.publish_time_ns > 0 { m.publish_time_ns } else { now_ns() };
-                                    if tx.send((ch, now_ns(), pub_ns, m.cdr)).await.is_err() {
+                                    if !store(&rec, ch, now_ns(), pub_ns, &m.cdr) {
                                         break;
                                     }
                                 }
@@ -158,15 +212,18 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
     for t in &tasks {
         t.abort();
     }
-    // Keep what the taps already handed over.
-    while let Ok(m) = rx.try_recv() {
-        store(&mut writer, &mut counts, m).map_err(bag_err)?;
+    if let Some(e) = lock(&rec).failed.take() {
+        let _ = finish(&rec);
+        return Err(bag_err(e));
     }
-    writer.finish().map_err(bag_err)?;
+    if let Some(done) = finish(&rec) {
+        done.map_err(bag_err)?;
+    }
     for p in &pending {
         rt.log
             .warn(&format!("{}: never discovered, not recorded", p.topic));
     }
+    let counts = lock(&rec).counts.clone();
     let total: u64 = counts.values().sum();
     rt.log.info(&format!(
         "wrote {total} message(s) to {}: {}",
@@ -178,4 +235,43 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
             .join(", ")
     ));
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bag::read_messages;
+
+    #[test]
+    fn the_shared_bag_counts_what_it_writes_and_takes_nothing_once_closed() {
+        let path =
+            std::env::temp_dir().join(format!("skyground-record-{}.mcap", std::process::id()));
+        let mut writer = BagWriter::create(&path).expect("create");
+        let qos = TopicQos {
+            reliable: true,
+            transient_local: false,
+            depth: 10,
+        };
+        let ch = writer
+            .add_topic("/odom", "nav_msgs/msg/Odometry", &qos)
+            .expect("topic");
+        let rec: Shared = Arc::new(Mutex::new(Recording {
+            writer: Some(writer),
+            counts: BTreeMap::new(),
+            failed: None,
+        }));
+        let cdr = [0u8, 1, 0, 0, 7, 7, 7, 7];
+        assert!(store(&rec, ch, 10, 10, &cdr));
+        assert!(store(&rec, ch, 20, 20, &cdr));
+        assert!(matches!(finish(&rec), Some(Ok(()))));
+        // After the close (as by the stuck-exit hook) a tap's message is refused,
+        // and a second close has nothing to do.
+        assert!(!store(&rec, ch, 30, 30, &cdr));
+        assert!(finish(&rec).is_none());
+        assert_eq!(lock(&rec).counts.get(&ch), Some(&2));
+        let read = read_messages(&path).expect("a closed bag reads whole");
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(read.len(), 2);
+        assert_eq!(read[1].cdr, cdr);
+    }
 }

@@ -74,6 +74,14 @@ impl Logger {
         }
     }
 
+    /// The same logger without /rosout: for where DDS may be stuck.
+    pub fn stderr_only(&self) -> Self {
+        Self {
+            rosout: None,
+            ..self.clone()
+        }
+    }
+
     /// Logs at `level`.
     pub fn log(&self, level: Level, msg: &str) {
         if level < self.min {

@@ -280,6 +280,12 @@ impl NodeRuntime {
         self.creation.guard(what)
     }
 
+    /// Runs `f` if a stuck DDS creation ends the node (see
+    /// [`CreationWatch::before_exit`]): where a node closes what it writes.
+    pub fn before_stuck_exit(&self, f: impl FnOnce() + Send + 'static) {
+        self.creation.before_exit(f);
+    }
+
     /// Creates (or finds) the DDS topic for message type `M`.
     pub fn topic<M: RosMessage>(
         &self,
