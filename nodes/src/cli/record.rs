@@ -6,6 +6,8 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+use tokio::task::JoinHandle;
+
 use super::{qos_for, topic_and_type, wait_for_topic};
 use crate::bag::{BagWriter, TopicQos};
 use crate::runtime::{NodeRuntime, RuntimeError};
@@ -99,9 +101,94 @@ fn now_ns() -> u64 {
         .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
 }
 
+fn bag_err(e: crate::bag::BagError) -> RuntimeError {
+    RuntimeError::Node(e.to_string())
+}
+
+/// Subscribes to `p` once a publisher is discovered (its QoS decides the
+/// reader's) and starts the task that writes its messages: the channel and
+/// the task, or `None` while no publisher is known.
+async fn start_topic(
+    rt: &mut NodeRuntime,
+    rec: &Shared,
+    p: &Pending,
+    every: u64,
+) -> Result<Option<(u16, JoinHandle<()>)>, RuntimeError> {
+    // No publisher yet, typed or not: the reader's QoS must follow the
+    // writer's (a reliable reader never matches a best-effort sensor
+    // stream), so wait for one.
+    let Some(found) = wait_for_topic(rt, &p.topic, Duration::ZERO).await else {
+        return Ok(None);
+    };
+    let q = qos_for(&found, 1000);
+    let info = TopicInfo {
+        type_name: p.type_name.clone().unwrap_or(found.type_name.clone()),
+        ..found
+    };
+    let mut sub = tap(rt, &p.topic, &info.type_name, q, false)?;
+    let ch = {
+        let mut r = lock(rec);
+        let ch = r
+            .writer
+            .as_mut()
+            .ok_or_else(|| RuntimeError::Node("the bag was closed".into()))?
+            .add_topic(
+                &p.topic,
+                &info.type_name,
+                &TopicQos {
+                    reliable: info.reliable,
+                    transient_local: info.transient_local,
+                    depth: 10,
+                },
+            )
+            .map_err(bag_err)?;
+        r.counts.insert(ch, 0);
+        ch
+    };
+    rt.log
+        .info(&format!("recording {} ({})", p.topic, info.type_name));
+    let (rec, log, topic) = (rec.clone(), rt.log.clone(), p.topic.clone());
+    let task = tokio::spawn(async move {
+        let mut seen = 0u64;
+        while let Some(m) = sub.next().await {
+            match m {
+                Ok(m) => {
+                    seen += 1;
+                    if !(seen - 1).is_multiple_of(every) {
+                        continue;
+                    }
+                    let pub_ns = if m.publish_time_ns > 0 {
+                        m.publish_time_ns
+                    } else {
+                        now_ns()
+                    };
+                    if !store(&rec, ch, now_ns(), pub_ns, &m.cdr) {
+                        break;
+                    }
+                }
+                Err(e) => log.error(&format!("{topic}: {e}")),
+            }
+        }
+    });
+    Ok(Some((ch, task)))
+}
+
+/// Stops the taps and writes the summary; a write that failed before is the
+/// error (the summary of what came before it is still attempted).
+fn close(rec: &Shared, tasks: &[JoinHandle<()>]) -> Result<(), RuntimeError> {
+    for t in tasks {
+        t.abort();
+    }
+    let failed = lock(rec).failed.take();
+    let done = finish(rec);
+    if let Some(e) = failed {
+        return Err(bag_err(e));
+    }
+    done.unwrap_or(Ok(())).map_err(bag_err)
+}
+
 /// Runs the recorder.
 pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError> {
-    let bag_err = |e: crate::bag::BagError| RuntimeError::Node(e.to_string());
     let rec: Shared = Arc::new(Mutex::new(Recording {
         writer: Some(BagWriter::create(&a.output).map_err(bag_err)?),
         counts: BTreeMap::new(),
@@ -126,7 +213,7 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
             Pending { topic, type_name }
         })
         .collect();
-    let mut tasks: Vec<tokio::task::JoinHandle<()>> = Vec::new();
+    let mut tasks = Vec::new();
     // Each channel's topic.
     let mut names: BTreeMap<u16, String> = BTreeMap::new();
     let deadline = (a.duration > 0.0).then(|| Instant::now() + Duration::from_secs_f64(a.duration));
@@ -140,85 +227,30 @@ pub async fn run(rt: &mut NodeRuntime, a: RecordArgs) -> Result<(), RuntimeError
         tokio::select! {
             _ = rt.shutdown.wait() => break,
             _ = tick.tick() => {
-                if let Some(e) = lock(&rec).failed.take() {
-                    for t in &tasks {
-                        t.abort();
-                    }
-                    // The summary of what was written before the failure, if
-                    // the file still takes it; the failure is what is said.
-                    let _ = finish(&rec);
-                    return Err(bag_err(e));
-                }
-                if deadline.is_some_and(|d| Instant::now() > d) {
+                if lock(&rec).failed.is_some() || deadline.is_some_and(|d| Instant::now() > d) {
                     break;
                 }
                 let mut still = Vec::new();
                 for p in pending.drain(..) {
-                    let found = wait_for_topic(rt, &p.topic, Duration::ZERO).await;
-                    let (info, q) = match (found, p.type_name.clone()) {
-                        (Some(info), ty) => {
-                            let q = qos_for(&info, 1000);
-                            (TopicInfo { type_name: ty.unwrap_or(info.type_name.clone()), ..info }, q)
-                        }
-                        // No publisher yet, typed or not: the reader's QoS must
-                        // follow the writer's (a reliable reader never matches a
-                        // best-effort sensor stream), so wait for one.
-                        (None, _) => {
-                            still.push(p);
-                            continue;
-                        }
-                    };
-                    let mut sub = tap(rt, &p.topic, &info.type_name, q, false)?;
-                    let ch = lock(&rec)
-                        .writer
-                        .as_mut()
-                        .ok_or_else(|| RuntimeError::Node("the bag was closed".into()))?
-                        .add_topic(&p.topic, &info.type_name, &TopicQos {
-                            reliable: info.reliable,
-                            transient_local: info.transient_local,
-                            depth: 10,
-                        })
-                        .map_err(bag_err)?;
-                    names.insert(ch, p.topic.clone());
-                    lock(&rec).counts.insert(ch, 0);
-                    rt.log.info(&format!("recording {} ({})", p.topic, info.type_name));
-                    let rec = rec.clone();
-                    let log = rt.log.clone();
-                    let topic = p.topic.clone();
                     let every = a.every.iter().find(|(t, _)| *t == p.topic).map_or(1, |(_, n)| *n);
-                    tasks.push(tokio::spawn(async move {
-                        let mut seen = 0u64;
-                        while let Some(m) = sub.next().await {
-                            match m {
-                                Ok(m) => {
-                                    seen += 1;
-                                    if !(seen - 1).is_multiple_of(every) {
-                                        continue;
-                                    }
-                                    let pub_ns = if m.publish_time_ns > 0 { m.publish_time_ns } else { now_ns() };
-                                    if !store(&rec, ch, now_ns(), pub_ns, &m.cdr) {
-                                        break;
-                                    }
-                                }
-                                Err(e) => log.error(&format!("{topic}: {e}")),
-                            }
+                    match start_topic(rt, &rec, &p, every).await {
+                        Ok(Some((ch, task))) => {
+                            names.insert(ch, p.topic.clone());
+                            tasks.push(task);
                         }
-                    }));
+                        Ok(None) => still.push(p),
+                        Err(e) => {
+                            // What was recorded so far stays readable.
+                            let _ = close(&rec, &tasks);
+                            return Err(e);
+                        }
+                    }
                 }
                 pending = still;
             }
         }
     }
-    for t in &tasks {
-        t.abort();
-    }
-    if let Some(e) = lock(&rec).failed.take() {
-        let _ = finish(&rec);
-        return Err(bag_err(e));
-    }
-    if let Some(done) = finish(&rec) {
-        done.map_err(bag_err)?;
-    }
+    close(&rec, &tasks)?;
     for p in &pending {
         rt.log
             .warn(&format!("{}: never discovered, not recorded", p.topic));
