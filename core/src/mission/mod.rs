@@ -9,7 +9,8 @@
 //! - `ground`: the one ground graph planner and explorer share, blocked spots included;
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
 //! - `explorer`: when a region starts and ends, when scans count;
-//! - `detector`: when detection re-runs on the merged cloud.
+//! - `detector`: when detection re-runs on the merged cloud;
+//! - `progress`: what a launcher follows of the rounds, and when the loop ends.
 
 pub mod detector;
 pub mod explorer;
@@ -17,6 +18,7 @@ pub mod georef;
 pub mod ground;
 pub mod inspect;
 pub mod planner;
+pub mod progress;
 pub mod protocol;
 
 pub use georef::Georeference;

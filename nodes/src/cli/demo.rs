@@ -15,9 +15,8 @@ use skyground_core::crs::{LinearUnit, SourceFrame};
 use skyground_core::footprint::footprints_of_scene;
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, MeasureSoFar, Measured, Mission, compare};
-use skyground_core::mission::{
-    BuildingStatus, Phase, PlannerStatus, ProtocolError, VehicleStatus, Wire,
-};
+use skyground_core::mission::progress::{Progress, StopRule};
+use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, VehicleStatus, Wire};
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::prior::unlabelled;
 use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
@@ -284,30 +283,8 @@ const SCANS_THROTTLED: &str = "/registered_scan_throttle:sensor_msgs/msg/PointCl
 /// What the demo learns from the topics as the mission runs.
 #[derive(Default)]
 struct Watch {
-    /// Detection rounds: (round, mean completeness over analysed buildings).
-    detected: Vec<(u32, f64)>,
-    /// Planner: round, phase, targets of the round, points and regions done, unreachable.
-    planner_round: u32,
-    planner_phase: String,
-    stops: usize,
-    done: (usize, usize),
-    /// The part of `done` given up after blocked tries.
-    given_up: usize,
-    /// Point stops of the round left off: the route sees their gaps anyway.
-    seen: usize,
-    unreachable: (usize, usize),
-    /// Targets reached / given up / left off as seen / unreachable summed over finished rounds.
-    reached_total: usize,
-    given_up_total: usize,
-    seen_total: usize,
-    unreachable_total: usize,
-    /// The planner's set-downs this round, and over the finished rounds.
-    set_downs: usize,
-    set_downs_total: usize,
-    /// Routes driven to the end: (round, stops reached).
-    rounds_finished: Vec<(u32, usize)>,
-    greedy_m: f64,
-    tsp_m: f64,
+    /// Rounds, targets and the loop's verdict (`skyground_core::mission::progress`).
+    progress: Progress,
     resampled: Option<Cloud>,
     route: Vec<[f32; 3]>,
     odometer: f64,
@@ -319,13 +296,6 @@ struct Watch {
     detections: super::detections::Detections,
     /// Nodes started again after they exited, and how often.
     restarts: std::collections::BTreeMap<String, u32>,
-}
-
-impl Watch {
-    /// Routes driven to the end that had somewhere to go.
-    fn rounds_driven(&self) -> usize {
-        self.rounds_finished.iter().filter(|(_, s)| *s > 0).count()
-    }
 }
 
 /// The buildings' statuses on /completeness (unreadable ones said on stderr).
@@ -490,6 +460,10 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut progress = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let mut w = Watch::default();
+    let rule = StopRule {
+        min_round_gain: a.min_round_gain,
+        max_rounds: a.max_rounds,
+    };
     let robot_deadline =
         tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
     let mut coverage_now = before.completeness.overall.ratio.unwrap_or(0.0);
@@ -540,40 +514,24 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             Some(Ok((arr, _))) = c_s.next() => {
                 w.detections.completeness(arr.header.stamp, building_statuses(&arr));
                 if let Some((round, mean)) = mean_completeness(&arr)
-                    && w.detected.last().is_none_or(|(r, _)| *r != round)
+                    && w.progress.detection(round, mean)
                 {
                     eprintln!("  detection round {round}: mean detected completeness {:.1} % over {} buildings", mean * 100.0, arr.status.len());
-                    w.detected.push((round, mean));
                 }
             },
             Some(Ok((arr, _))) = p_s.next() => if let Some(s) = first_status(&arr, PlannerStatus::from_wire) {
-                w.planner_round = s.round;
-                w.planner_phase = s.phase.clone();
+                let finished_round = w.progress.planner(&s);
                 if s.round > 0 {
                     prof.stage(&match s.phase.as_str() {
                         "driving" | "exploring" | "carrying" => format!("round {} driving", s.round),
                         _ => format!("round {} done: merge, classification, detection, next route", s.round),
                     });
                 }
-                w.stops = s.target_points + s.target_regions;
-                w.done = (s.visited.points.len(), s.visited.regions.len());
-                w.given_up = s.given_up.points.len() + s.given_up.regions.len();
-                w.seen = s.seen_on_the_way.len();
-                w.unreachable = (s.unreachable_points, s.unreachable_regions);
-                w.set_downs = s.set_downs;
-                w.greedy_m = f64::from(s.greedy_m);
-                w.tsp_m = f64::from(s.tsp_m);
                 if matches!(s.phase.as_str(), "driving" | "exploring") {
                     limit.follow(&w, f64::from(s.route_m), s.stops, s.target_regions);
                 }
-                if s.phase == Phase::Done.word() && !w.rounds_finished.iter().any(|(r, _)| *r == w.planner_round) {
-                    w.rounds_finished.push((w.planner_round, w.done.0 + w.done.1));
-                    w.reached_total += (w.done.0 + w.done.1).saturating_sub(w.given_up);
-                    w.given_up_total += w.given_up;
-                    w.seen_total += w.seen;
-                    w.unreachable_total += w.unreachable.0 + w.unreachable.1;
-                    w.set_downs_total += w.set_downs;
-                    eprintln!("  route of round {} done: {} points, {} regions (of them {} given up, blocked); {} left off (seen on the way); {} unreachable; {} set-downs", w.planner_round, w.done.0, w.done.1, w.given_up, w.seen, w.unreachable.0 + w.unreachable.1, w.set_downs);
+                if let Some(f) = finished_round {
+                    eprintln!("  route of round {} done: {} points, {} regions (of them {} given up, blocked); {} left off (seen on the way); {} unreachable; {} set-downs", f.round, f.done.0, f.done.1, f.given_up, f.seen, f.unreachable, f.set_downs);
                 }
             },
             Some(Ok((arr, _))) = v_s.next() => if let Some(s) = first_status(&arr, VehicleStatus::from_wire) {
@@ -603,34 +561,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 prof.sample("demo", Some(std::process::id()));
                 eprintln!(
                     "  [{:>5.0} s] round {} {}: targets {}/{} | coverage {:.2} % | {:.0} m driven, {:.0} sim s",
-                    t0.elapsed().as_secs_f64(), w.planner_round, if w.planner_phase.is_empty() { "starting" } else { &w.planner_phase },
-                    w.done.0 + w.done.1, w.stops, coverage_now * 100.0, w.odometer, w.sim_s
+                    t0.elapsed().as_secs_f64(), w.progress.round, if w.progress.phase.is_empty() { "starting" } else { &w.progress.phase },
+                    w.progress.done.0 + w.progress.done.1, w.progress.stops, coverage_now * 100.0, w.odometer, w.sim_s
                 );
             }
         }
-        // The closed loop: the planner's round r is planned from detection
-        // r − 1; once it is driven, detection r looks again at aerial +
-        // resampled points and says what the round gained.
-        if let Some(&(r, stops)) = w.rounds_finished.last() {
-            if stops == 0 {
-                why = format!("round {r} left nothing to visit (no reachable target)");
-                finished = true;
-                break;
-            }
-            let of = |k: u32| w.detected.iter().find(|(d, _)| *d == k).map(|(_, m)| *m);
-            if let (Some(before), Some(after)) = (of(r.saturating_sub(1)), of(r)) {
-                let gain = after - before;
-                if gain < a.min_round_gain || w.rounds_driven() >= a.max_rounds as usize {
-                    why = format!(
-                        "round {r} gained {:.2} % detected completeness (stop under {:.2} % or after {} rounds)",
-                        gain * 100.0,
-                        a.min_round_gain * 100.0,
-                        a.max_rounds
-                    );
-                    finished = true;
-                    break;
-                }
-            }
+        // The closed loop: detection after each driven round says whether
+        // another is worth it.
+        if let Some(v) = w.progress.verdict(&rule) {
+            why = v;
+            finished = true;
+            break;
         }
     }
     eprintln!("  {why}; stopping the nodes");
@@ -710,7 +651,7 @@ impl TimeLimit {
         }
         // The route's regions: the round's not yet explored nor unreachable.
         let regions_left = regions
-            .saturating_sub(w.done.1 + w.unreachable.1)
+            .saturating_sub(w.progress.done.1 + w.progress.unreachable.1)
             .min(stops);
         let perimeters: Vec<f64> = w
             .targets
@@ -720,7 +661,7 @@ impl TimeLimit {
             .collect();
         let mean = perimeters.iter().sum::<f64>() / perimeters.len().max(1) as f64;
         let work = PlannedWork {
-            round: w.planner_round,
+            round: w.progress.round,
             route_m,
             points: stops - regions_left,
             region_perimeters_m: &vec![mean; regions_left],
@@ -730,11 +671,11 @@ impl TimeLimit {
             return;
         };
         self.routes += 1;
-        if w.planner_round > self.printed_round {
-            self.printed_round = w.planner_round;
+        if w.progress.round > self.printed_round {
+            self.printed_round = w.progress.round;
             eprintln!(
                 "  round {}: {route_m:.0} m over {} points and {regions_left} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now, extended by each new route (--timeout fixes one)",
-                w.planner_round,
+                w.progress.round,
                 work.points,
                 b.sim_s,
                 self.limit.deadline_s() - now
@@ -894,7 +835,7 @@ fn report(
     let e = compare(prior.tau, prior.gt.len(), before, after_m);
     let mission = Mission {
         targets: &w.targets,
-        rounds: w.rounds_driven(),
+        rounds: w.progress.rounds_driven(),
     };
     let city = write_completeness(
         &a.out,
@@ -947,14 +888,14 @@ fn report(
         "path_length_m": w.odometer,
         "sim_time_s": w.sim_s,
         "wall_time_s": wall,
-        "rounds": w.rounds_driven(),
-        "detected_completeness_by_round": w.detected,
-        "targets_reached": w.reached_total,
-        "targets_given_up": w.given_up_total,
-        "targets_seen_on_the_way": w.seen_total,
-        "targets_unreachable": w.unreachable_total,
-        "set_downs": w.set_downs_total,
-        "last_route": {"greedy_m": w.greedy_m, "tsp_m": w.tsp_m},
+        "rounds": w.progress.rounds_driven(),
+        "detected_completeness_by_round": w.progress.detected,
+        "targets_reached": w.progress.totals.reached,
+        "targets_given_up": w.progress.totals.given_up,
+        "targets_seen_on_the_way": w.progress.totals.seen,
+        "targets_unreachable": w.progress.totals.unreachable,
+        "set_downs": w.progress.totals.set_downs,
+        "last_route": {"greedy_m": w.progress.greedy_m, "tsp_m": w.progress.tsp_m},
         "ground_points_added": scans,
         "bag_bytes": bag_bytes,
         "restarts": w.restarts,
@@ -979,7 +920,7 @@ fn report(
     let mut md = markdown(&e, &title);
     md.push_str(&format!(
         "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / given up (blocked) / left off (seen on the way) / unreachable | {} / {} / {} / {} |\n| set-downs (the robot carried to another piece of ground) | {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {scans} |\n",
-        a.prior.describe(), w.rounds_driven(), w.reached_total, w.given_up_total, w.seen_total, w.unreachable_total, w.set_downs_total, w.odometer,
+        a.prior.describe(), w.progress.rounds_driven(), w.progress.totals.reached, w.progress.totals.given_up, w.progress.totals.seen, w.progress.totals.unreachable, w.progress.totals.set_downs, w.odometer,
         if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s
     ));
     if a.field.field {
@@ -1070,7 +1011,7 @@ fn report(
         pct(e.after.completeness.overall.ratio),
         e.before.completeness.mean_gt_distance.unwrap_or(f64::NAN),
         e.after.completeness.mean_gt_distance.unwrap_or(f64::NAN),
-        w.rounds_driven(),
+        w.progress.rounds_driven(),
         w.odometer,
         a.out.join("report.json").display()
     );

@@ -1,0 +1,251 @@
+//! What a launcher follows of a mission: the planner's rounds and what each
+//! reached, detection's rounds, and when the closed loop ends (docs/design.md,
+//! step 9: stop when a round gains too little or after the last round).
+
+use super::protocol::{Phase, PlannerStatus};
+
+/// When the closed loop ends: a round that raised the mean detected
+/// completeness by less than `min_round_gain` (0–1), or `max_rounds` driven.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StopRule {
+    /// The least gain of a round worth another, 0–1.
+    pub min_round_gain: f64,
+    /// Rounds driven at most.
+    pub max_rounds: u32,
+}
+
+/// Targets summed over the finished rounds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Totals {
+    /// Reached (dealt with and not given up).
+    pub reached: usize,
+    /// Given up after blocked tries.
+    pub given_up: usize,
+    /// Left off the route: the rest of it sees their gaps.
+    pub seen: usize,
+    /// Out of the route's reach.
+    pub unreachable: usize,
+    /// Set-downs the planner asked for.
+    pub set_downs: usize,
+}
+
+/// A round whose route was driven to its end, as the planner reported it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FinishedRound {
+    /// The round, from 1.
+    pub round: u32,
+    /// Points and regions dealt with (reached or given up).
+    pub done: (usize, usize),
+    /// Of `done`, given up after blocked tries.
+    pub given_up: usize,
+    /// Points left off as seen on the way.
+    pub seen: usize,
+    /// Targets out of reach.
+    pub unreachable: usize,
+    /// Set-downs.
+    pub set_downs: usize,
+}
+
+/// The mission's progress from the planner's and the detector's statuses.
+#[derive(Debug, Clone, Default)]
+pub struct Progress {
+    /// Detection rounds: (round, mean completeness over analysed buildings).
+    pub detected: Vec<(u32, f64)>,
+    /// The planner's round now (0 before its first route).
+    pub round: u32,
+    /// The planner's phase word now.
+    pub phase: String,
+    /// Targets of the round.
+    pub stops: usize,
+    /// Points and regions of the round dealt with.
+    pub done: (usize, usize),
+    /// The part of `done` given up after blocked tries.
+    pub given_up: usize,
+    /// Points of the round left off: the route sees their gaps anyway.
+    pub seen: usize,
+    /// Points and regions of the round out of reach.
+    pub unreachable: (usize, usize),
+    /// Set-downs of the round.
+    pub set_downs: usize,
+    /// Summed over the finished rounds.
+    pub totals: Totals,
+    /// Routes driven to the end: (round, targets dealt with).
+    pub rounds_finished: Vec<(u32, usize)>,
+    /// The last route's greedy and TSP tour lengths, m.
+    pub greedy_m: f64,
+    /// See `greedy_m`.
+    pub tsp_m: f64,
+}
+
+impl Progress {
+    /// Detection's mean completeness for `round`; true when the round is new
+    /// (a latched status comes again after a restart).
+    pub fn detection(&mut self, round: u32, mean: f64) -> bool {
+        if self.detected.last().is_some_and(|(r, _)| *r == round) {
+            return false;
+        }
+        self.detected.push((round, mean));
+        true
+    }
+
+    /// Takes the planner's status; the round it finishes, once per round.
+    pub fn planner(&mut self, s: &PlannerStatus) -> Option<FinishedRound> {
+        self.round = s.round;
+        self.phase.clone_from(&s.phase);
+        self.stops = s.target_points + s.target_regions;
+        self.done = (s.visited.points.len(), s.visited.regions.len());
+        self.given_up = s.given_up.points.len() + s.given_up.regions.len();
+        self.seen = s.seen_on_the_way.len();
+        self.unreachable = (s.unreachable_points, s.unreachable_regions);
+        self.set_downs = s.set_downs;
+        self.greedy_m = f64::from(s.greedy_m);
+        self.tsp_m = f64::from(s.tsp_m);
+        if s.phase != Phase::Done.word() || self.rounds_finished.iter().any(|(r, _)| *r == s.round)
+        {
+            return None;
+        }
+        let done = self.done.0 + self.done.1;
+        self.rounds_finished.push((s.round, done));
+        let unreachable = self.unreachable.0 + self.unreachable.1;
+        self.totals.reached += done.saturating_sub(self.given_up);
+        self.totals.given_up += self.given_up;
+        self.totals.seen += self.seen;
+        self.totals.unreachable += unreachable;
+        self.totals.set_downs += self.set_downs;
+        Some(FinishedRound {
+            round: s.round,
+            done: self.done,
+            given_up: self.given_up,
+            seen: self.seen,
+            unreachable,
+            set_downs: self.set_downs,
+        })
+    }
+
+    /// Routes driven to the end that had somewhere to go.
+    pub fn rounds_driven(&self) -> usize {
+        self.rounds_finished.iter().filter(|(_, s)| *s > 0).count()
+    }
+
+    /// Why the loop ends now, or `None` while it goes on. Round r is planned
+    /// from detection r − 1; once it is driven, detection r says what it
+    /// gained.
+    pub fn verdict(&self, rule: &StopRule) -> Option<String> {
+        let &(r, stops) = self.rounds_finished.last()?;
+        if stops == 0 {
+            return Some(format!(
+                "round {r} left nothing to visit (no reachable target)"
+            ));
+        }
+        let of = |k: u32| self.detected.iter().find(|(d, _)| *d == k).map(|(_, m)| *m);
+        let gain = of(r)? - of(r.saturating_sub(1))?;
+        (gain < rule.min_round_gain || self.rounds_driven() >= rule.max_rounds as usize).then(|| {
+            format!(
+                "round {r} gained {:.2} % detected completeness (stop under {:.2} % or after {} rounds)",
+                gain * 100.0,
+                rule.min_round_gain * 100.0,
+                rule.max_rounds
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::route::Visited;
+
+    const RULE: StopRule = StopRule {
+        min_round_gain: 0.01,
+        max_rounds: 2,
+    };
+
+    fn status(round: u32, phase: &str, points: usize, given_up: usize) -> PlannerStatus {
+        PlannerStatus {
+            phase: phase.into(),
+            round,
+            target_points: points + 1,
+            target_regions: 1,
+            visited: Visited {
+                points: (0..points).collect(),
+                regions: vec![0],
+            },
+            given_up: Visited {
+                points: (0..given_up).collect(),
+                regions: vec![],
+            },
+            seen_on_the_way: vec![points],
+            unreachable_points: 0,
+            unreachable_regions: 0,
+            set_downs: 1,
+            ..PlannerStatus::default()
+        }
+    }
+
+    #[test]
+    fn a_finished_round_is_counted_once_and_its_given_up_targets_apart() {
+        let mut p = Progress::default();
+        assert_eq!(p.planner(&status(1, "driving", 3, 1)), None);
+        let done = p.planner(&status(1, "done", 4, 1)).expect("round 1 ends");
+        assert_eq!(
+            (done.round, done.done, done.given_up, done.seen),
+            (1, (4, 1), 1, 1)
+        );
+        // The latched status again (a restarted planner): not a second round.
+        assert_eq!(p.planner(&status(1, "done", 4, 1)), None);
+        assert_eq!(p.rounds_finished, [(1, 5)]);
+        assert_eq!(
+            p.totals,
+            Totals {
+                reached: 4,
+                given_up: 1,
+                seen: 1,
+                unreachable: 0,
+                set_downs: 1
+            }
+        );
+        assert_eq!(p.rounds_driven(), 1);
+    }
+
+    #[test]
+    fn the_loop_goes_on_while_a_round_gains_and_stops_when_it_does_not() {
+        let mut p = Progress::default();
+        assert!(p.detection(0, 0.80));
+        assert!(!p.detection(0, 0.80), "a repeated round is not new");
+        p.planner(&status(1, "done", 2, 0));
+        // Round 1 driven, its detection not in yet: no verdict.
+        assert_eq!(p.verdict(&RULE), None);
+        p.detection(1, 0.90);
+        assert_eq!(p.verdict(&RULE), None, "gained 10 %, one round of two");
+        p.planner(&status(2, "done", 2, 0));
+        p.detection(2, 0.905);
+        let why = p.verdict(&RULE).expect("gained 0.5 %");
+        assert!(why.starts_with("round 2 gained 0.50 %"), "{why}");
+    }
+
+    #[test]
+    fn the_last_round_ends_the_loop_whatever_it_gained() {
+        let rule = StopRule {
+            max_rounds: 1,
+            ..RULE
+        };
+        let mut p = Progress::default();
+        p.detection(0, 0.5);
+        p.planner(&status(1, "done", 2, 0));
+        p.detection(1, 0.9);
+        assert!(p.verdict(&rule).is_some());
+    }
+
+    #[test]
+    fn a_round_with_nothing_to_visit_ends_the_loop() {
+        let mut p = Progress::default();
+        let mut s = status(1, "done", 0, 0);
+        s.visited = Visited::default();
+        p.planner(&s);
+        assert_eq!(
+            p.verdict(&RULE).as_deref(),
+            Some("round 1 left nothing to visit (no reachable target)")
+        );
+        assert_eq!(p.rounds_driven(), 0);
+    }
+}
