@@ -86,25 +86,24 @@ impl CreationWatch {
     /// with [`EXIT_STUCK`]. The limit is [`CREATE_LIMIT`] unless [`LIMIT_ENV`]
     /// sets another.
     pub fn exiting(node: &str) -> Self {
+        use super::log::{Level, stderr_line};
         let name = node.to_string();
-        let node = node.to_string();
+        let say = move |level, msg: &str| {
+            stderr_line(level, &name, msg);
+        };
         let (limit, bad_limit) = limit_from(std::env::var(LIMIT_ENV).ok().as_deref());
         if let Some(bad) = bad_limit {
-            super::log::stderr_line(
-                super::log::Level::Warn,
-                &node,
-                &format!(
-                    "{LIMIT_ENV}={bad} is not a number of seconds > 0; using {} s",
-                    CREATE_LIMIT.as_secs()
-                ),
+            let default = CREATE_LIMIT.as_secs();
+            say(
+                Level::Warn,
+                &format!("{LIMIT_ENV}={bad} is not a number of seconds > 0; using {default} s"),
             );
         }
         let hooks = ExitHooks::default();
         let to_run = hooks.clone();
         let watch = Self::start(limit, move |what, waited| {
-            super::log::stderr_line(
-                super::log::Level::Error,
-                &node,
+            say(
+                Level::Error,
                 &format!(
                     "creating {what} has not returned in {:.0} s: the DDS library is deadlocked (a known RustDDS 0.15.1 fault, docs/design.md); exiting with code {EXIT_STUCK} so that a launcher's respawn starts this node again",
                     waited.as_secs_f64()
@@ -117,12 +116,11 @@ impl CreationWatch {
                 let _ = done.send(());
             });
             if finished.recv_timeout(HOOKS_LIMIT).is_err() {
-                super::log::stderr_line(
-                    super::log::Level::Error,
-                    &node,
+                let secs = HOOKS_LIMIT.as_secs();
+                say(
+                    Level::Error,
                     &format!(
-                        "the work before exiting has not ended in {} s; exiting without it",
-                        HOOKS_LIMIT.as_secs()
+                        "the work before exiting has not ended in {secs} s; exiting without it"
                     ),
                 );
             }
@@ -130,7 +128,7 @@ impl CreationWatch {
         });
         Self {
             hooks,
-            node: name,
+            node: node.to_string(),
             ..watch
         }
     }
