@@ -34,7 +34,7 @@ pub use cityjson::{
 };
 pub use crop::{CropError, Cropped, Window, busiest_window, crop_scene};
 pub use error::SceneError;
-pub use load::load_scene;
+pub use load::{load_scene, load_scene_and_crs};
 pub use mesh::{ObjectKind, Scene, SceneObject};
 pub use naming::{UnknownObjects, kind_from_name};
 pub use obj::{ObjError, ObjErrorKind, ObjOptions, parse_obj, read_obj};

@@ -12,7 +12,7 @@ use skyground_core::metrics::{
     CompletenessReport, GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances,
     sample_building_surfaces,
 };
-use skyground_core::scene::{Scene, load_scene};
+use skyground_core::scene::{Scene, load_scene_and_crs};
 
 use crate::runtime::{RuntimeError, params::ParamSet};
 
@@ -65,11 +65,13 @@ pub fn survey(
     params_file: Option<&std::path::Path>,
 ) -> Result<Survey, RuntimeError> {
     let t0 = Instant::now();
-    let scene = load_scene(scene_spec)
+    let (scene, crs) = load_scene_and_crs(scene_spec)
         .map_err(|e| RuntimeError::Node(format!("scene {scene_spec}: {e}")))?;
     let load_s = t0.elapsed().as_secs_f64();
     let mut s = survey_of(scene, scene_spec, params_file)?;
     s.summary["seconds"]["load"] = json!(load_s);
+    // The scene is in metres inside; a writer gives the model's unit back.
+    s.cloud.crs = crs;
     Ok(s)
 }
 
@@ -161,8 +163,6 @@ pub fn survey_of_real(
 pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut s = survey(&a.scene, a.params_file.as_deref())?;
-    // The scene is in metres inside; the writer gives the model's unit back.
-    s.cloud.crs = super::field::scene_crs(&a.scene);
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     for name in ["aerial.las", "aerial.ply"] {
         write_cloud(&a.out.join(name), &s.cloud).map_err(|e| err(e.to_string()))?;

@@ -20,7 +20,7 @@ use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, Vehi
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::prior::unlabelled;
 use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
-use skyground_core::scene::{Cropped, Scene, load_scene, write_obj};
+use skyground_core::scene::{Cropped, Scene, load_scene, load_scene_and_crs, write_obj};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_core::vehicle::free_spot;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -348,7 +348,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.scene(),
         a.out.display()
     );
-    let (scene_spec, prior, crop) = mission_prior(&a)?;
+    let full = FullScene::load(&a)?;
+    let (scene_spec, prior, crop) = mission_prior(&a, &full)?;
+    // The whole model is not needed again (a large city's is gigabytes).
+    let model_crs = full.crs.clone();
+    drop(full);
     // The prior's measurement and models are ready before the mission ends;
     // the merged cloud is measured as its points arrive (report: only the
     // last round's points are left to measure).
@@ -589,7 +593,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     report(
         &a,
         &prior,
-        crop.as_ref(),
+        // The city model's CRS, also when the mission ran on a crop of it.
+        (crop.as_ref(), model_crs),
         &w,
         (finished, &why),
         measured,
@@ -707,19 +712,38 @@ fn perimeter(ring: &[[f64; 2]]) -> f64 {
         .sum()
 }
 
+/// `--scene` as loaded once: the scene and its city model's CRS (`None`
+/// for other scenes), which a crop written as OBJ would not name.
+pub(super) struct FullScene {
+    /// The whole scene.
+    pub scene: Scene,
+    /// The city model's `referenceSystem`.
+    pub crs: Option<skyground_core::crs::Crs>,
+}
+
+impl FullScene {
+    /// Loads `--scene`.
+    pub fn load(a: &DemoArgs) -> Result<Self, RuntimeError> {
+        let (scene, crs) = load_scene_and_crs(&a.scene())
+            .map_err(|e| RuntimeError::Node(format!("scene {}: {e}", a.scene())))?;
+        Ok(Self { scene, crs })
+    }
+}
+
 /// The mission's scene and prior: the simulated airborne survey of
 /// [`mission_scene`], or the real survey of `--prior` over the city model.
 fn mission_prior(
     a: &DemoArgs,
+    full: &FullScene,
 ) -> Result<(String, super::aerial::Survey, Option<Cropped>), RuntimeError> {
     if !a.prior.files.is_empty() {
-        return super::prior::real_prior(a);
+        return super::prior::real_prior(a, full);
     }
-    let (scene_spec, scene, crop) = mission_scene(a)?;
+    let (scene_spec, scene, crop) = mission_scene(a, full)?;
     let mut prior = survey_of(scene, &scene_spec, None)?;
     // The city model's CRS, also when the mission runs on a crop of it
     // (written as OBJ, which names none).
-    prior.cloud.crs = super::field::scene_crs(&a.scene());
+    prior.cloud.crs.clone_from(&full.crs);
     Ok((scene_spec, prior, crop))
 }
 
@@ -770,25 +794,25 @@ fn field_driver() -> (&'static str, Vec<String>) {
 /// ground graph).
 pub(super) fn mission_scene(
     a: &DemoArgs,
+    full: &FullScene,
 ) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
-    let Some(c) = super::crop::apply(&full, &a.scene(), &a.crop)? else {
+    let Some(c) = super::crop::apply(&full.scene, &a.scene(), &a.crop)? else {
         // Uncropped yet too large: only `--crop none` gets here.
-        if let Some(why) = super::crop::too_large(&full) {
+        if let Some(why) = super::crop::too_large(&full.scene) {
             return Err(err(format!(
                 "scene {}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
                 a.scene(),
                 a.crop.crop_size
             )));
         }
-        return Ok((a.scene(), full, None));
+        return Ok((a.scene(), full.scene.clone(), None));
     };
     let path = a.out.join("scene.obj");
     write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
     eprintln!(
         "  {}; written to {}",
-        super::crop::describe(&c, super::field::scene_crs(&a.scene()).as_ref()),
+        super::crop::describe(&c, full.crs.as_ref()),
         path.display()
     );
     let spec = path.display().to_string();
@@ -822,15 +846,13 @@ fn arrived_points(before: Option<&Cloud>, now: &Cloud, origin: [f64; 3]) -> Clou
 fn report(
     a: &DemoArgs,
     prior: &super::aerial::Survey,
-    crop: Option<&Cropped>,
+    (crop, model_crs): (Option<&Cropped>, Option<skyground_core::crs::Crs>),
     w: &Watch,
     (finished, why): (bool, &str),
     (before, after_m, models_before): (Measured, Measured, ModelsBefore),
     (t0, prof): (Instant, &mut Profile),
 ) -> Result<Evaluation, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    // The city model's CRS, also when the mission ran on a crop of it.
-    let model_crs = super::field::scene_crs(&a.scene());
     let scans = w.resampled.as_ref().map_or(0, Cloud::len);
     let e = compare(prior.tau, prior.gt.len(), before, after_m);
     let mission = Mission {

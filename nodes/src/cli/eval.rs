@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::read_cloud;
 use skyground_core::metrics::{Evaluation, evaluate, sample_building_surfaces};
-use skyground_core::scene::load_scene;
+use skyground_core::scene::load_scene_and_crs;
 
 use super::err;
 use crate::runtime::RuntimeError;
@@ -62,9 +62,9 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
             a.tau, a.gt_spacing
         )));
     }
-    let full = load_scene(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
+    let (full, model_crs) =
+        load_scene_and_crs(&a.scene).map_err(|e| err(format!("scene {}: {e}", a.scene)))?;
     let crop = super::crop::apply(&full, &a.scene, &a.crop)?;
-    let model_crs = super::field::scene_crs(&a.scene);
     if let Some(c) = &crop {
         eprintln!("  {}", super::crop::describe(c, model_crs.as_ref()));
     }

@@ -60,17 +60,6 @@ pub fn write_route(
     )
 }
 
-/// The CRS of a scene spec: its city model files' `metadata.referenceSystem`
-/// (None for other scenes, or when they name no CRS we resolve).
-pub fn scene_crs(spec: &str) -> Option<skyground_core::crs::Crs> {
-    use skyground_core::scene::cityjson::{city_files, is_city_file, read_city_model};
-    let files = city_files(spec).ok()?;
-    if files.is_empty() || !files.iter().all(|p| is_city_file(p)) {
-        return None;
-    }
-    read_city_model(&files).ok()?.crs()
-}
-
 /// One building of a mission: outline and measured completeness before/after.
 pub struct MissionBuilding<'a> {
     /// Building id.

@@ -10,7 +10,7 @@ use skyground_core::lidar::Caster;
 use skyground_core::prior::{
     CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame,
 };
-use skyground_core::scene::{Cropped, Window, load_scene};
+use skyground_core::scene::{Cropped, Window};
 use skyground_core::vehicle::free_spot;
 
 use super::aerial::{Survey, survey_of_real};
@@ -51,7 +51,10 @@ impl PriorArgs {
 /// overlap checked against the city model, the model cropped to the prior's
 /// extent (unless `--crop` says otherwise), the prior moved into the scene's
 /// local frame and measured against it.
-pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), RuntimeError> {
+pub(super) fn real_prior(
+    a: &DemoArgs,
+    full: &super::demo::FullScene,
+) -> Result<(String, Survey, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut tiles = Vec::new();
     for f in &a.prior.files {
@@ -59,8 +62,7 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         tiles.push((f.display().to_string(), c));
     }
     let mut cloud = join_tiles(&tiles).map_err(|e| err(format!("prior: {e}")))?;
-    let model_crs = super::field::scene_crs(&a.scene());
-    let check = check_crs(cloud.crs.as_ref(), model_crs.as_ref())
+    let check = check_crs(cloud.crs.as_ref(), full.crs.as_ref())
         .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
     eprintln!(
         "  prior {}: {} points; {}",
@@ -71,10 +73,10 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
     // A survey that names no CRS is taken to be in the model's, so what the
     // mission writes from it (aerial.las, resampled.las) names that CRS.
     if cloud.crs.is_none() {
-        cloud.crs = model_crs;
+        cloud.crs.clone_from(&full.crs);
     }
-    let full = load_scene(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (lo, hi) = full
+        .scene
         .bounds()
         .ok_or_else(|| err(format!("scene {}: empty", a.scene())))?;
     let model = Window::new(
@@ -84,10 +86,10 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
         f64::from(hi[1]),
     )
     .map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
-    let in_model = to_frame(&cloud, full.origin);
+    let in_model = to_frame(&cloud, full.scene.origin);
     let extent = extent_xy(&in_model)
         .ok_or_else(|| err(format!("prior {}: no extent", a.prior.describe())))?;
-    let shared = overlap(&extent, &model, full.origin)
+    let shared = overlap(&extent, &model, full.scene.origin)
         .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
     eprintln!(
         "  prior covers {:.0} m × {:.0} m of the city model ({:.0} % of the prior's extent)",
@@ -107,7 +109,7 @@ pub fn real_prior(a: &DemoArgs) -> Result<(String, Survey, Option<Cropped>), Run
     eprintln!(
         "  ground graph: tree crowns block only where points stand in the vehicle's height band (a multi-return survey sees under them)"
     );
-    let (spec, scene, crop) = super::demo::mission_scene(&args)?;
+    let (spec, scene, crop) = super::demo::mission_scene(&args, full)?;
     let prior = to_frame(&cloud, scene.origin);
     let survey = survey_of_real(scene, prior, &a.prior.describe())?;
     Ok((spec, survey, crop))

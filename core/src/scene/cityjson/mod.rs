@@ -81,11 +81,20 @@ pub fn read_cityjson(path: &Path, options: &CityJsonOptions) -> Result<Scene, Sc
 
 /// Reads several city model files (tiles) as one scene in one frame.
 pub fn read_city_files(paths: &[PathBuf], options: &CityJsonOptions) -> Result<Scene, SceneError> {
+    read_city_files_and_crs(paths, options).map(|(scene, _)| scene)
+}
+
+/// [`read_city_files`] with the model's CRS ([`CityModel::crs`]), from one read.
+pub fn read_city_files_and_crs(
+    paths: &[PathBuf],
+    options: &CityJsonOptions,
+) -> Result<(Scene, Option<crate::crs::Crs>), SceneError> {
     let model = read_city_model(paths)?;
-    scene_of_model(&model, options).map_err(|source| SceneError::CityJson {
+    let scene = scene_of_model(&model, options).map_err(|source| SceneError::CityJson {
         path: paths.first().cloned().unwrap_or_default(),
         source,
-    })
+    })?;
+    Ok((scene, model.crs()))
 }
 
 /// Decodes CityJSON (or CityJSONSeq) bytes into a scene.

@@ -346,3 +346,26 @@ fn a_model_in_feet_is_read_in_metres() {
     assert!((area(&feet) - (2.0 * 100.0 + 4.0 * 50.0 - 4.0)).abs() < 1e-2);
     assert!((area(&raw) / area(&feet) * us_foot * us_foot - 1.0).abs() < 1e-3);
 }
+
+#[test]
+fn a_scene_loads_with_its_models_crs_from_one_read() {
+    let dir = std::env::temp_dir().join(format!("skyground-scene-crs-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let feet = dir.join("feet.city.json");
+    let plain = dir.join("plain.city.json");
+    let wrote = std::fs::write(&feet, in_feet(1200.0 / 3937.0))
+        .and_then(|()| std::fs::write(&plain, doc("2.0")));
+    let load = |p: &std::path::Path| crate::scene::load_scene_and_crs(&p.display().to_string());
+    let (named, unnamed) = (load(&feet), load(&plain));
+    let scene_alone = read_city_files(std::slice::from_ref(&feet), &CityJsonOptions::default());
+    let reference = crate::scene::load_scene_and_crs("reference");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(wrote.is_ok());
+    let (scene, crs) = named.expect("a model in feet loads");
+    assert_eq!(crs.and_then(|c| c.epsg), Some(2263));
+    // The same scene read_city_files gives (in metres).
+    assert!(scene_alone.is_ok_and(|s| s == scene));
+    assert!(!scene.vertices.is_empty());
+    assert!(matches!(unnamed, Ok((_, None))), "a model naming no CRS");
+    assert!(matches!(reference, Ok((_, None))));
+}
