@@ -164,9 +164,12 @@ fn limit_from(value: Option<&str>) -> (Duration, Option<String>) {
     let Some(v) = value else {
         return (CREATE_LIMIT, None);
     };
-    match v.trim().parse::<f64>() {
-        Ok(s) if s.is_finite() && s > 0.0 => (Duration::from_secs_f64(s), None),
-        _ => (CREATE_LIMIT, Some(v.to_string())),
+    match v.trim().parse::<f64>().ok().filter(|s| *s > 0.0) {
+        Some(s) => match Duration::try_from_secs_f64(s) {
+            Ok(d) => (d, None),
+            Err(_) => (CREATE_LIMIT, Some(v.to_string())),
+        },
+        None => (CREATE_LIMIT, Some(v.to_string())),
     }
 }
 
@@ -287,7 +290,7 @@ mod tests {
     fn the_limit_comes_from_the_environment_and_a_bad_value_is_named() {
         assert_eq!(limit_from(None), (CREATE_LIMIT, None));
         assert_eq!(limit_from(Some("2.5")), (Duration::from_millis(2500), None));
-        for bad in ["0", "-3", "soon", "NaN"] {
+        for bad in ["0", "-3", "soon", "NaN", "inf", "1e300"] {
             assert_eq!(limit_from(Some(bad)), (CREATE_LIMIT, Some(bad.to_string())));
         }
     }
