@@ -12,7 +12,7 @@ use futures::StreamExt;
 use serde_json::json;
 use skyground_core::cloud::{Cloud, write_cloud};
 use skyground_core::crs::{LinearUnit, SourceFrame};
-use skyground_core::footprint::footprints_of_scene;
+use skyground_core::footprint::{Footprint, footprints_of_scene};
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, MeasureSoFar, Measured, Mission, compare};
 use skyground_core::mission::progress::{Progress, StopRule};
@@ -960,57 +960,8 @@ fn report(
         md.push_str(&super::crop::markdown(c));
     }
     let outlines = footprints_of_scene(&prior.scene);
-    let gains: Vec<BuildingGain> = outlines
-        .iter()
-        .map(|f| {
-            let row = e.buildings.iter().find(|r| r.building == f.id);
-            let gain = row.map_or(0.0, |r| {
-                r.coverage_after.unwrap_or(0.0) - r.coverage_before.unwrap_or(0.0)
-            });
-            BuildingGain {
-                outline: f.polygon.clone(),
-                gain,
-            }
-        })
-        .collect();
-    let bounds = prior.cloud.bounds().map(|(lo, hi)| {
-        (
-            [f64::from(lo[0]), f64::from(lo[1])],
-            [f64::from(hi[0]), f64::from(hi[1])],
-        )
-    });
-    if let Some(b) = bounds {
-        mission_picture(
-            b,
-            &gains,
-            0.25,
-            &w.route,
-            &w.targets,
-            2000,
-            &LinearUnit::Metre,
-        )
-        .and_then(|c| c.save(&a.out.join("overview.png")))
-        .map_err(|e| err(e.to_string()))?;
-    }
-    let frame = SourceFrame::new(prior.cloud.origin, model_crs);
-    let detected = w.detections.rows(&outlines);
-    let rows: Vec<super::field::MissionBuilding> = outlines
-        .iter()
-        .zip(detected)
-        .map(|(f, detected)| {
-            let row = e.buildings.iter().find(|r| r.building == f.id);
-            super::field::MissionBuilding {
-                building: f.id,
-                outline: &f.polygon,
-                detected,
-                before_after: (
-                    row.and_then(|r| r.coverage_before),
-                    row.and_then(|r| r.coverage_after),
-                ),
-            }
-        })
-        .collect();
-    super::field::write_mission(&a.out, &frame, &rows, &w.route, w.odometer)?;
+    write_overview(&a.out.join("overview.png"), prior, &outlines, &e, w)?;
+    write_field_outputs(&a.out, prior, model_crs, &outlines, &e, w)?;
     // Where the time went, up to here (the process figures were read as
     // each node was asked to stop).
     prof.sample("demo", Some(std::process::id()));
@@ -1042,6 +993,85 @@ fn report(
         city.display()
     );
     Ok(e)
+}
+
+/// Each building's coverage gain, for the overview picture.
+fn building_gains(outlines: &[Footprint], e: &Evaluation) -> Vec<BuildingGain> {
+    outlines
+        .iter()
+        .map(|f| {
+            let row = e.buildings.iter().find(|r| r.building == f.id);
+            let gain = row.map_or(0.0, |r| {
+                r.coverage_after.unwrap_or(0.0) - r.coverage_before.unwrap_or(0.0)
+            });
+            BuildingGain {
+                outline: f.polygon.clone(),
+                gain,
+            }
+        })
+        .collect()
+}
+
+/// overview.png: the buildings coloured by their gain, the route driven and
+/// the targets (legend, scale bar, north).
+fn write_overview(
+    path: &Path,
+    prior: &super::aerial::Survey,
+    outlines: &[Footprint],
+    e: &Evaluation,
+    w: &Watch,
+) -> Result<(), RuntimeError> {
+    let Some((lo, hi)) = prior.cloud.bounds() else {
+        return Ok(());
+    };
+    let bounds = (
+        [f64::from(lo[0]), f64::from(lo[1])],
+        [f64::from(hi[0]), f64::from(hi[1])],
+    );
+    mission_picture(
+        bounds,
+        &building_gains(outlines, e),
+        0.25,
+        &w.route,
+        &w.targets,
+        2000,
+        &LinearUnit::Metre,
+    )
+    .and_then(|c| c.save(path))
+    .map_err(|e| RuntimeError::Node(e.to_string()))
+}
+
+/// What a field team takes away, in the model's CRS: the route driven and
+/// each building's detection and completeness before and after
+/// ([`super::field::write_mission`]).
+fn write_field_outputs(
+    out: &Path,
+    prior: &super::aerial::Survey,
+    model_crs: Option<skyground_core::crs::Crs>,
+    outlines: &[Footprint],
+    e: &Evaluation,
+    w: &Watch,
+) -> Result<(), RuntimeError> {
+    let frame = SourceFrame::new(prior.cloud.origin, model_crs);
+    let detected = w.detections.rows(outlines);
+    let rows: Vec<super::field::MissionBuilding> = outlines
+        .iter()
+        .zip(detected)
+        .map(|(f, detected)| {
+            let row = e.buildings.iter().find(|r| r.building == f.id);
+            super::field::MissionBuilding {
+                building: f.id,
+                outline: &f.polygon,
+                detected,
+                before_after: (
+                    row.and_then(|r| r.coverage_before),
+                    row.and_then(|r| r.coverage_after),
+                ),
+            }
+        })
+        .collect();
+    super::field::write_mission(out, &frame, &rows, &w.route, w.odometer)?;
+    Ok(())
 }
 
 #[cfg(test)]
