@@ -51,30 +51,12 @@ pub struct FinishedRound {
 pub struct Progress {
     /// Detection rounds: (round, mean completeness over analysed buildings).
     pub detected: Vec<(u32, f64)>,
-    /// The planner's round now (0 before its first route).
-    pub round: u32,
-    /// The planner's phase word now.
-    pub phase: String,
-    /// Targets of the round.
-    pub stops: usize,
-    /// Points and regions of the round dealt with.
-    pub done: (usize, usize),
-    /// The part of `done` given up after blocked tries.
-    pub given_up: usize,
-    /// Points of the round left off: the route sees their gaps anyway.
-    pub seen: usize,
-    /// Points and regions of the round out of reach.
-    pub unreachable: (usize, usize),
-    /// Set-downs of the round.
-    pub set_downs: usize,
+    /// The planner's last status (its round, phase, targets, tours).
+    pub last: PlannerStatus,
     /// Summed over the finished rounds.
     pub totals: Totals,
     /// Routes driven to the end: (round, targets dealt with).
     pub rounds_finished: Vec<(u32, usize)>,
-    /// The last route's greedy and TSP tour lengths, m.
-    pub greedy_m: f64,
-    /// See `greedy_m`.
-    pub tsp_m: f64,
 }
 
 impl Progress {
@@ -88,38 +70,42 @@ impl Progress {
         true
     }
 
+    /// Points and regions of the planner's round dealt with (reached or given up).
+    pub fn done(&self) -> (usize, usize) {
+        let v = &self.last.visited;
+        (v.points.len(), v.regions.len())
+    }
+
+    /// Targets of the planner's round.
+    pub fn stops(&self) -> usize {
+        self.last.target_points + self.last.target_regions
+    }
+
     /// Takes the planner's status; the round it finishes, once per round.
     pub fn planner(&mut self, s: &PlannerStatus) -> Option<FinishedRound> {
-        self.round = s.round;
-        self.phase.clone_from(&s.phase);
-        self.stops = s.target_points + s.target_regions;
-        self.done = (s.visited.points.len(), s.visited.regions.len());
-        self.given_up = s.given_up.points.len() + s.given_up.regions.len();
-        self.seen = s.seen_on_the_way.len();
-        self.unreachable = (s.unreachable_points, s.unreachable_regions);
-        self.set_downs = s.set_downs;
-        self.greedy_m = f64::from(s.greedy_m);
-        self.tsp_m = f64::from(s.tsp_m);
+        self.last.clone_from(s);
         if s.phase != Phase::Done.word() || self.rounds_finished.iter().any(|(r, _)| *r == s.round)
         {
             return None;
         }
-        let done = self.done.0 + self.done.1;
-        self.rounds_finished.push((s.round, done));
-        let unreachable = self.unreachable.0 + self.unreachable.1;
-        self.totals.reached += done.saturating_sub(self.given_up);
-        self.totals.given_up += self.given_up;
-        self.totals.seen += self.seen;
-        self.totals.unreachable += unreachable;
-        self.totals.set_downs += self.set_downs;
-        Some(FinishedRound {
+        let done = self.done();
+        let given_up = s.given_up.points.len() + s.given_up.regions.len();
+        let unreachable = s.unreachable_points + s.unreachable_regions;
+        let f = FinishedRound {
             round: s.round,
-            done: self.done,
-            given_up: self.given_up,
-            seen: self.seen,
+            done,
+            given_up,
+            seen: s.seen_on_the_way.len(),
             unreachable,
-            set_downs: self.set_downs,
-        })
+            set_downs: s.set_downs,
+        };
+        self.rounds_finished.push((s.round, done.0 + done.1));
+        self.totals.reached += (done.0 + done.1).saturating_sub(given_up);
+        self.totals.given_up += given_up;
+        self.totals.seen += f.seen;
+        self.totals.unreachable += unreachable;
+        self.totals.set_downs += f.set_downs;
+        Some(f)
     }
 
     /// Routes driven to the end that had somewhere to go.

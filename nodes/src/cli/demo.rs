@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use futures::StreamExt;
 use serde_json::json;
 use skyground_core::cloud::{Cloud, write_cloud};
-use skyground_core::crs::{LinearUnit, SourceFrame};
+use skyground_core::crs::{Crs, LinearUnit, SourceFrame};
 use skyground_core::footprint::{Footprint, footprints_of_scene};
 use skyground_core::lidar::Caster;
 use skyground_core::metrics::{Evaluation, MeasureSoFar, Measured, Mission, compare};
@@ -340,19 +340,21 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
     let bag = a.out.join("mission.mcap");
     // A former run's bag and its splits (their sizes are summed at the end).
-    let _ = (0..)
-        .take_while(|&n| std::fs::remove_file(bag_split(&bag, n)).is_ok())
-        .count();
+    for n in 0.. {
+        if std::fs::remove_file(bag_split(&bag, n)).is_err() {
+            break;
+        }
+    }
     eprintln!(
         "skyground demo: scene {}, output {}",
         a.scene(),
         a.out.display()
     );
-    let full = FullScene::load(&a)?;
-    let (scene_spec, prior, crop) = mission_prior(&a, &full)?;
-    // The whole model is not needed again (a large city's is gigabytes).
-    let model_crs = full.crs.clone();
-    drop(full);
+    // The model is read once: its CRS is kept, the scene moves into the
+    // mission's (or its crop is taken and the whole dropped).
+    let (full, model_crs) =
+        load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
+    let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
     // The prior's measurement and models are ready before the mission ends;
     // the merged cloud is measured as its points arrive (report: only the
     // last round's points are left to measure).
@@ -565,8 +567,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
                 prof.sample("demo", Some(std::process::id()));
                 eprintln!(
                     "  [{:>5.0} s] round {} {}: targets {}/{} | coverage {:.2} % | {:.0} m driven, {:.0} sim s",
-                    t0.elapsed().as_secs_f64(), w.progress.round, if w.progress.phase.is_empty() { "starting" } else { &w.progress.phase },
-                    w.progress.done.0 + w.progress.done.1, w.progress.stops, coverage_now * 100.0, w.odometer, w.sim_s
+                    t0.elapsed().as_secs_f64(), w.progress.last.round, if w.progress.last.phase.is_empty() { "starting" } else { &w.progress.last.phase },
+                    w.progress.done().0 + w.progress.done().1, w.progress.stops(), coverage_now * 100.0, w.odometer, w.sim_s
                 );
             }
         }
@@ -656,7 +658,7 @@ impl TimeLimit {
         }
         // The route's regions: the round's not yet explored nor unreachable.
         let regions_left = regions
-            .saturating_sub(w.progress.done.1 + w.progress.unreachable.1)
+            .saturating_sub(w.progress.done().1 + w.progress.last.unreachable_regions)
             .min(stops);
         let perimeters: Vec<f64> = w
             .targets
@@ -666,7 +668,7 @@ impl TimeLimit {
             .collect();
         let mean = perimeters.iter().sum::<f64>() / perimeters.len().max(1) as f64;
         let work = PlannedWork {
-            round: w.progress.round,
+            round: w.progress.last.round,
             route_m,
             points: stops - regions_left,
             region_perimeters_m: &vec![mean; regions_left],
@@ -676,11 +678,11 @@ impl TimeLimit {
             return;
         };
         self.routes += 1;
-        if w.progress.round > self.printed_round {
-            self.printed_round = w.progress.round;
+        if w.progress.last.round > self.printed_round {
+            self.printed_round = w.progress.last.round;
             eprintln!(
                 "  round {}: {route_m:.0} m over {} points and {regions_left} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now, extended by each new route (--timeout fixes one)",
-                w.progress.round,
+                w.progress.last.round,
                 work.points,
                 b.sim_s,
                 self.limit.deadline_s() - now
@@ -712,38 +714,21 @@ fn perimeter(ring: &[[f64; 2]]) -> f64 {
         .sum()
 }
 
-/// `--scene` as loaded once: the scene and its city model's CRS (`None`
-/// for other scenes), which a crop written as OBJ would not name.
-pub(super) struct FullScene {
-    /// The whole scene.
-    pub scene: Scene,
-    /// The city model's `referenceSystem`.
-    pub crs: Option<skyground_core::crs::Crs>,
-}
-
-impl FullScene {
-    /// Loads `--scene`.
-    pub fn load(a: &DemoArgs) -> Result<Self, RuntimeError> {
-        let (scene, crs) = load_scene_and_crs(&a.scene())
-            .map_err(|e| RuntimeError::Node(format!("scene {}: {e}", a.scene())))?;
-        Ok(Self { scene, crs })
-    }
-}
-
 /// The mission's scene and prior: the simulated airborne survey of
 /// [`mission_scene`], or the real survey of `--prior` over the city model.
 fn mission_prior(
     a: &DemoArgs,
-    full: &FullScene,
+    full: Scene,
+    model_crs: Option<&Crs>,
 ) -> Result<(String, super::aerial::Survey, Option<Cropped>), RuntimeError> {
     if !a.prior.files.is_empty() {
-        return super::prior::real_prior(a, full);
+        return super::prior::real_prior(a, full, model_crs);
     }
-    let (scene_spec, scene, crop) = mission_scene(a, full)?;
+    let (scene_spec, scene, crop) = mission_scene(a, full, model_crs)?;
     let mut prior = survey_of(scene, &scene_spec, None)?;
     // The city model's CRS, also when the mission runs on a crop of it
     // (written as OBJ, which names none).
-    prior.cloud.crs.clone_from(&full.crs);
+    prior.cloud.crs = model_crs.cloned();
     Ok((scene_spec, prior, crop))
 }
 
@@ -794,25 +779,26 @@ fn field_driver() -> (&'static str, Vec<String>) {
 /// ground graph).
 pub(super) fn mission_scene(
     a: &DemoArgs,
-    full: &FullScene,
+    full: Scene,
+    model_crs: Option<&Crs>,
 ) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    let Some(c) = super::crop::apply(&full.scene, &a.scene(), &a.crop)? else {
+    let Some(c) = super::crop::apply(&full, &a.scene(), &a.crop)? else {
         // Uncropped yet too large: only `--crop none` gets here.
-        if let Some(why) = super::crop::too_large(&full.scene) {
+        if let Some(why) = super::crop::too_large(&full) {
             return Err(err(format!(
                 "scene {}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
                 a.scene(),
                 a.crop.crop_size
             )));
         }
-        return Ok((a.scene(), full.scene.clone(), None));
+        return Ok((a.scene(), full, None));
     };
     let path = a.out.join("scene.obj");
     write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
     eprintln!(
         "  {}; written to {}",
-        super::crop::describe(&c, full.crs.as_ref()),
+        super::crop::describe(&c, model_crs),
         path.display()
     );
     let spec = path.display().to_string();
@@ -846,7 +832,7 @@ fn arrived_points(before: Option<&Cloud>, now: &Cloud, origin: [f64; 3]) -> Clou
 fn report(
     a: &DemoArgs,
     prior: &super::aerial::Survey,
-    (crop, model_crs): (Option<&Cropped>, Option<skyground_core::crs::Crs>),
+    (crop, model_crs): (Option<&Cropped>, Option<Crs>),
     w: &Watch,
     (finished, why): (bool, &str),
     (before, after_m, models_before): (Measured, Measured, ModelsBefore),
@@ -917,7 +903,7 @@ fn report(
         "targets_seen_on_the_way": w.progress.totals.seen,
         "targets_unreachable": w.progress.totals.unreachable,
         "set_downs": w.progress.totals.set_downs,
-        "last_route": {"greedy_m": w.progress.greedy_m, "tsp_m": w.progress.tsp_m},
+        "last_route": {"greedy_m": f64::from(w.progress.last.greedy_m), "tsp_m": f64::from(w.progress.last.tsp_m)},
         "ground_points_added": scans,
         "bag_bytes": bag_bytes,
         "restarts": w.restarts,
@@ -1047,7 +1033,7 @@ fn write_overview(
 fn write_field_outputs(
     out: &Path,
     prior: &super::aerial::Survey,
-    model_crs: Option<skyground_core::crs::Crs>,
+    model_crs: Option<Crs>,
     outlines: &[Footprint],
     e: &Evaluation,
     w: &Watch,

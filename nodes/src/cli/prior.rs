@@ -5,12 +5,13 @@
 use std::path::PathBuf;
 
 use skyground_core::cloud::{Cloud, read_cloud};
+use skyground_core::crs::Crs;
 use skyground_core::graph::{GraphParams, GroundGraph};
 use skyground_core::lidar::Caster;
 use skyground_core::prior::{
     CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame,
 };
-use skyground_core::scene::{Cropped, Window};
+use skyground_core::scene::{Cropped, Scene, Window};
 use skyground_core::vehicle::free_spot;
 
 use super::aerial::{Survey, survey_of_real};
@@ -53,7 +54,8 @@ impl PriorArgs {
 /// local frame and measured against it.
 pub(super) fn real_prior(
     a: &DemoArgs,
-    full: &super::demo::FullScene,
+    full: Scene,
+    model_crs: Option<&Crs>,
 ) -> Result<(String, Survey, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut tiles = Vec::new();
@@ -62,7 +64,7 @@ pub(super) fn real_prior(
         tiles.push((f.display().to_string(), c));
     }
     let mut cloud = join_tiles(&tiles).map_err(|e| err(format!("prior: {e}")))?;
-    let check = check_crs(cloud.crs.as_ref(), full.crs.as_ref())
+    let check = check_crs(cloud.crs.as_ref(), model_crs)
         .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
     eprintln!(
         "  prior {}: {} points; {}",
@@ -73,10 +75,9 @@ pub(super) fn real_prior(
     // A survey that names no CRS is taken to be in the model's, so what the
     // mission writes from it (aerial.las, resampled.las) names that CRS.
     if cloud.crs.is_none() {
-        cloud.crs.clone_from(&full.crs);
+        cloud.crs = model_crs.cloned();
     }
     let (lo, hi) = full
-        .scene
         .bounds()
         .ok_or_else(|| err(format!("scene {}: empty", a.scene())))?;
     let model = Window::new(
@@ -86,10 +87,10 @@ pub(super) fn real_prior(
         f64::from(hi[1]),
     )
     .map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
-    let in_model = to_frame(&cloud, full.scene.origin);
+    let in_model = to_frame(&cloud, full.origin);
     let extent = extent_xy(&in_model)
         .ok_or_else(|| err(format!("prior {}: no extent", a.prior.describe())))?;
-    let shared = overlap(&extent, &model, full.scene.origin)
+    let shared = overlap(&extent, &model, full.origin)
         .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
     eprintln!(
         "  prior covers {:.0} m × {:.0} m of the city model ({:.0} % of the prior's extent)",
@@ -109,7 +110,7 @@ pub(super) fn real_prior(
     eprintln!(
         "  ground graph: tree crowns block only where points stand in the vehicle's height band (a multi-return survey sees under them)"
     );
-    let (spec, scene, crop) = super::demo::mission_scene(&args, full)?;
+    let (spec, scene, crop) = super::demo::mission_scene(&args, full, model_crs)?;
     let prior = to_frame(&cloud, scene.origin);
     let survey = survey_of_real(scene, prior, &a.prior.describe())?;
     Ok((spec, survey, crop))

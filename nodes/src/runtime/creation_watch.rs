@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, OnceLock, PoisonError, Weak};
+use std::sync::{Arc, Mutex, PoisonError, Weak};
 use std::time::{Duration, Instant};
 
 /// How long creating one DDS entity may take before the node gives up. A
@@ -40,8 +40,8 @@ pub struct CreationWatch {
     slot: Arc<Mutex<Slot>>,
     count: AtomicU64,
     hooks: ExitHooks,
-    /// The node's name, for [`STALL_ENV`].
-    node: String,
+    /// The [`STALL_ENV`] entries for this node.
+    stalls: Vec<Stall>,
 }
 
 /// Marks a creation under way until dropped.
@@ -77,7 +77,7 @@ impl CreationWatch {
             slot,
             count: AtomicU64::new(0),
             hooks: ExitHooks::default(),
-            node: String::new(),
+            stalls: Vec::new(),
         }
     }
 
@@ -126,9 +126,15 @@ impl CreationWatch {
             }
             std::process::exit(EXIT_STUCK);
         });
+        let stalls = std::env::var(STALL_ENV)
+            .map(|v| parse_stalls(&v))
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|s| s.node.as_deref().is_none_or(|n| n == node))
+            .collect();
         Self {
             hooks,
-            node: node.to_string(),
+            stalls,
             ..watch
         }
     }
@@ -148,7 +154,7 @@ impl CreationWatch {
         if let Ok(mut s) = self.slot.lock() {
             *s = Some((Instant::now(), what.to_string(), n));
         }
-        if stalls(&self.node, what) {
+        if self.stalls.iter().any(|s| s.hangs(what)) {
             // The caller's thread stays here, as in the library's deadlock.
             loop {
                 std::thread::sleep(Duration::from_secs(3600));
@@ -164,11 +170,9 @@ fn limit_from(value: Option<&str>) -> (Duration, Option<String>) {
     let Some(v) = value else {
         return (CREATE_LIMIT, None);
     };
-    match v.trim().parse::<f64>().ok().filter(|s| *s > 0.0) {
-        Some(s) => match Duration::try_from_secs_f64(s) {
-            Ok(d) => (d, None),
-            Err(_) => (CREATE_LIMIT, Some(v.to_string())),
-        },
+    let limit = v.trim().parse::<f64>().ok().filter(|s| *s > 0.0);
+    match limit.and_then(|s| Duration::try_from_secs_f64(s).ok()) {
+        Some(d) => (d, None),
         None => (CREATE_LIMIT, Some(v.to_string())),
     }
 }
@@ -211,26 +215,20 @@ fn parse_stalls(value: &str) -> Vec<Stall> {
         .collect()
 }
 
-/// Whether creating `what` in `node` is to hang (see [`STALL_ENV`]).
-fn stalls(node: &str, what: &str) -> bool {
-    static STALLS: OnceLock<Vec<Stall>> = OnceLock::new();
-    let stalls = STALLS.get_or_init(|| {
-        std::env::var(STALL_ENV)
-            .map(|v| parse_stalls(&v))
-            .unwrap_or_default()
-    });
-    stalls.iter().any(|s| {
-        what.contains(&s.text)
-            && s.node.as_ref().is_none_or(|n| n == node)
-            && s.marker.as_ref().is_none_or(|m| {
-                // create_new: of the processes sharing a marker, one hangs.
+impl Stall {
+    /// Whether creating `what` hangs: its text matches and, with a marker,
+    /// this is the first to create the marker file (of the processes sharing
+    /// it, one hangs).
+    fn hangs(&self, what: &str) -> bool {
+        what.contains(&self.text)
+            && self.marker.as_ref().is_none_or(|m| {
                 std::fs::OpenOptions::new()
                     .write(true)
                     .create_new(true)
                     .open(m)
                     .is_ok()
             })
-    })
+    }
 }
 
 impl Drop for Armed<'_> {
