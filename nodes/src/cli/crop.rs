@@ -1,11 +1,14 @@
 //! `--crop`: a mission or an evaluation on one cluster of buildings of a
 //! large scene (a city-wide model whose ground graph would not fit).
 
+use std::path::Path;
 use std::str::FromStr;
 
 use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::graph::{GraphParams, MAX_OCCUPANCY_CELLS};
-use skyground_core::scene::{CropError, Cropped, Scene, Window, busiest_window, crop_scene};
+use skyground_core::scene::{
+    CropError, Cropped, Scene, Window, busiest_window, crop_scene, load_scene, write_obj,
+};
 
 use crate::runtime::RuntimeError;
 
@@ -81,6 +84,40 @@ pub fn apply(scene: &Scene, name: &str, args: &CropArgs) -> Result<Option<Croppe
         },
     };
     crop_scene(scene, &window).map(Some).map_err(err)
+}
+
+/// The scene every process of a mission loads (its spec and the scene as
+/// they will read it): the scene `spec` itself, or its crop (`args`; automatic
+/// when the scene is too large for the ground graph) written to
+/// `out`/scene.obj.
+pub fn mission_scene(
+    (spec, args, out): (&str, &CropArgs, &Path),
+    full: Scene,
+    model_crs: Option<&Crs>,
+) -> Result<(String, Scene, Option<Cropped>), RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let Some(c) = apply(&full, spec, args)? else {
+        // Uncropped yet too large: only `--crop none` gets here.
+        if let Some(why) = too_large(&full) {
+            return Err(err(format!(
+                "scene {spec}: {why}; run on one cluster of buildings: --crop auto (the {} m window with the most building surface, --crop-size) or --crop x0,y0,x1,y1",
+                args.crop_size
+            )));
+        }
+        return Ok((spec.to_string(), full, None));
+    };
+    let path = out.join("scene.obj");
+    write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
+    eprintln!(
+        "  {}; written to {}",
+        describe(&c, model_crs),
+        path.display()
+    );
+    let written = path.display().to_string();
+    // Read back, not c.scene: the file picks its own local frame, and the
+    // survey must be in the frame vehicle_sim will load.
+    let scene = load_scene(&written).map_err(|e| err(format!("scene {written}: {e}")))?;
+    Ok((written, scene, Some(c)))
 }
 
 /// What a crop kept, in one line; source coordinates in the unit of the

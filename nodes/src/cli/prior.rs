@@ -2,7 +2,7 @@
 //! prior, with the city model (`--scene`) as the world the vehicle drives
 //! and scans in and the ground truth completeness is measured against.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::crs::Crs;
@@ -15,8 +15,7 @@ use skyground_core::scene::{Cropped, Scene, Window};
 use skyground_core::vehicle::free_spot;
 
 use super::aerial::{Survey, survey_of_real};
-use super::crop::CropArg;
-use super::demo::DemoArgs;
+use super::crop::{CropArg, CropArgs};
 use crate::runtime::RuntimeError;
 
 /// The prior options of `skyground demo`.
@@ -53,22 +52,23 @@ impl PriorArgs {
 /// extent (unless `--crop` says otherwise), the prior moved into the scene's
 /// local frame and measured against it.
 pub(super) fn real_prior(
-    a: &DemoArgs,
+    a: &PriorArgs,
+    (spec, crop, out): (&str, &CropArgs, &Path),
     full: Scene,
     model_crs: Option<&Crs>,
 ) -> Result<(String, Survey, Option<Cropped>), RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let mut tiles = Vec::new();
-    for f in &a.prior.files {
+    for f in &a.files {
         let c = read_cloud(f).map_err(|e| err(format!("prior: {e}")))?;
         tiles.push((f.display().to_string(), c));
     }
     let mut cloud = join_tiles(&tiles).map_err(|e| err(format!("prior: {e}")))?;
     let check = check_crs(cloud.crs.as_ref(), model_crs)
-        .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
+        .map_err(|e| err(format!("prior {}: {e}", a.describe())))?;
     eprintln!(
         "  prior {}: {} points; {}",
-        a.prior.describe(),
+        a.describe(),
         cloud.len(),
         crs_line(&check)
     );
@@ -79,40 +79,40 @@ pub(super) fn real_prior(
     }
     let (lo, hi) = full
         .bounds()
-        .ok_or_else(|| err(format!("scene {}: empty", a.scene())))?;
+        .ok_or_else(|| err(format!("scene {spec}: empty")))?;
     let model = Window::new(
         f64::from(lo[0]),
         f64::from(lo[1]),
         f64::from(hi[0]),
         f64::from(hi[1]),
     )
-    .map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
+    .map_err(|e| err(format!("scene {spec}: {e}")))?;
     let in_model = to_frame(&cloud, full.origin);
-    let extent = extent_xy(&in_model)
-        .ok_or_else(|| err(format!("prior {}: no extent", a.prior.describe())))?;
+    let extent =
+        extent_xy(&in_model).ok_or_else(|| err(format!("prior {}: no extent", a.describe())))?;
     let shared = overlap(&extent, &model, full.origin)
-        .map_err(|e| err(format!("prior {}: {e}", a.prior.describe())))?;
+        .map_err(|e| err(format!("prior {}: {e}", a.describe())))?;
     eprintln!(
         "  prior covers {:.0} m × {:.0} m of the city model ({:.0} % of the prior's extent)",
         shared.size()[0],
         shared.size()[1],
         100.0 * area(&shared) / area(&extent).max(1e-9)
     );
-    let mut args = a.clone();
-    if args.crop.crop.is_none() {
-        let w = mission_window(&extent, a.prior.prior_margin);
+    let mut crop = crop.clone();
+    if crop.crop.is_none() {
+        let w = mission_window(&extent, a.prior_margin);
         eprintln!(
             "  cropping the city model to the prior's extent + {} m (--prior-margin; --crop none keeps the whole model)",
-            a.prior.prior_margin
+            a.prior_margin
         );
-        args.crop.crop = Some(CropArg::Window(w));
+        crop.crop = Some(CropArg::Window(w));
     }
     eprintln!(
         "  ground graph: tree crowns block only where points stand in the vehicle's height band (a multi-return survey sees under them)"
     );
-    let (spec, scene, crop) = super::demo::mission_scene(&args, full, model_crs)?;
+    let (spec, scene, crop) = super::crop::mission_scene((spec, &crop, out), full, model_crs)?;
     let prior = to_frame(&cloud, scene.origin);
-    let survey = survey_of_real(scene, prior, &a.prior.describe())?;
+    let survey = survey_of_real(scene, prior, &a.describe())?;
     Ok((spec, survey, crop))
 }
 

@@ -1,0 +1,96 @@
+//! The demo's command-line options.
+
+use std::path::PathBuf;
+
+/// Demo options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DemoArgs {
+    /// reference, reference:SEED, or a scene file (.obj, .ply, CityJSON .json,
+    /// CityJSONSeq .jsonl); city model tiles load as one scene: repeat
+    /// --scene, or give a directory or a comma-separated list.
+    #[arg(long = "scene", default_value = "reference")]
+    pub scenes: Vec<String>,
+    /// One cluster of buildings of a large scene (written to OUT/scene.obj,
+    /// which every node then loads).
+    #[command(flatten)]
+    pub crop: crate::cli::crop::CropArgs,
+    /// A real aerial survey as the prior (`--prior`, `--prior-margin`).
+    #[command(flatten)]
+    pub prior: crate::cli::prior::PriorArgs,
+    /// Output directory (aerial.las, resampled.las, mission.mcap, report.*, overview.png, logs).
+    #[arg(long, default_value = "out/demo")]
+    pub out: PathBuf,
+    /// Run here even if other network interfaces exist (default: re-run inside
+    /// a loopback-only network namespace).
+    #[arg(long)]
+    pub no_netns: bool,
+    /// Wall seconds before giving up on the mission; default: the limit
+    /// follows the work (600 s until the first route is known, then each
+    /// round's budget from its length and stops, printed).
+    #[arg(long)]
+    pub timeout: Option<f64>,
+    /// Simulated seconds per wall second while the vehicle drives or turns
+    /// (a ceiling: on 2 cores the reference mission's casting holds it near
+    /// 20×; waiting for orders always runs at wall speed).
+    #[arg(long, default_value_t = 40.0)]
+    pub time_factor: f64,
+    /// Rounds of detect → plan → drive at most (the paper drives two).
+    #[arg(long, default_value_t = 2)]
+    pub max_rounds: u32,
+    /// A round whose detected completeness gain is below this ends the loop.
+    #[arg(long, default_value_t = 0.01)]
+    pub min_round_gain: f64,
+    /// Set-downs a round may ask for when targets remain on another piece
+    /// of ground (vehicle_sim carries the vehicle there; a field team by
+    /// hand); default: global_planner's `set_downs` (3); 0: never.
+    #[arg(long)]
+    pub set_downs: Option<usize>,
+    /// Give footprints to the detector: for a CityJSON scene, its own buildings.
+    #[arg(long)]
+    pub footprints: Option<PathBuf>,
+    /// Field mode: a real robot instead of vehicle_sim.
+    #[command(flatten)]
+    pub field: FieldArgs,
+}
+
+/// Field mode: every node but vehicle_sim, and a robot of the CMU
+/// exploration environment's interface on the network.
+#[derive(Debug, Clone, clap::Args)]
+pub struct FieldArgs {
+    /// Drive a real robot instead of vehicle_sim: way-points go out on
+    /// /way_point (geometry_msgs/PointStamped, one at a time) and the route on
+    /// /global_path (nav_msgs/Path); the robot publishes /state_estimation
+    /// (nav_msgs/Odometry), /registered_scan (PointCloud2 in the map frame)
+    /// and /tf. Runs on the current network (no namespace), with
+    /// ROS_DOMAIN_ID and ROS_AUTOMATIC_DISCOVERY_RANGE as set.
+    #[arg(long)]
+    pub field: bool,
+    /// Field mode: seconds to wait for the robot's first /state_estimation.
+    #[arg(long, default_value_t = 60.0)]
+    pub robot_timeout: f64,
+}
+
+impl DemoArgs {
+    /// The scene spec every process loads (tiles joined by commas).
+    pub fn scene(&self) -> String {
+        self.scenes.join(",")
+    }
+
+    /// A prior of real survey files rather than the simulated flight.
+    pub fn real_prior(&self) -> bool {
+        !self.prior.files.is_empty()
+    }
+}
+
+#[cfg(test)]
+pub(super) fn parse(args: &[&str]) -> DemoArgs {
+    #[derive(clap::Parser)]
+    struct Cli {
+        #[command(flatten)]
+        demo: DemoArgs,
+    }
+    let argv = std::iter::once("demo").chain(args.iter().copied());
+    <Cli as clap::Parser>::try_parse_from(argv)
+        .expect("demo arguments")
+        .demo
+}

@@ -1,0 +1,149 @@
+//! `skyground demo`: the whole sky–ground mission over DDS (docs/design.md
+//! steps 1–9). Every node is a process of its own on one domain. This
+//! process makes the prior, then works in three parts: [`launch`] starts
+//! the nodes (and starts again any that exits), [`watch`] follows the
+//! mission's topics and closes the loop round by round until the stop rule
+//! or a limit, and [`report`] stops nothing but measures: it proves the gain
+//! against ground truth (report.json, report.md, overview.png; the bag is
+//! mission.mcap).
+
+mod args;
+mod console;
+mod launch;
+mod report;
+mod watch;
+
+pub use args::{DemoArgs, FieldArgs};
+
+use std::time::Instant;
+
+use skyground_core::cloud::write_cloud;
+use skyground_core::crs::Crs;
+use skyground_core::metrics::MeasureSoFar;
+use skyground_core::prior::unlabelled;
+use skyground_core::scene::{Cropped, Scene, load_scene_and_crs};
+
+use crate::cli::aerial::{Survey, survey_of};
+use crate::cli::profile::Profile;
+use crate::runtime::{NodeRuntime, RuntimeError};
+
+/// Runs the demo mission.
+pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> {
+    let err = |e: String| RuntimeError::Node(e);
+    let t0 = Instant::now();
+    let mut prof = Profile::new("prior");
+    std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+    let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
+    launch::remove_bag(&a.out.join("mission.mcap"));
+    eprintln!(
+        "skyground demo: scene {}, output {}",
+        a.scene(),
+        a.out.display()
+    );
+    // The model is read once: its CRS is kept, the scene moves into the
+    // mission's (or its crop is taken and the whole dropped).
+    let (full, model_crs) =
+        load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
+    let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
+    // The prior's measurement and models are ready before the mission ends;
+    // the merged cloud is measured as its points arrive (report: only the
+    // last round's points are left to measure).
+    let mut before = MeasureSoFar::new(&prior.gt, prior.tau);
+    before.add(&prior.scene, &prior.gt, &prior.cloud);
+    let models_before = models_in_background(&a, &prior);
+    let aerial = a.out.join("aerial.las");
+    // The classifier labels the prior itself: publish it without the simulator's labels.
+    write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
+    eprintln!(
+        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
+        if a.real_prior() {
+            "real prior"
+        } else {
+            "airborne prior (simulated)"
+        },
+        prior.cloud.len(),
+        before
+            .measured(&prior.gt)
+            .completeness
+            .overall
+            .ratio
+            .unwrap_or(0.0)
+            * 100.0,
+        t0.elapsed().as_secs_f64()
+    );
+    let driver = if a.field.field {
+        launch::field_driver()
+    } else {
+        let real = a.real_prior().then_some(&prior.cloud);
+        launch::sim_driver(&prior.scene, &scene_spec, a.time_factor, real)?
+    };
+    let mut procs = launch::start_all(&a, &exe, prior.scene.origin, &aerial, driver)?;
+    prof.stage("start-up, classification, detection, first route");
+    eprintln!(
+        "  started {} processes: {}",
+        procs.len(),
+        procs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+    );
+    let outcome =
+        watch::follow(rt, (&a, &prior, &before), (&mut procs, &exe), &mut prof, t0).await?;
+    eprintln!("  {}; stopping the nodes", outcome.why);
+    prof.stage("stopping the nodes");
+    launch::stop_all(&mut procs, &mut prof).await;
+    let (finished, why) = (outcome.finished, outcome.why.clone());
+    let inputs = report::Inputs {
+        a: &a,
+        prior: &prior,
+        crop: crop.as_ref(),
+        model_crs,
+        before: before.measured(&prior.gt),
+        outcome,
+        restarts: launch::restarts(&procs),
+    };
+    report::report(&inputs, models_before, (t0, &mut prof))?;
+    if finished {
+        Ok(())
+    } else {
+        Err(err(format!(
+            "the mission did not finish ({why}): see the logs in {}",
+            a.out.display()
+        )))
+    }
+}
+
+/// The prior's LoD2 models, made on a thread of their own while the mission runs.
+fn models_in_background(a: &DemoArgs, prior: &Survey) -> report::ModelsBefore {
+    let (dir, scene, cloud, spacing) = (
+        a.out.clone(),
+        prior.scene.clone(),
+        prior.cloud.clone(),
+        prior.gt.spacing,
+    );
+    std::thread::spawn(move || {
+        crate::cli::reconstruct::models_of(&dir, "models_before", &scene, &cloud, spacing)
+    })
+}
+
+/// The mission's scene and prior: the simulated airborne survey of the
+/// mission's scene ([`crate::cli::crop::mission_scene`]), or the real survey
+/// of `--prior` over the city model.
+fn mission_prior(
+    a: &DemoArgs,
+    full: Scene,
+    model_crs: Option<&Crs>,
+) -> Result<(String, Survey, Option<Cropped>), RuntimeError> {
+    if a.real_prior() {
+        return crate::cli::prior::real_prior(
+            &a.prior,
+            (&a.scene(), &a.crop, &a.out),
+            full,
+            model_crs,
+        );
+    }
+    let (scene_spec, scene, crop) =
+        crate::cli::crop::mission_scene((&a.scene(), &a.crop, &a.out), full, model_crs)?;
+    let mut prior = survey_of(scene, &scene_spec, None)?;
+    // The city model's CRS, also when the mission runs on a crop of it
+    // (written as OBJ, which names none).
+    prior.cloud.crs = model_crs.cloned();
+    Ok((scene_spec, prior, crop))
+}

@@ -1,0 +1,513 @@
+//! Watching: the mission's topics as they come, the progress they show, the
+//! time limit that follows the work, and the stop rule
+//! ([`skyground_core::mission::progress`]).
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use futures::StreamExt;
+use skyground_core::cloud::Cloud;
+use skyground_core::metrics::MeasureSoFar;
+use skyground_core::mission::progress::{Progress, StopRule};
+use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, VehicleStatus, Wire};
+use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
+use skyground_core::targets::{TargetPoint, TargetSet};
+use skyground_msgs::diagnostic_msgs::DiagnosticArray;
+use skyground_msgs::nav_msgs::Odometry;
+use skyground_msgs::visualization_msgs::{Marker, MarkerArray};
+
+use super::DemoArgs;
+use super::console::Console;
+use super::launch::{Proc, respawn};
+use crate::cli::aerial::Survey;
+use crate::cli::detections::Detections;
+use crate::cli::profile::Profile;
+use crate::convert::diagnostics::from_status;
+use crate::convert::markers::markers_to_regions;
+use crate::convert::path::odom_position;
+use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::transport::{CloudSubscription, Received};
+
+/// What the demo learns from the topics as the mission runs.
+#[derive(Default)]
+pub(super) struct Watch {
+    /// Rounds, targets and the loop's verdict (`skyground_core::mission::progress`).
+    pub progress: Progress,
+    pub resampled: Option<Cloud>,
+    pub route: Vec<[f32; 3]>,
+    pub odometer: f64,
+    pub sim_s: f64,
+    /// The first /state_estimation stamp (the robot's clock when the mission started).
+    first_stamp: Option<f64>,
+    pub targets: TargetSet,
+    /// Every detection round and the targets made from it.
+    pub detections: Detections,
+}
+
+/// How the watch ended.
+pub(super) struct Outcome {
+    pub watch: Watch,
+    /// The prior and every ground point that arrived, measured.
+    pub after: MeasureSoFar,
+    /// The stop rule ended the mission (not a limit, a signal or a fault).
+    pub finished: bool,
+    pub why: String,
+}
+
+/// The mission as the topics show it, and what is printed of it.
+struct Follower<'a> {
+    a: &'a DemoArgs,
+    prior: &'a Survey,
+    before: &'a MeasureSoFar,
+    after: MeasureSoFar,
+    coverage_now: f64,
+    limit: TimeLimit,
+    w: Watch,
+    console: Console,
+    t0: Instant,
+}
+
+/// Follows the mission until the stop rule, the time limit, a signal or (in
+/// field mode) a robot that never shows; nodes that exit are started again.
+pub(super) async fn follow(
+    rt: &mut NodeRuntime,
+    (a, prior, before): (&DemoArgs, &Survey, &MeasureSoFar),
+    (procs, exe): (&mut [Proc], &Path),
+    prof: &mut Profile,
+    t0: Instant,
+) -> Result<Outcome, RuntimeError> {
+    let mut resampled_sub =
+        CloudSubscription::new(rt, "/resampled_cloud", qos::latched(256), 65536)?;
+    let mut targets_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), 65536)?;
+    let completeness = rt.subscription::<DiagnosticArray>("/completeness", qos::latched(1))?;
+    let planner = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;
+    let vstatus = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
+    let regions = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
+    let contours = rt.subscription::<MarkerArray>("/detection_markers", qos::latched(1))?;
+    let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let (c_s, p_s, v_s, r_s, o_s, m_s) = (
+        completeness.async_stream(),
+        planner.async_stream(),
+        vstatus.async_stream(),
+        regions.async_stream(),
+        odom.async_stream(),
+        contours.async_stream(),
+    );
+    futures::pin_mut!(c_s, p_s, v_s, r_s, o_s, m_s);
+    let mut f = Follower::new(a, prior, before, t0);
+    let mut tick = tokio::time::interval(Duration::from_secs(5));
+    let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
+    let rule = StopRule {
+        min_round_gain: a.min_round_gain,
+        max_rounds: a.max_rounds,
+    };
+    let robot_deadline =
+        tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
+    let mut why = String::from("interrupted");
+    let finished = loop {
+        tokio::select! {
+            _ = tokio::time::sleep_until(f.limit.deadline()) => { why = f.limit.why(t0); break false }
+            _ = tokio::time::sleep_until(robot_deadline), if a.field.field && f.w.first_stamp.is_none() => {
+                why = format!("no /state_estimation from a robot within {} s (is it on ROS_DOMAIN_ID {}, and publishing nav_msgs/Odometry there?)", a.field.robot_timeout, rt.domain.domain_id);
+                break false
+            }
+            _ = rt.shutdown.wait() => break false,
+            r = resampled_sub.next() => if let Some(Received::Cloud { decoded, .. }) = r {
+                f.resampled(decoded.cloud).await;
+            },
+            r = targets_sub.next() => if let Some(Received::Cloud { decoded, msg }) = r {
+                f.targets(&decoded.cloud, msg.header.stamp);
+            },
+            Some(Ok((arr, _))) = r_s.next() => f.regions(&arr),
+            Some(Ok((arr, _))) = m_s.next() => f.markers(&arr),
+            Some(Ok((arr, _))) = c_s.next() => f.completeness(&arr),
+            Some(Ok((arr, _))) = p_s.next() => f.planner(&arr, prof),
+            Some(Ok((arr, _))) = v_s.next() => if let Some(s) = first_status(&arr, VehicleStatus::from_wire) {
+                f.w.odometer = s.odometer_m;
+            },
+            Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
+            _ = respawn_tick.tick() => if !rt.shutdown.requested() { respawn(procs, exe, &a.out)? },
+            _ = tick.tick() => {
+                for p in procs.iter() {
+                    prof.sample(p.name, p.child.id());
+                }
+                prof.sample("demo", Some(std::process::id()));
+                f.state();
+            }
+        }
+        // The closed loop: detection after each driven round says whether
+        // another is worth it.
+        if let Some(v) = f.w.progress.verdict(&rule) {
+            why = v;
+            break true;
+        }
+    };
+    f.console.finish();
+    Ok(Outcome {
+        watch: f.w,
+        after: f.after,
+        finished,
+        why,
+    })
+}
+
+impl<'a> Follower<'a> {
+    fn new(a: &'a DemoArgs, prior: &'a Survey, before: &'a MeasureSoFar, t0: Instant) -> Self {
+        Self {
+            a,
+            prior,
+            before,
+            after: before.clone(),
+            coverage_now: before
+                .measured(&prior.gt)
+                .completeness
+                .overall
+                .ratio
+                .unwrap_or(0.0),
+            limit: TimeLimit::new(a),
+            w: Watch::default(),
+            console: Console::new(),
+            t0,
+        }
+    }
+
+    /// The merged ground cloud so far: only its new points are measured.
+    async fn resampled(&mut self, cloud: Cloud) {
+        let new = arrived_points(self.w.resampled.as_ref(), &cloud, self.prior.cloud.origin);
+        if new.len() == cloud.len() {
+            self.after = self.before.clone();
+        }
+        let (scene, gt, mut so_far) = (
+            self.prior.scene.clone(),
+            self.prior.gt.clone(),
+            self.after.clone(),
+        );
+        let measured = tokio::task::spawn_blocking(move || {
+            so_far.add(&scene, &gt, &new);
+            so_far
+        })
+        .await;
+        match measured {
+            Ok(m) => {
+                self.after = m;
+                let now = self.after.measured(&self.prior.gt);
+                self.coverage_now = now.completeness.overall.ratio.unwrap_or(0.0);
+                self.w.resampled = Some(cloud);
+            }
+            Err(e) => self
+                .console
+                .say(&format!("  measuring /resampled_cloud failed: {e}")),
+        }
+    }
+
+    fn targets(&mut self, cloud: &Cloud, stamp: skyground_msgs::builtin_interfaces::Time) {
+        let ids = cloud.building.clone().unwrap_or_default();
+        self.w.targets.points = cloud
+            .xyz
+            .iter()
+            .enumerate()
+            .map(|(i, p)| TargetPoint {
+                xyz: *p,
+                building: ids.get(i).copied().unwrap_or(0),
+            })
+            .collect();
+        self.w
+            .detections
+            .target_points(stamp, self.w.targets.points.clone());
+    }
+
+    fn regions(&mut self, arr: &MarkerArray) {
+        self.w.targets.regions = markers_to_regions(arr).0;
+        if let Some(m) = arr.markers.iter().find(|m| m.action == Marker::ADD) {
+            self.w
+                .detections
+                .target_regions(m.header.stamp, self.w.targets.regions.clone());
+        }
+    }
+
+    fn markers(&mut self, arr: &MarkerArray) {
+        let contour = crate::convert::detection::CONTOUR_NS;
+        if let Some(m) = arr.markers.iter().find(|m| m.ns.starts_with(contour)) {
+            self.w.detections.markers(m.header.stamp, arr);
+        }
+    }
+
+    fn completeness(&mut self, arr: &DiagnosticArray) {
+        self.w
+            .detections
+            .completeness(arr.header.stamp, building_statuses(arr));
+        if let Some((round, mean)) = mean_completeness(arr)
+            && self.w.progress.detection(round, mean)
+        {
+            self.console.say(&format!(
+                "  detection round {round}: mean detected completeness {:.1} % over {} buildings",
+                mean * 100.0,
+                arr.status.len()
+            ));
+        }
+    }
+
+    fn planner(&mut self, arr: &DiagnosticArray, prof: &mut Profile) {
+        let Some(s) = first_status(arr, PlannerStatus::from_wire) else {
+            return;
+        };
+        let finished_round = self.w.progress.planner(&s);
+        if s.round > 0 {
+            prof.stage(&match s.phase.as_str() {
+                "driving" | "exploring" | "carrying" => format!("round {} driving", s.round),
+                _ => format!(
+                    "round {} done: merge, classification, detection, next route",
+                    s.round
+                ),
+            });
+        }
+        if matches!(s.phase.as_str(), "driving" | "exploring")
+            && let Some(line) =
+                self.limit
+                    .follow(&self.w, f64::from(s.route_m), s.stops, s.target_regions)
+        {
+            self.console.say(&line);
+        }
+        if let Some(f) = finished_round {
+            self.console.say(&format!(
+                "  route of round {} done: {} points, {} regions (of them {} given up, blocked); {} left off (seen on the way); {} unreachable; {} set-downs",
+                f.round, f.done.0, f.done.1, f.given_up, f.seen, f.unreachable, f.set_downs
+            ));
+        }
+        self.state();
+    }
+
+    fn odometry(&mut self, o: &Odometry) {
+        let t = o.header.stamp.secs();
+        let field = self.a.field.field;
+        if self.w.first_stamp.is_none() && field {
+            self.console.say(&format!(
+                "  robot found on /state_estimation after {:.1} s",
+                self.t0.elapsed().as_secs_f64()
+            ));
+        }
+        // A real robot stamps with its clock; the mission's time starts at
+        // its first pose (vehicle_sim's clock starts at 0 itself).
+        let first = *self.w.first_stamp.get_or_insert(t);
+        self.w.sim_s = if field { t - first } else { t };
+        if let Some(p) = odom_position(o)
+            && self
+                .w
+                .route
+                .last()
+                .is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) > 1.0)
+        {
+            self.w.route.push(p);
+        }
+    }
+
+    /// The progress bar, or a line when the state changed.
+    fn state(&mut self) {
+        let last = &self.w.progress.last;
+        let phase = if last.phase.is_empty() {
+            "starting"
+        } else {
+            &last.phase
+        };
+        let stage = format!("round {} {phase}", last.round);
+        let done = self.w.progress.done();
+        let gain = format!("coverage {:.2} %", self.coverage_now * 100.0);
+        let odometer = format!("{:.0} m driven, {:.0} sim s", self.w.odometer, self.w.sim_s);
+        self.console.state(
+            self.t0.elapsed().as_secs_f64(),
+            (&stage, done.0 + done.1, self.w.progress.stops()),
+            &gain,
+            &odometer,
+        );
+    }
+}
+
+/// The buildings' statuses on /completeness (unreadable ones said on stderr).
+fn building_statuses(arr: &DiagnosticArray) -> Vec<BuildingStatus> {
+    arr.status
+        .iter()
+        .filter_map(|s| readable(BuildingStatus::from_wire(&from_status(s))))
+        .collect()
+}
+
+/// The detection round and its mean completeness over the buildings detected.
+fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
+    let all = building_statuses(arr);
+    let vals: Vec<f64> = all
+        .iter()
+        .filter(|b| b.skipped.is_none())
+        .map(|b| 1.0 - f64::from(b.r_missing))
+        .collect();
+    let round = all.first()?.round;
+    (!vals.is_empty()).then(|| (round, vals.iter().sum::<f64>() / vals.len() as f64))
+}
+
+/// The array's first status read as a mission status; `None` when it is
+/// absent or unreadable (said on stderr).
+fn first_status<T>(
+    arr: &DiagnosticArray,
+    read: fn(&Wire) -> Result<T, ProtocolError>,
+) -> Option<T> {
+    readable(read(&from_status(arr.status.first()?)))
+}
+
+fn readable<T>(r: Result<T, ProtocolError>) -> Option<T> {
+    r.map_err(|e| eprintln!("  unreadable status: {e}")).ok()
+}
+
+/// The points of `now` (the whole resampled cloud so far) that `before` did
+/// not have: the explorer only appends, so `before` is a prefix unless the
+/// explorer started again (then all of `now`). The nodes work in the
+/// prior's frame (`origin`); a decoded message does not carry it.
+fn arrived_points(before: Option<&Cloud>, now: &Cloud, origin: [f64; 3]) -> Cloud {
+    let kept = before
+        .filter(|b| now.xyz.get(..b.len()) == Some(&b.xyz[..]))
+        .map_or(0, Cloud::len);
+    // Positions only, copied once (not the whole 15 M-point cloud then
+    // drained): every resampled point is a building point, and
+    // building_points keeps all of an unlabelled cloud.
+    let mut c = Cloud::from_xyz(now.xyz[kept..].to_vec());
+    c.origin = origin;
+    c
+}
+
+/// The demo's time limit: `--timeout`, or one that follows the work
+/// ([`WorkLimit`]): a first allowance until a route is known, then every
+/// route the planner makes (each round's, and each new one after the
+/// vehicle was blocked) gets the budget of the work it leaves from the
+/// moment it is known.
+struct TimeLimit {
+    start: tokio::time::Instant,
+    fixed: Option<f64>,
+    limit: WorkLimit,
+    params: BudgetParams,
+    /// The last round whose budget was printed; routes budgeted so far.
+    printed_round: u32,
+    routes: usize,
+}
+
+/// Wall seconds until the first route is known (prior, classification,
+/// detection, targets, graph).
+const FIRST_ROUTE_S: f64 = 600.0;
+
+impl TimeLimit {
+    fn new(a: &DemoArgs) -> Self {
+        Self {
+            start: tokio::time::Instant::now(),
+            fixed: a.timeout,
+            limit: WorkLimit::new(a.timeout.unwrap_or(FIRST_ROUTE_S)),
+            params: BudgetParams {
+                time_factor: a.time_factor,
+                ..BudgetParams::default()
+            },
+            printed_round: 0,
+            routes: 0,
+        }
+    }
+
+    fn deadline(&self) -> tokio::time::Instant {
+        self.start + Duration::from_secs_f64(self.limit.deadline_s())
+    }
+
+    /// Budgets the planner's route (`route_m` over `stops` stops) when it is
+    /// a new one; the line to say when it is a new round's.
+    fn follow(&mut self, w: &Watch, route_m: f64, stops: usize, regions: usize) -> Option<String> {
+        if self.fixed.is_some() || !route_m.is_finite() {
+            return None;
+        }
+        // The route's regions: the round's not yet explored nor unreachable.
+        let regions_left = regions
+            .saturating_sub(w.progress.done().1 + w.progress.last.unreachable_regions)
+            .min(stops);
+        let perimeters: Vec<f64> = w
+            .targets
+            .regions
+            .iter()
+            .map(|r| perimeter(&r.polygon))
+            .collect();
+        let mean = perimeters.iter().sum::<f64>() / perimeters.len().max(1) as f64;
+        let work = PlannedWork {
+            round: w.progress.last.round,
+            route_m,
+            points: stops - regions_left,
+            region_perimeters_m: &vec![mean; regions_left],
+        };
+        let now = self.start.elapsed().as_secs_f64();
+        let b = self.limit.follow(now, &work, &self.params)?;
+        self.routes += 1;
+        if w.progress.last.round <= self.printed_round {
+            return None;
+        }
+        self.printed_round = w.progress.last.round;
+        Some(format!(
+            "  round {}: {route_m:.0} m over {} points and {regions_left} regions ≈ {:.0} simulated s; time limit {:.0} wall s from now, extended by each new route (--timeout fixes one)",
+            w.progress.last.round,
+            work.points,
+            b.sim_s,
+            self.limit.deadline_s() - now
+        ))
+    }
+
+    fn why(&self, t0: Instant) -> String {
+        match self.fixed {
+            Some(s) => format!("timed out after {s} s (--timeout)"),
+            None if self.routes == 0 => format!(
+                "no route within {FIRST_ROUTE_S:.0} s (global_planner.log names the inputs it waited for)"
+            ),
+            None => format!(
+                "timed out after {:.0} s: the work of round {} took longer than its budget ({} routes budgeted)",
+                t0.elapsed().as_secs_f64(),
+                self.printed_round,
+                self.routes
+            ),
+        }
+    }
+}
+
+/// Length of a closed polygon's outline, metres.
+fn perimeter(ring: &[[f64; 2]]) -> f64 {
+    ring.iter()
+        .zip(ring.iter().cycle().skip(1))
+        .map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1]))
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use skyground_core::cloud::class;
+
+    fn cloud(n: usize) -> Cloud {
+        let mut c = Cloud::from_xyz((0..n).map(|i| [i as f32, 0.0, 0.0]).collect());
+        c.label = Some(vec![class::BUILDING; n]);
+        c
+    }
+
+    #[test]
+    fn only_the_appended_points_are_new() {
+        let (old, now) = (cloud(3), cloud(5));
+        let new = arrived_points(Some(&old), &now, [7.0, 8.0, 9.0]);
+        assert_eq!(new.xyz, vec![[3.0, 0.0, 0.0], [4.0, 0.0, 0.0]]);
+        assert_eq!(new.label, None);
+        // In the prior's frame, whatever the decoded message said.
+        assert_eq!(new.origin, [7.0, 8.0, 9.0]);
+        assert_eq!(arrived_points(None, &now, [0.0; 3]).len(), 5);
+    }
+
+    #[test]
+    fn a_restarted_explorer_sends_all_points_again() {
+        let mut now = cloud(5);
+        now.xyz[1][2] = 9.0;
+        assert_eq!(arrived_points(Some(&cloud(3)), &now, [0.0; 3]).len(), 5);
+        assert_eq!(
+            arrived_points(Some(&cloud(6)), &cloud(5), [0.0; 3]).len(),
+            5
+        );
+    }
+
+    #[test]
+    fn a_square_outline_is_four_sides_long() {
+        let sq = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
+        assert!((perimeter(&sq) - 40.0).abs() < 1e-9);
+    }
+}
