@@ -12,7 +12,9 @@ from pathlib import Path
 from mcap.reader import make_reader
 from mcap_ros2.reader import read_ros2_messages
 
-from conftest import BIN
+import pytest
+
+from conftest import BIN, _domains
 
 REPORT_KEYS = {"coverage_before", "coverage_after", "mean_gt_dist_before", "mean_gt_dist_after",
                "path_length_m", "sim_time_s", "wall_time_s", "buildings"}
@@ -97,9 +99,19 @@ def wait_for_log(path, text, proc, timeout):
     return False
 
 
-def test_demo_on_a_small_scene_finishes_gains_and_records_every_topic(tmp_path, env):
-    out, argv = demo(tmp_path, "--timeout", "400")
+@pytest.fixture(scope="module")
+def small_mission(tmp_path_factory):
+    """One finished demo on the small scene, shared by the tests that only read its outputs."""
+    tmp = tmp_path_factory.mktemp("small_mission")
+    env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
+    env.pop("RUST_LOG", None)
+    out, argv = demo(tmp, "--timeout", "400")
     p = subprocess.run(argv, capture_output=True, text=True, timeout=600, env=env)
+    return out, p
+
+
+def test_demo_on_a_small_scene_finishes_gains_and_records_every_topic(small_mission):
+    out, p = small_mission
     assert p.returncode == 0, p.stderr[-4000:]
     report = json.loads((out / "report.json").read_text())
     assert REPORT_KEYS <= report.keys()
@@ -121,6 +133,72 @@ def test_demo_on_a_small_scene_finishes_gains_and_records_every_topic(tmp_path, 
         assert counts.get(topic, 0) >= 1, (topic, counts)
     # The simulator's scans are recorded from their throttled topic alone.
     assert "/registered_scan" not in counts, counts
+
+
+LAYOUT = Path(__file__).resolve().parents[2] / "config" / "foxglove_layout.json"
+# What Foxglove's 3D panel draws (clouds, paths, markers, points, poses, frames).
+DRAWN_IN_3D = {"sensor_msgs/msg/PointCloud2", "nav_msgs/msg/Path", "visualization_msgs/msg/MarkerArray",
+               "geometry_msgs/msg/PointStamped", "nav_msgs/msg/Odometry", "tf2_msgs/msg/TFMessage"}
+
+
+def layout_uses(layout):
+    """(panel, topic, what the panel reads of it) for every topic the layout names."""
+    for panel, cfg in layout["configById"].items():
+        kind = panel.split("!")[0]
+        if kind == "3D":
+            for topic, t in cfg["topics"].items():
+                yield panel, topic, ("3D", t.get("colorField") if t.get("colorMode") == "colormap" else None)
+        elif kind == "Plot":
+            for path in cfg["paths"]:
+                topic, _, field = path["value"].partition(".")
+                yield panel, topic, ("field", field)
+        elif kind == "RawMessages":
+            yield panel, cfg["topicPath"], ("any", None)
+        elif kind == "DiagnosticSummary":
+            yield panel, cfg["topicToRender"], ("type", "diagnostic_msgs/msg/DiagnosticArray")
+        else:
+            raise AssertionError(f"{panel}: a panel kind this test does not check")
+
+
+def panels_of(tree):
+    if isinstance(tree, str):
+        return {tree}
+    return panels_of(tree["first"]) | panels_of(tree["second"])
+
+
+def first_message(bag, topic):
+    for m in read_ros2_messages(str(bag), topics=[topic]):
+        return m.ros_msg
+    return None
+
+
+def test_the_foxglove_layout_finds_every_topic_it_names_in_the_bag_with_the_type_it_draws(small_mission):
+    out, p = small_mission
+    assert p.returncode == 0, p.stderr[-4000:]
+    layout = json.loads(LAYOUT.read_text())
+    assert panels_of(layout["layout"]) == set(layout["configById"]), "the layout places exactly its panels"
+    with open(out / "mission.mcap", "rb") as f:
+        summary = make_reader(f).get_summary()
+    types = {c.topic: summary.schemas[c.schema_id].name for c in summary.channels.values()}
+    uses = list(layout_uses(layout))
+    assert len(uses) >= 15, uses
+    for panel, topic, (what, detail) in uses:
+        assert topic in types, f"{panel} names {topic}, which the bag does not have ({sorted(types)})"
+        if what == "3D":
+            assert types[topic] in DRAWN_IN_3D, (panel, topic, types[topic])
+            if detail is not None:
+                msg = first_message(out / "mission.mcap", topic)
+                assert msg is not None, (panel, topic)
+                assert detail in {fl.name for fl in msg.fields}, (panel, topic, detail)
+        elif what == "type":
+            assert types[topic] == detail, (panel, topic, types[topic])
+        elif what == "field":
+            msg = first_message(out / "mission.mcap", topic)
+            assert msg is not None, (panel, topic)
+            value = msg
+            for name in detail.split("."):
+                value = getattr(value, name)
+            assert isinstance(value, (int, float)), (panel, topic, detail, value)
 
 
 def test_a_killed_planner_is_started_again_and_the_mission_finishes(tmp_path, env):

@@ -292,6 +292,11 @@ pub async fn transport(rt: &mut NodeRuntime, a: TransportArgs) -> Result<(), Run
     if let Some(w) = a.window_tiles {
         config.window_tiles = w;
     }
+    if a.directions.iter().any(|d| d.contains("rclpy")) {
+        let what = "skyground bench transport (its rclpy peer)";
+        crate::runtime::tools::require_python(&a.python, &["rclpy"], what)?;
+        crate::runtime::tools::require_file(&a.peer, what, "--peer")?;
+    }
     let mut rows = Vec::new();
     for dir in &a.directions {
         for (i, &n) in a.points.iter().enumerate() {

@@ -11,6 +11,7 @@ pub mod param_services;
 pub mod params;
 pub mod qos;
 pub mod shutdown;
+pub mod tools;
 pub mod watch;
 
 pub use args::RosArgs;
