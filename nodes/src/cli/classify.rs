@@ -314,8 +314,7 @@ pub fn write_classified(
     path: &Path,
     cloud: &Cloud,
 ) -> Result<bool, RuntimeError> {
-    let labels = cloud.label.as_deref().unwrap_or_default();
-    let kept = match relabel_files(files, path, labels, cloud.crs.as_ref()) {
+    let kept = match relabel_files(files, path, cloud) {
         Ok(kept) => kept,
         Err(CloudIoError::Las {
             source: e @ LasError::SourceFormat { .. },
