@@ -56,6 +56,18 @@ fn corpus(dir: &std::path::Path) -> Vec<PathBuf> {
     files
 }
 
+/// CPU seconds of every reaped child (each run, and what it reaped in
+/// turn: the demo's nodes), from /proc/self/stat (`cutime`, `cstime`, in
+/// clock ticks of 1/100 s on Linux); `None` where it cannot be read.
+fn children_cpu_s() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised name: state is field 3, cutime 16, cstime 17.
+    let rest = stat.rsplit_once(')')?.1;
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i - 3).and_then(|v| v.parse::<f64>().ok());
+    Some((ticks(16)? + ticks(17)?) / 100.0)
+}
+
 #[test]
 fn every_command_on_every_conformance_file() {
     let Some(dir) = data_dir() else { return };
@@ -72,7 +84,7 @@ fn every_command_on_every_conformance_file() {
     let started = std::time::Instant::now();
     let results = run::all(&bin, &root, jobs);
     let wall = started.elapsed().as_secs_f64();
-    let text = table::markdown(&results, wall);
+    let text = table::markdown(&results, wall, children_cpu_s());
     let path = std::env::var_os("SKYGROUND_CONFORMANCE_TABLE")
         .map_or_else(|| root.join("table.md"), PathBuf::from);
     std::fs::write(&path, &text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -14,7 +14,7 @@ use super::verdict::{Outcome, Verdict, judge};
 /// say so, not abort when it runs out.
 const MEMORY_LIMIT: u64 = 4 << 30;
 /// Wall seconds one run may take (the machine may be shared).
-const TIME_LIMIT_S: u64 = 120;
+const TIME_LIMIT_S: u64 = 300;
 
 /// One command on one file.
 #[derive(Debug, Clone)]

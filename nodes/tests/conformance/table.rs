@@ -8,7 +8,7 @@ use super::run::Done;
 use super::verdict::Verdict;
 
 /// The table, with the counts and the wall time of the whole run.
-pub fn markdown(results: &[Done], wall_s: f64) -> String {
+pub fn markdown(results: &[Done], wall_s: f64, cpu_s: Option<f64>) -> String {
     let mut rows: BTreeMap<String, BTreeMap<&str, String>> = BTreeMap::new();
     let (mut ok, mut clear, mut failed) = (0, 0, 0);
     for r in results {
@@ -56,8 +56,9 @@ pub fn markdown(results: &[Done], wall_s: f64) -> String {
         s.push('\n');
     }
     let slowest = results.iter().map(|r| r.seconds).fold(0.0, f64::max);
+    let cpu = cpu_s.map_or_else(String::new, |c| format!(", {c:.0} CPU-s in the commands"));
     s.push_str(&format!(
-        "\n{} files, {} runs: {ok} ok, {clear} clear errors, {failed} failures; {wall_s:.0} s wall, slowest run {slowest:.1} s\n",
+        "\n{} files, {} runs: {ok} ok, {clear} clear errors, {failed} failures (panics, aborts, hangs, partial outputs, unclear errors, bad outputs); {wall_s:.0} s wall{cpu}, slowest run {slowest:.1} s\n",
         rows.len(),
         results.len()
     ));

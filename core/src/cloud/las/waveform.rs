@@ -104,7 +104,11 @@ pub struct Written {
 impl Written {
     /// From the header the writer was made with.
     pub fn of(header: &::las::Header) -> Result<Written, LasError> {
-        let raw = header.clone().into_raw()?;
+        // As the writer starts it: counts and bounds cleared (a source's
+        // bounds may not fit its own grid: laspy's simple1_3.las).
+        let mut h = header.clone();
+        h.clear();
+        let raw = h.into_raw()?;
         Ok(Written {
             minor: raw.version.minor,
             global_encoding: raw.global_encoding,
