@@ -115,6 +115,11 @@ fn info(file: &Path, v: &Value) -> Result<(), String> {
     let Some(bounds) = city_vertex_bounds(file) else {
         return Ok(());
     };
+    // A model without buildings skyground can use is described by its
+    // objects and a note; it has no scene to give the extent of.
+    if v["extent"].is_null() && v["buildings"] == 0 && v["note"].is_string() {
+        return Ok(());
+    }
     let (min, max) = (&v["extent"]["min"], &v["extent"]["max"]);
     for k in 0..3 {
         let (lo, hi) = (min[k].as_f64(), max[k].as_f64());
