@@ -4,9 +4,10 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::Cloud;
-use super::las::{LasError, UnreadableCrs, read_las_bounds, read_las_with, relabel_las, write_las};
+use super::las::{
+    LasError, Relabel, UnreadableCrs, read_las_bounds, read_las_with, relabel_las, write_las,
+};
 use super::ply::{PlyError, parse_ply, write_ply};
-use crate::crs::Crs;
 use crate::file::{self, FileError};
 
 /// Reading or writing a cloud file failed; the message starts with the path.
@@ -150,12 +151,12 @@ pub fn read_bounds_with(path: &Path, unreadable: UnreadableCrs) -> Result<Cloud,
     })
 }
 
-/// Writes `cloud` as binary PLY, LAS 1.4 or LAZ according to the extension.
+/// Writes `cloud` as binary PLY, LAS or LAZ according to the extension
+/// (atomically: an error leaves an earlier file at `path` as it was).
 pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
     let kind = kind(path)?;
     let io = |source| FileError::new(path, source);
-    let file = file::create(path)?;
-    match kind {
+    file::write_with(path, |file| match kind {
         Kind::Ply => write_ply(file, cloud).map_err(|source| CloudIoError::Ply {
             path: path.into(),
             source,
@@ -169,20 +170,22 @@ pub fn write_cloud(path: &Path, cloud: &Cloud) -> Result<(), CloudIoError> {
                 write_las(BufWriter::new(file), cloud, kind == Kind::Laz).map_err(las)?;
             Ok(sink.flush().map_err(io)?)
         }
-    }
+    })
 }
 
-/// Writes `labels` as the classes of a copy of the LAS/LAZ `sources` (in
-/// order, one class per point) to `path` (LAS or LAZ by its extension):
-/// every other field of the points and the first source's header and
-/// records stay. `Ok(false)`, with nothing written, when a source or `path`
-/// is not LAS/LAZ: write the cloud with [`write_cloud`] instead. A first
-/// source without CRS records gets those of `stated` (the user's `--crs`).
+/// Writes `cloud`'s labels as the classes of a copy of the LAS/LAZ
+/// `sources` it was read from (in order, one class per point) to `path`
+/// (LAS or LAZ by its extension): every other field of the points and the
+/// first source's header and records stay (see [`relabel_las`] for when the
+/// version and point format change). `Ok(false)`, with nothing written,
+/// when a source or `path` is not LAS/LAZ: write the cloud with
+/// [`write_cloud`] instead. A first source without CRS records gets the
+/// cloud's CRS (the user's `--crs`). Atomic: a failure leaves an earlier
+/// file at `path` as it was.
 pub fn relabel_files(
     sources: &[PathBuf],
     path: &Path,
-    labels: &[u8],
-    stated: Option<&Crs>,
+    cloud: &Cloud,
 ) -> Result<bool, CloudIoError> {
     let las_like = |k: Kind| matches!(k, Kind::Las | Kind::Laz);
     let out_kind = kind(path)?;
@@ -198,28 +201,25 @@ pub fn relabel_files(
     for s in sources {
         readers.push(BufReader::new(file::open(s)?));
     }
+    let most = |c: &Option<Vec<u8>>| c.iter().flatten().copied().max().unwrap_or(0);
+    let how = Relabel {
+        labels: cloud.label.as_deref().unwrap_or_default(),
+        max_return: most(&cloud.return_number).max(most(&cloud.number_of_returns)),
+        compressed: out_kind == Kind::Laz,
+        stated: cloud.crs.as_ref(),
+    };
     // Written beside and renamed at the end: `path` may be one of the
     // sources (still being read), and a failure leaves no half file there.
-    let mut part = path.as_os_str().to_owned();
-    part.push(".part");
-    let part = PathBuf::from(part);
-    let written = (|| {
-        let sink = BufWriter::new(file::create(&part)?);
-        let mut sink = relabel_las(readers, sink, labels, out_kind == Kind::Laz, stated).map_err(
-            |source| CloudIoError::Las {
-                path: path.into(),
-                source,
-            },
-        )?;
-        sink.flush().map_err(|e| FileError::new(&part, e))?;
-        drop(sink);
-        std::fs::rename(&part, path).map_err(|e| FileError::new(path, e))?;
-        Ok(())
-    })();
-    if written.is_err() {
-        let _ = std::fs::remove_file(&part);
-    }
-    written.map(|()| true)
+    file::write_with(path, |file| {
+        let las = |source| CloudIoError::Las {
+            path: path.into(),
+            source,
+        };
+        let mut sink = relabel_las(readers, BufWriter::new(file), &how).map_err(las)?;
+        sink.flush().map_err(|e| FileError::new(path, e))?;
+        Ok::<(), CloudIoError>(())
+    })?;
+    Ok(true)
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 
 pub mod class;
 mod data;
+pub mod extent;
 pub mod info;
 mod io;
 pub mod las;

@@ -71,8 +71,10 @@ pub struct GeoTiffFacts {
     pub horizontal_unit: Option<LinearUnit>,
     /// The unit of `VerticalUnitsGeoKey`.
     pub vertical_unit: Option<LinearUnit>,
-    /// True when `GTModelTypeGeoKey` says geographic (2).
+    /// True when `GTModelTypeGeoKey` says geographic (2) or geocentric (3).
     pub geographic: bool,
+    /// True when it says geocentric (3).
+    pub geocentric: bool,
     /// The first citation (PCS citation, else GT citation), for a name.
     pub citation: Option<String>,
 }
@@ -169,7 +171,8 @@ pub fn geotiff_facts(
     facts.vertical_epsg = facts.code(VERTICAL_TYPE);
     facts.horizontal_unit = facts.unit(LINEAR_UNITS);
     facts.vertical_unit = facts.unit(VERTICAL_UNITS);
-    facts.geographic = facts.short(MODEL_TYPE) == Some(2);
+    facts.geographic = matches!(facts.short(MODEL_TYPE), Some(2 | 3));
+    facts.geocentric = facts.short(MODEL_TYPE) == Some(3);
     facts.citation = facts.ascii(PCS_CITATION).or_else(|| facts.ascii(CITATION));
     Ok(facts)
 }

@@ -99,6 +99,14 @@ pub enum CrsError {
         /// The CRS name.
         name: String,
     },
+    /// The CRS is geocentric: Earth-centred x, y, z, no plan axes or up.
+    #[error(
+        "CRS `{name}` is geocentric (Earth-centred x, y, z in metres, no plan axes or up); skyground needs a projected CRS in metres or feet: reproject the file first (e.g. `pdal translate` with filters.reprojection)"
+    )]
+    Geocentric {
+        /// The CRS name.
+        name: String,
+    },
 }
 
 impl CrsError {
@@ -189,8 +197,11 @@ impl Crs {
         };
         let f = entry.facts;
         if f.geographic {
-            return Err(CrsError::Geographic {
-                name: f.name.unwrap_or_else(|| format!("EPSG:{code}")),
+            let name = f.name.unwrap_or_else(|| format!("EPSG:{code}"));
+            return Err(if f.geocentric {
+                CrsError::Geocentric { name }
+            } else {
+                CrsError::Geographic { name }
             });
         }
         let h = f.horizontal_unit.unwrap_or(LinearUnit::Metre);
@@ -284,8 +295,15 @@ impl Crs {
         let g = geo.unwrap_or_default();
         let name = w.name.clone().or_else(|| g.citation.clone());
         if w.geographic || (wkt_text.is_none() && g.geographic) {
-            return Err(CrsError::Geographic {
-                name: name.unwrap_or_else(|| "geographic CRS".into()),
+            let geocentric = w.geocentric || (wkt_text.is_none() && g.geocentric);
+            return Err(if geocentric {
+                CrsError::Geocentric {
+                    name: name.unwrap_or_else(|| "geocentric CRS".into()),
+                }
+            } else {
+                CrsError::Geographic {
+                    name: name.unwrap_or_else(|| "geographic CRS".into()),
+                }
             });
         }
         let (horizontal, h_source) = match (&w.horizontal_unit, &g.horizontal_unit) {

@@ -52,6 +52,9 @@ pub struct WktFacts {
     pub vertical_unit: Option<LinearUnit>,
     /// True when the horizontal CRS is geographic (angles, not lengths).
     pub geographic: bool,
+    /// True when it is geocentric (Earth-centred Cartesian x, y, z): also
+    /// `geographic`, as neither has plan axes and an up.
+    pub geocentric: bool,
 }
 
 const PROJECTED: [&str; 3] = ["PROJCS", "PROJCRS", "PROJECTEDCRS"];
@@ -180,6 +183,10 @@ pub fn wkt_facts(text: &str) -> Result<WktFacts, WktError> {
             facts.horizontal_unit = h.linear_unit();
         } else if GEOGRAPHIC.contains(&h.keyword.as_str()) {
             facts.geographic = true;
+            // WKT1's GEOCCS; WKT2's geodetic CRS with a Cartesian system.
+            let cartesian = h.child(&["CS"]).and_then(|cs| cs.text(0));
+            facts.geocentric = h.keyword == "GEOCCS"
+                || cartesian.is_some_and(|t| t.eq_ignore_ascii_case("Cartesian"));
         }
     }
     if let Some(v) = vertical {
@@ -423,6 +430,19 @@ mod tests {
         let f = wkt_facts(text).unwrap();
         assert_eq!(f.horizontal_unit, Some(LinearUnit::Foot));
         assert_eq!(f.epsg, Some(2992));
+    }
+
+    #[test]
+    fn geocentric_is_told_apart_from_geographic() {
+        let wkt1 = r#"GEOCCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],PRIMEM["Greenwich",0],UNIT["metre",1],AUTHORITY["EPSG","4978"]]"#;
+        let wkt2 = r#"GEODCRS["WGS 84",DATUM["World Geodetic System 1984",ELLIPSOID["WGS 84",6378137,298.257223563]],CS[Cartesian,3],AXIS["(X)",geocentricX],AXIS["(Y)",geocentricY],AXIS["(Z)",geocentricZ],LENGTHUNIT["metre",1]]"#;
+        for w in [wkt1, wkt2] {
+            let f = wkt_facts(w).unwrap();
+            assert!(f.geographic && f.geocentric, "{w}");
+        }
+        let geog = r#"GEODCRS["WGS 84",DATUM["World Geodetic System 1984",ELLIPSOID["WGS 84",6378137,298.257223563]],CS[ellipsoidal,2],AXIS["latitude",north],AXIS["longitude",east],ANGLEUNIT["degree",0.0174532925199433]]"#;
+        let f = wkt_facts(geog).unwrap();
+        assert!(f.geographic && !f.geocentric);
     }
 
     #[test]

@@ -20,6 +20,9 @@ pub enum PlotError {
     /// A plan picture was asked for without a ground graph to draw.
     #[error("nothing to draw: the plan has no set-down (no ground graph)")]
     NoGraph,
+    /// The file could not be created or renamed into place.
+    #[error(transparent)]
+    File(#[from] crate::file::FileError),
     /// The PNG could not be written.
     #[error("cannot write {path}: {source}")]
     Write {
@@ -225,14 +228,21 @@ impl Canvas {
         }
     }
 
-    /// Writes the picture as PNG.
+    /// Writes the picture as PNG (atomically: a failure leaves an earlier
+    /// picture at `path` as it was).
     pub fn save(&self, path: &Path) -> Result<(), PlotError> {
-        self.img
-            .save_with_format(path, image::ImageFormat::Png)
-            .map_err(|source| PlotError::Write {
-                path: path.display().to_string(),
-                source,
-            })
+        let failed = |source| PlotError::Write {
+            path: path.display().to_string(),
+            source,
+        };
+        crate::file::write_with(path, |f| {
+            let mut w = std::io::BufWriter::new(f);
+            self.img
+                .write_to(&mut w, image::ImageFormat::Png)
+                .map_err(failed)?;
+            std::io::Write::flush(&mut w)
+                .map_err(|e| PlotError::File(crate::file::FileError::new(path, e)))
+        })
     }
 }
 

@@ -140,8 +140,8 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
 
 /// Writes [`to_cityjson`] to `path`.
 pub fn write_cityjson(path: &Path, rec: &Reconstruction) -> Result<(), ReconstructError> {
-    std::fs::write(path, to_cityjson(rec).to_string()).map_err(|source| ReconstructError::Write {
+    crate::file::write(path, to_cityjson(rec).to_string()).map_err(|e| ReconstructError::Write {
         what: path.display().to_string(),
-        source,
+        source: e.source,
     })
 }

@@ -31,8 +31,8 @@ pub fn obj_text(rec: &Reconstruction) -> String {
 
 /// Writes [`obj_text`] to `path`.
 pub fn write_obj(path: &Path, rec: &Reconstruction) -> Result<(), ReconstructError> {
-    std::fs::write(path, obj_text(rec)).map_err(|source| ReconstructError::Write {
+    crate::file::write(path, obj_text(rec)).map_err(|e| ReconstructError::Write {
         what: path.display().to_string(),
-        source,
+        source: e.source,
     })
 }

@@ -30,7 +30,8 @@ pub(crate) mod vec3;
 pub use builder::{MeshPart, SceneBuilder};
 pub use check::{EdgeDefects, SceneCheckError};
 pub use cityjson::{
-    CityJsonError, CityJsonOptions, CityModel, parse_cityjson, read_city_files, read_cityjson,
+    CityJsonError, CityJsonOptions, CityModel, parse_cityjson, read_city_files,
+    read_city_files_and_crs, read_cityjson,
 };
 pub use crop::{CropError, Cropped, Window, busiest_window, crop_scene};
 pub use error::SceneError;

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use serde::Deserialize;
 use serde_json::json;
-use skyground_core::cloud::{Cloud, write_cloud};
+use skyground_core::cloud::{Cloud, CloudIoError, write_cloud};
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{
     CompletenessReport, GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances,
@@ -83,6 +83,7 @@ pub fn survey_of(
 ) -> Result<Survey, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let p = params(params_file)?;
+    check_survey_size(&scene, &p, scene_spec)?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
     let t1 = Instant::now();
     let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
@@ -168,18 +169,69 @@ pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
         write_cloud(&a.out.join(name), &s.cloud).map_err(|e| err(e.to_string()))?;
     }
     let gt_path = a.out.join("gt_samples.ply");
-    let file =
-        std::fs::File::create(&gt_path).map_err(|e| err(format!("{}: {e}", gt_path.display())))?;
-    s.gt.write_ply(std::io::BufWriter::new(file))
-        .map_err(|e| err(format!("{}: {e}", gt_path.display())))?;
+    skyground_core::file::write_with(&gt_path, |file| {
+        s.gt.write_ply(std::io::BufWriter::new(file))
+            .map_err(|source| CloudIoError::Ply {
+                path: gt_path.clone(),
+                source,
+            })
+    })
+    .map_err(|e| err(e.to_string()))?;
     s.summary["outputs"] = json!({
         "las": a.out.join("aerial.las"),
         "ply": a.out.join("aerial.ply"),
         "gt": gt_path,
     });
-    std::fs::write(a.out.join("summary.json"), format!("{:#}", s.summary))
-        .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
+    skyground_core::file::write(&a.out.join("summary.json"), format!("{:#}", s.summary))
+        .map_err(|e| err(e.to_string()))?;
     Ok(s.summary)
+}
+
+/// Most points a simulated survey, and apart from it the ground-truth
+/// samples of the buildings, may hold in one run (~1.2 GB each).
+const MAX_SURVEY_POINTS: f64 = 5e7;
+
+/// `Err`, before anything is allocated, when the survey of `scene` (its
+/// plan extent at the survey's nominal density) or the samples of its
+/// building surfaces would hold more than [`MAX_SURVEY_POINTS`]: a
+/// kilometre-wide terrain mesh, or a model whose integer vertices lack the
+/// scale that makes them metres.
+fn check_survey_size(scene: &Scene, p: &Params, spec: &str) -> Result<(), RuntimeError> {
+    let Some((lo, hi)) = scene.bounds() else {
+        return Ok(());
+    };
+    let size = [0, 1].map(|k| f64::from(hi[k] - lo[k]));
+    let density = f64::from(p.survey.nominal_density());
+    let points = size[0] * size[1] * density;
+    let building_area: f64 = (0..scene.triangles.len())
+        .filter(|&t| {
+            let o = scene.triangle_object.get(t).map(|&o| o as usize);
+            o.and_then(|o| scene.objects.get(o))
+                .is_some_and(|o| o.kind == skyground_core::scene::ObjectKind::Building)
+        })
+        .filter_map(|t| scene.triangle_corners(t))
+        .map(|[a, b, c]| {
+            let (u, v) = (
+                [0, 1, 2].map(|k| b[k] - a[k]),
+                [0, 1, 2].map(|k| c[k] - a[k]),
+            );
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            f64::from((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()) / 2.0
+        })
+        .sum();
+    let samples = building_area / f64::from(p.gt_spacing_m).powi(2);
+    let limit = MAX_SURVEY_POINTS;
+    if points.is_finite() && samples.is_finite() && points <= limit && samples <= limit {
+        return Ok(());
+    }
+    Err(RuntimeError::Node(format!(
+        "scene {spec}: {:.0} m × {:.0} m in plan, {:.0} m² of building surface: its survey at {density:.1} pts/m² would hold ~{:.2e} points and its ground truth at {} m spacing ~{:.2e} samples, more than the {limit:.0e} one run holds in memory: crop the scene (skyground crop), lower the survey's density in a params file, or check the model's units",
+        size[0], size[1], building_area, points, p.gt_spacing_m, samples
+    )))
 }
 
 /// The xy-projected area of the upward-facing triangles, m².

@@ -63,7 +63,7 @@ pub fn write_completeness(
         scene_model(scene, &by_id, None)
     };
     let path = dir.join(FILE_NAME);
-    std::fs::write(
+    skyground_core::file::write(
         &path,
         serde_json::to_vec(&doc).map_err(|e| err(e.to_string()))?,
     )

@@ -120,6 +120,10 @@ fn csf_params(file: Option<&std::path::Path>) -> Result<CsfParams, RuntimeError>
 /// Classifies a file (or tiles as one cloud, or tile by tile with
 /// `--out-dir`); compares with its own labels when it has any.
 pub fn run(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
+    classify_files(a).map_err(|e| super::about(&a.inputs, e))
+}
+
+fn classify_files(a: &ClassifyArgs) -> Result<serde_json::Value, RuntimeError> {
     let csf = csf_params(a.params_file.as_deref())?;
     let model = load_model_file(a.model.as_deref())?;
     let classifier = SceneClassifier::new(csf, model).map_err(err)?;
@@ -314,8 +318,7 @@ pub fn write_classified(
     path: &Path,
     cloud: &Cloud,
 ) -> Result<bool, RuntimeError> {
-    let labels = cloud.label.as_deref().unwrap_or_default();
-    let kept = match relabel_files(files, path, labels, cloud.crs.as_ref()) {
+    let kept = match relabel_files(files, path, cloud) {
         Ok(kept) => kept,
         Err(CloudIoError::Las {
             source: e @ LasError::SourceFormat { .. },

@@ -8,7 +8,9 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::classify::SceneClassifier;
+use skyground_core::cloud::extent::check_plan_extent;
 use skyground_core::cloud::{Cloud, class, write_cloud};
+use skyground_core::file;
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
@@ -116,8 +118,12 @@ fn gt_scene(spec: &str) -> Result<String, RuntimeError> {
     Ok(spec.to_string())
 }
 
-/// Runs detection (and targets) on a file.
+/// Runs detection (and targets) on a file; an error names the file.
 pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
+    detect_files(a).map_err(|e| super::about(&a.inputs, e))
+}
+
+fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     use crate::node::{completeness_detector, target_generator};
     let pd: SceneParams = section(
         "completeness_detector",
@@ -131,9 +137,9 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         a.params_file.as_deref(),
         &["targets"],
     )?;
-    std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let t0 = Instant::now();
     let mut cloud: Cloud = a.units.read_tiles(&a.inputs)?;
+    check_plan_extent(&cloud).map_err(err)?;
     let labelled = cloud
         .label
         .as_ref()
@@ -178,6 +184,22 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
     );
     missing.origin = cloud.origin;
     missing.crs = cloud.crs.clone();
+    let png = a.out.join("detection.png");
+    let unit = cloud.frame().unit();
+    // A tile without buildings still gets its picture, of the whole tile
+    // (a cloud of one point, of the metre around it). Drawn before anything
+    // is written: a failure leaves the directory as it was.
+    let survey = cloud.bounds().map(|(lo, hi)| {
+        let (lo, hi) = ([lo[0], lo[1]].map(f64::from), [hi[0], hi[1]].map(f64::from));
+        let pad = |k: usize| if hi[k] - lo[k] < 1.0 { 0.5 } else { 0.0 };
+        (
+            [lo[0] - pad(0), lo[1] - pad(1)],
+            [hi[0] + pad(0), hi[1] + pad(1)],
+        )
+    });
+    let picture =
+        detection_picture(&bpts, &detection, Some(&targets), survey, 2400, &unit).map_err(err)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     // The producer's points with the classes used: every other field stays.
     let classified = classified_path(&a.out, &a.inputs)?;
     super::classify::write_classified(&a.inputs, &classified, &cloud)?;
@@ -190,17 +212,10 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         "missing": detection.missing_points(),
     });
     // Compact: on a 10 M-point tile the gaps alone are 350 k entries.
-    std::fs::write(a.out.join("targets.json"), format!("{targets_json}\n")).map_err(err)?;
+    let targets_path = a.out.join("targets.json");
+    file::write(&targets_path, format!("{targets_json}\n")).map_err(err)?;
     let field = super::field::write_detection(&a.out, &cloud, &detection, &targets)?;
-    let png = a.out.join("detection.png");
-    let unit = cloud.frame().unit();
-    // A tile without buildings still gets its picture, of the whole tile.
-    let survey = cloud
-        .bounds()
-        .map(|(lo, hi)| ([lo[0], lo[1]].map(f64::from), [hi[0], hi[1]].map(f64::from)));
-    detection_picture(&bpts, &detection, Some(&targets), survey, 2400, &unit)
-        .and_then(|c| c.save(&png))
-        .map_err(err)?;
+    picture.save(&png).map_err(err)?;
 
     let per_building: Vec<serde_json::Value> = detection
         .buildings
@@ -219,8 +234,8 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
             })
         })
         .collect();
-    std::fs::write(
-        a.out.join("detection.json"),
+    file::write(
+        &a.out.join("detection.json"),
         format!("{:#}\n", json!(per_building)),
     )
     .map_err(err)?;

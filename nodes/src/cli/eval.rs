@@ -50,8 +50,7 @@ pub fn markdown(e: &Evaluation, title: &str) -> String {
 
 /// Writes `value` as pretty JSON to `path`.
 pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), RuntimeError> {
-    std::fs::write(path, format!("{value:#}\n"))
-        .map_err(|e| err(format!("{}: {e}", path.display())))
+    skyground_core::file::write(path, format!("{value:#}\n")).map_err(err)
 }
 
 /// Runs the evaluation.
@@ -89,8 +88,8 @@ pub fn run(a: &EvalArgs) -> Result<serde_json::Value, RuntimeError> {
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
         write_json(&dir.join("eval.json"), &value)?;
-        std::fs::write(
-            dir.join("eval.md"),
+        skyground_core::file::write(
+            &dir.join("eval.md"),
             markdown(&e, &format!("skyground eval: {}", a.scene)),
         )
         .map_err(|e| err(format!("{}: {e}", dir.display())))?;

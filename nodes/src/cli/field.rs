@@ -15,8 +15,7 @@ use skyground_core::targets::TargetSet;
 use crate::runtime::RuntimeError;
 
 fn write(path: PathBuf, text: String) -> Result<PathBuf, RuntimeError> {
-    std::fs::write(&path, text)
-        .map_err(|e| RuntimeError::Node(format!("{}: {e}", path.display())))?;
+    skyground_core::file::write(&path, text).map_err(|e| RuntimeError::Node(e.to_string()))?;
     Ok(path)
 }
 

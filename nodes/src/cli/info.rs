@@ -8,7 +8,9 @@ use serde_json::{Value, json};
 use skyground_core::cloud::info::{DENSITY_CELL_M, cloud_info};
 use skyground_core::crs::{Crs, JsonCrs, cityjson_crs, geojson_crs};
 use skyground_core::footprint::load_footprints;
-use skyground_core::scene::load_scene;
+use skyground_core::scene::{
+    CityJsonError, CityJsonOptions, Scene, SceneError, load_scene, read_city_files_and_crs,
+};
 
 use super::err;
 use crate::runtime::RuntimeError;
@@ -16,7 +18,7 @@ use crate::runtime::RuntimeError;
 /// Options of `skyground info`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct InfoArgs {
-    /// A cloud (LAS, LAZ, PLY), a scene (CityJSON, OBJ) or footprints (GeoJSON).
+    /// A cloud (LAS, LAZ, PLY), a scene (CityJSON, CityJSONSeq, OBJ) or footprints (GeoJSON).
     pub file: PathBuf,
     #[command(flatten)]
     pub units: super::units::UnitsArg,
@@ -60,10 +62,11 @@ pub fn run(a: &InfoArgs) -> Result<Value, RuntimeError> {
     let out = match extension(&a.file).as_str() {
         "las" | "laz" | "ply" => cloud(a)?,
         "json" | "geojson" => json_file(&a.file)?,
+        "jsonl" => city_model(&a.file, &first_line(&a.file)?)?,
         "obj" => scene(&a.file, None)?,
         other => {
             return Err(err(format!(
-                "{}: unknown extension `{other}` (LAS, LAZ, PLY, CityJSON, GeoJSON, OBJ)",
+                "{}: unknown extension `{other}` (LAS, LAZ, PLY, CityJSON, CityJSONSeq, GeoJSON, OBJ)",
                 a.file.display()
             )));
         }
@@ -76,7 +79,15 @@ pub fn run(a: &InfoArgs) -> Result<Value, RuntimeError> {
 
 fn cloud(a: &InfoArgs) -> Result<Value, RuntimeError> {
     let c = a.units.read(&a.file)?;
-    let info = cloud_info(&c).ok_or_else(|| err(format!("{}: no points", a.file.display())))?;
+    let Some(info) = cloud_info(&c) else {
+        return Ok(json!({
+            "file": a.file,
+            "kind": "cloud",
+            "points": 0,
+            "crs": crs_json(c.crs.as_ref()),
+            "extent": null,
+        }));
+    };
     // The reader keeps every point's echo columns (PLY has none).
     let returns = c
         .return_number
@@ -119,7 +130,7 @@ fn json_file(path: &Path) -> Result<Value, RuntimeError> {
     let doc: Value =
         serde_json::from_slice(&data).map_err(|e| err(format!("{}: {e}", path.display())))?;
     if doc.get("type").and_then(Value::as_str) == Some("CityJSON") {
-        return scene(path, Some(cityjson_crs(&doc).map_err(err)?));
+        return city_model(path, &doc);
     }
     let crs = geojson_crs(&doc).map_err(err)?;
     let loaded = load_footprints(path, [0.0; 3]).map_err(err)?;
@@ -163,10 +174,45 @@ fn json_crs_json(crs: &JsonCrs) -> Value {
     }
 }
 
+/// The first line of a CityJSONSeq file (its `CityJSON` header).
+fn first_line(path: &Path) -> Result<Value, RuntimeError> {
+    let data = std::fs::read(path).map_err(|e| err(format!("{}: {e}", path.display())))?;
+    let line = data.split(|&b| b == b'\n').next().unwrap_or_default();
+    serde_json::from_slice(line).map_err(|e| err(format!("{}: line 1: {e}", path.display())))
+}
+
+/// A CityJSON or CityJSONSeq model (`header` its document or first line)
+/// as it is, without the ground the scene reader adds around buildings;
+/// one without buildings skyground can use is described all the same.
+fn city_model(path: &Path, header: &Value) -> Result<Value, RuntimeError> {
+    let crs = cityjson_crs(header).map_err(err)?;
+    let options = CityJsonOptions { terrain: None };
+    match read_city_files_and_crs(&[path.to_path_buf()], &options) {
+        Ok((s, _)) => Ok(scene_json(path, &s, crs)),
+        Err(SceneError::CityJson {
+            source: e @ CityJsonError::NoBuildings { .. },
+            ..
+        }) => Ok(json!({
+            "file": path,
+            "kind": "scene",
+            "objects": header["CityObjects"].as_object().map_or(0, serde_json::Map::len),
+            "buildings": 0,
+            "note": e.to_string(),
+            "crs": json_crs_json(&crs),
+            "extent": null,
+        })),
+        Err(e) => Err(err(e)),
+    }
+}
+
 fn scene(path: &Path, crs: Option<JsonCrs>) -> Result<Value, RuntimeError> {
     let spec = path.to_str().ok_or_else(|| err("path is not UTF-8"))?;
     let s = load_scene(spec).map_err(err)?;
-    let crs = crs.unwrap_or(JsonCrs::Unstated);
+    Ok(scene_json(path, &s, crs.unwrap_or(JsonCrs::Unstated)))
+}
+
+/// A loaded scene's summary; `crs` says what unit its extent is told in.
+fn scene_json(path: &Path, s: &Scene, crs: JsonCrs) -> Value {
     let f = [0, 1, 2].map(|k| {
         if k < 2 {
             json_crs_factor(&crs)
@@ -185,7 +231,7 @@ fn scene(path: &Path, crs: Option<JsonCrs>) -> Result<Value, RuntimeError> {
         let [min, max, size] = [min_m, max_m, size_m].map(|v| [0, 1, 2].map(|k| v[k] / f[k]));
         json!({"min": min, "max": max, "size": size, "size_m": size_m})
     });
-    Ok(json!({
+    json!({
         "file": path,
         "kind": "scene",
         "objects": s.objects.len(),
@@ -193,7 +239,7 @@ fn scene(path: &Path, crs: Option<JsonCrs>) -> Result<Value, RuntimeError> {
         "triangles": s.triangles.len(),
         "crs": json_crs_json(&crs),
         "extent": extent,
-    }))
+    })
 }
 
 /// The summary as lines for a person.
@@ -227,6 +273,9 @@ fn text(v: &Value) -> String {
             crs["unit_source"].as_str().unwrap_or("?")
         ),
     );
+    if let Some(note) = v["note"].as_str() {
+        line(&mut s, "note", note.to_string());
+    }
     let e = &v["extent"];
     if !e.is_null() {
         let f = |x: &Value| {

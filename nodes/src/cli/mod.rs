@@ -36,6 +36,20 @@ pub fn err(e: impl std::fmt::Display) -> RuntimeError {
     RuntimeError::Node(e.to_string())
 }
 
+/// `e` as an error about `files`: its message names them first, unless it
+/// already names one (a user who ran a command on several files learns
+/// which one was refused).
+pub fn about(files: &[std::path::PathBuf], e: RuntimeError) -> RuntimeError {
+    let text = e.to_string();
+    if files
+        .iter()
+        .any(|f| text.contains(&f.display().to_string()))
+    {
+        return e;
+    }
+    RuntimeError::Node(format!("{}: {text}", units::describe(files)))
+}
+
 /// A node spec for a CLI tool (no params file).
 pub const fn tool_spec(name: &'static str) -> NodeSpec {
     NodeSpec {

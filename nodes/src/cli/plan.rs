@@ -201,7 +201,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     });
     let routes: Vec<&Route> = plan.set_downs.iter().map(|s| &s.route).collect();
     let file = json!({"summary": out, "route": route, "set_down_routes": &routes[1..]});
-    std::fs::write(a.input.join("route.json"), format!("{file:#}\n")).map_err(err)?;
+    skyground_core::file::write(&a.input.join("route.json"), format!("{file:#}\n")).map_err(err)?;
     super::field::write_route(&a.input, &cloud, &FieldRoute::from(&plan), &targets)?;
     let unit = cloud.frame().unit();
     let view = PlanView {

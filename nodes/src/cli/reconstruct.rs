@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::Cloud;
+use skyground_core::cloud::extent::check_plan_extent;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
@@ -162,8 +163,12 @@ pub fn evaluate_against(scene: &Scene, rec: &Reconstruction, spacing: f32) -> Mo
     evaluate_models(scene, &gt, rec, f64::from(spacing))
 }
 
-/// Runs the reconstruction.
+/// Runs the reconstruction; an error names the input.
 pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
+    reconstruct_file(a).map_err(|e| super::about(std::slice::from_ref(&a.input), e))
+}
+
+fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
     if a.gt_spacing.is_nan() || a.gt_spacing <= 0.0 {
         return Err(err(format!(
             "--gt-spacing ({}) must be positive",
@@ -171,6 +176,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         )));
     }
     let cloud = a.units.read(&a.input)?;
+    check_plan_extent(&cloud).map_err(err)?;
     if let Some(c) = cloud.crs.as_ref().filter(|c| c.epsg.is_none()) {
         // CityJSON names a CRS by an authority's URL; a WKT alone has none.
         eprintln!(
@@ -214,7 +220,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
                 table(&mb, Some(&ma)),
                 verdict_md(&verdict)
             );
-            std::fs::write(a.out.join("models.md"), &md)
+            skyground_core::file::write(&a.out.join("models.md"), &md)
                 .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
             if !a.json {
                 eprintln!("{md}");
@@ -259,7 +265,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
         "before_after": before_after,
         "per_model": models,
     });
-    std::fs::write(a.out.join("reconstruct.json"), format!("{value:#}\n"))
+    skyground_core::file::write(&a.out.join("reconstruct.json"), format!("{value:#}\n"))
         .map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     if !a.json {
         eprintln!(

@@ -28,6 +28,21 @@ pub enum LasError {
         /// Whole points present in the file.
         available: u64,
     },
+    /// The header's VLR count is more than the records before the point data.
+    #[error(
+        "header declares {declared} VLRs but only {fit} fit before the point data at byte {offset}: the header is corrupt"
+    )]
+    VlrCount {
+        /// VLRs the header declares.
+        declared: u32,
+        /// Whole VLRs found before the point data.
+        fit: u32,
+        /// Offset to the point data.
+        offset: u32,
+    },
+    /// The LAZ chunks cannot be found (the decoder would fail part way or panic).
+    #[error("LAZ point data cannot be decoded: {0}")]
+    LazChunks(String),
     /// An extended VLR lies (partly) past the end of the file.
     #[error("extended VLR at byte {start} runs past the end of the file ({file_len} bytes)")]
     BadEvlr {
@@ -46,6 +61,15 @@ pub enum LasError {
         /// The `las` crate's error.
         #[source]
         source: ::las::Error,
+    },
+    /// The decoder panicked (caught): the point data is malformed in a way
+    /// the checks before decoding did not see.
+    #[error("the LAS/LAZ decoder failed at point {index}: {message} (the point data is malformed)")]
+    DecoderPanic {
+        /// Points decoded before the failure.
+        index: u64,
+        /// The decoder's message.
+        message: String,
     },
     /// A point's coordinate is NaN/infinite or too far from the origin for `f32`.
     #[error("point {index}: {axis} = {value} is not a finite coordinate near the origin")]

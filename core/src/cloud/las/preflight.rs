@@ -3,9 +3,15 @@
 //! The `las` crate computes the end of the point data as `offset + count ×
 //! record_len` (which can overflow) and allocates an extended VLR's declared
 //! length. We check both against the real stream length first, so a corrupt
-//! header gives an error instead of a panic or an absurd allocation.
+//! header gives an error instead of a panic or an absurd allocation. The
+//! VLRs the header counts must fit before the point data, and a LAZ file's
+//! chunks must be findable: the `laz` crate panics on variable-size chunks
+//! it has no table for.
 
 use std::io::{Read, Seek, SeekFrom};
+
+use ::laz::LazVlr;
+use ::laz::laszip::ChunkTable;
 
 use super::LasError;
 
@@ -13,6 +19,13 @@ use super::LasError;
 const HEADER_LEN: usize = 255;
 /// Size of an extended VLR's header.
 const EVLR_HEADER_LEN: u64 = 60;
+/// Size of a VLR's header.
+const VLR_HEADER_LEN: u64 = 54;
+/// The LASzip VLR: user id and record id.
+const LASZIP: (&[u8], u16) = (b"laszip encoded", 22204);
+/// LASzip compressor types: one chunk of every point; chunks of points.
+const POINT_WISE: u16 = 1;
+const POINT_WISE_CHUNKED: u16 = 2;
 
 /// What the checks learned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,6 +57,7 @@ pub fn check<R: Read + Seek>(source: &mut R) -> Result<Preflight, LasError> {
     ) else {
         return Ok(Preflight { capacity: 0 });
     };
+    let laszip = walk_vlrs(source, &field, offset, file_len)?;
     let large = if minor >= 4 { field.u64(247) } else { None };
     let count = match (legacy, large) {
         (0, Some(n)) => n,
@@ -65,12 +79,102 @@ pub fn check<R: Read + Seek>(source: &mut R) -> Result<Preflight, LasError> {
     {
         check_evlr(source, start, file_len)?;
     }
+    if compressed && let Some(data) = laszip {
+        check_chunks(source, &data, offset, count)?;
+    }
     let capacity = if compressed {
         count.min(file_len)
     } else {
         count
     };
     Ok(Preflight { capacity })
+}
+
+/// Walks the VLRs the header counts: each must fit before the point data.
+/// Returns the LASzip VLR's data, if one is there.
+fn walk_vlrs<R: Read + Seek>(
+    source: &mut R,
+    field: &Fields,
+    offset: u32,
+    file_len: u64,
+) -> Result<Option<Vec<u8>>, LasError> {
+    let (Some(header_size), Some(declared)) = (field.u16(94), field.u32(100)) else {
+        return Ok(None);
+    };
+    let end = u64::from(offset).min(file_len);
+    let mut at = u64::from(header_size);
+    let mut laszip = None;
+    for k in 0..declared {
+        let bad = LasError::VlrCount {
+            declared,
+            fit: k,
+            offset,
+        };
+        if at + VLR_HEADER_LEN > end {
+            return Err(bad);
+        }
+        let mut head = [0u8; VLR_HEADER_LEN as usize];
+        source.seek(SeekFrom::Start(at))?;
+        source.read_exact(&mut head)?;
+        let len = u64::from(u16::from_le_bytes([head[20], head[21]]));
+        let data_at = at + VLR_HEADER_LEN;
+        if data_at + len > end {
+            return Err(bad);
+        }
+        let user = head[2..18].split(|&b| b == 0).next().unwrap_or_default();
+        if (user, u16::from_le_bytes([head[18], head[19]])) == LASZIP {
+            let mut data = vec![0u8; len as usize];
+            source.read_exact(&mut data)?;
+            laszip = Some(data);
+        }
+        at = data_at + len;
+    }
+    source.seek(SeekFrom::Start(0))?;
+    Ok(laszip)
+}
+
+/// Checks that a LAZ file's chunks can be found: variable-size chunks need
+/// a chunk table (the point-wise compressor has none), and the table must
+/// hold every point the header counts.
+fn check_chunks<R: Read + Seek>(
+    source: &mut R,
+    laszip: &[u8],
+    offset: u32,
+    count: u64,
+) -> Result<(), LasError> {
+    let bad = |why: String| LasError::LazChunks(why);
+    let vlr = LazVlr::from_buffer(laszip).map_err(|e| bad(format!("LASzip record: {e}")))?;
+    let compressor = laszip
+        .get(..2)
+        .map_or(0, |b| u16::from_le_bytes([b[0], b[1]]));
+    if !vlr.uses_variable_size_chunks() {
+        return Ok(());
+    }
+    if compressor == POINT_WISE {
+        return Err(bad(
+            "variable-size chunks with the point-wise compressor, which has no chunk table".into(),
+        ));
+    }
+    source.seek(SeekFrom::Start(u64::from(offset)))?;
+    let table = ChunkTable::read_from(&mut *source, &vlr);
+    source.seek(SeekFrom::Start(0))?;
+    let table = match table {
+        Ok(t) => t,
+        // Layered chunks carry their own point counts: a table is optional.
+        Err(_) if compressor != POINT_WISE_CHUNKED => return Ok(()),
+        Err(e) => {
+            return Err(bad(format!(
+                "variable-size chunks but no readable chunk table ({e})"
+            )));
+        }
+    };
+    let held: u64 = table[..].iter().map(|c| c.point_count).sum();
+    if held < count {
+        return Err(bad(format!(
+            "the chunk table holds {held} of the header's {count} points"
+        )));
+    }
+    Ok(())
 }
 
 /// Checks that the first extended VLR (the only one the `las` crate reads) fits.

@@ -67,13 +67,7 @@ pub fn read_las_with<R: Read + Seek + Send + Sync + 'static>(
     let mut origin = header_origin(&header);
     let mut index = 0u64;
     loop {
-        let batch = reader
-            .read_points(BATCH)
-            .map_err(|source| LasError::Points {
-                index,
-                count,
-                source,
-            })?;
+        let batch = read_batch(&mut reader, index, count)?;
         if batch.is_empty() {
             break;
         }
@@ -85,6 +79,34 @@ pub fn read_las_with<R: Read + Seek + Send + Sync + 'static>(
     // Points and origin were read in the file's unit.
     cloud.rescale(cloud.to_metre());
     Ok(cloud)
+}
+
+/// The next batch of points. A panic inside the decoder is caught and
+/// becomes an error: a guard only, for decoder panics the preflight checks
+/// do not foresee (the `laz` crate has several on malformed chunks).
+fn read_batch(reader: &mut Reader, index: u64, count: u64) -> Result<PointData, LasError> {
+    let decoded =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.read_points(BATCH)));
+    match decoded {
+        Ok(batch) => batch.map_err(|source| LasError::Points {
+            index,
+            count,
+            source,
+        }),
+        Err(panic) => Err(LasError::DecoderPanic {
+            index,
+            message: panic_message(panic.as_ref()),
+        }),
+    }
+}
+
+/// The text a panic carried.
+fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
+    panic
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| panic.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "no message".into())
 }
 
 /// The header's bounding box alone, as a cloud of its two corners (same

@@ -240,6 +240,67 @@ fn points_of(data: Vec<u8>) -> (::las::Header, Vec<::las::point::Point>) {
     (h, pts)
 }
 
+/// Relabelling with `labels`, returns of at most 2, no stated CRS.
+fn how(labels: &[u8], compressed: bool) -> Relabel<'_> {
+    Relabel {
+        labels,
+        max_return: 2,
+        compressed,
+        stated: None,
+    }
+}
+
+#[test]
+fn points_that_legacy_formats_cannot_hold_make_the_copy_las_1_4() {
+    let src = producer_file(5, 1000.0, 1000.0, false);
+    // Classes above 31 (format 3 has 5 bits), then returns above 5 (the
+    // 1.2 header counts 5): each makes it LAS 1.4 format 7, nothing lost.
+    for (labels, max_return) in [([40, 6, 2, 255, 1], 2), ([6; 5], 7)] {
+        for compressed in [false, true] {
+            let how = Relabel {
+                max_return,
+                ..how(&labels, compressed)
+            };
+            let out = relabel_las(
+                vec![Cursor::new(src.clone())],
+                Cursor::new(Vec::new()),
+                &how,
+            )
+            .unwrap()
+            .into_inner();
+            let ((_, before), (h, after)) = (points_of(src.clone()), points_of(out));
+            assert_eq!(h.version(), ::las::Version::new(1, 4));
+            assert_eq!(h.point_format().to_u8().unwrap(), 7);
+            for ((a, b), &c) in before.iter().zip(&after).zip(&labels) {
+                assert_eq!(u8::from(b.classification), c);
+                assert_eq!((b.x, b.y, b.z), (a.x, a.y, a.z));
+                assert_eq!((b.gps_time, b.color), (a.gps_time, a.color));
+                assert_eq!(b.intensity, a.intensity);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_writer_that_cannot_close_is_an_error_not_a_panic() {
+    // Return 7 in a LAS 1.2 header: the crate refuses it when closing,
+    // which its `Drop` turns into a panic unless the writer is finished here.
+    use ::las::{Builder, Point, Writer};
+    let w = Writer::new(
+        Cursor::new(Vec::new()),
+        Builder::from((1, 2)).into_header().unwrap(),
+    );
+    let mut w = w.unwrap();
+    let seven = Point {
+        return_number: 7,
+        number_of_returns: 7,
+        ..Default::default()
+    };
+    w.write_point(seven).unwrap();
+    let e = close::finish(w, Ok(())).unwrap_err();
+    assert!(e.to_string().contains("return"), "{e}");
+}
+
 #[test]
 fn relabelling_changes_the_class_and_nothing_else() {
     for compressed in [false, true] {
@@ -248,9 +309,7 @@ fn relabelling_changes_the_class_and_nothing_else() {
         let out = relabel_las(
             vec![Cursor::new(src.clone())],
             Cursor::new(Vec::new()),
-            &labels,
-            compressed,
-            None,
+            &how(&labels, compressed),
         )
         .unwrap()
         .into_inner();
@@ -275,7 +334,7 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
     let a = producer_file(3, 1000.0, 1000.0, false);
     let b = producer_file(2, 1100.0, 1100.0, true);
     let sources = || vec![Cursor::new(a.clone()), Cursor::new(b.clone())];
-    let out = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 5], true, None)
+    let out = relabel_las(sources(), Cursor::new(Vec::new()), &how(&[6; 5], true))
         .unwrap()
         .into_inner();
     let (h, pts) = points_of(out);
@@ -290,7 +349,7 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
         pts.iter()
             .all(|p| u8::from(p.classification) == 6 && p.gps_time.is_some())
     );
-    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[6; 4], false, None).unwrap_err();
+    let e = relabel_las(sources(), Cursor::new(Vec::new()), &how(&[6; 4], false)).unwrap_err();
     assert!(
         matches!(
             e,
@@ -301,10 +360,8 @@ fn tiles_on_other_offsets_are_requantised_and_bad_classes_refused() {
         ),
         "{e}"
     );
-    let e = relabel_las(sources(), Cursor::new(Vec::new()), &[40; 5], false, None).unwrap_err();
-    assert!(matches!(e, LasError::LegacyClass { class: 40 }), "{e}");
     let none: Vec<Cursor<Vec<u8>>> = Vec::new();
-    let e = relabel_las(none, Cursor::new(Vec::new()), &[], false, None).unwrap_err();
+    let e = relabel_las(none, Cursor::new(Vec::new()), &how(&[], false)).unwrap_err();
     assert!(matches!(e, LasError::NoSource), "{e}");
 }
 
@@ -362,12 +419,14 @@ fn relabelling_a_file_without_a_crs_writes_the_stated_one_and_never_replaces_a_r
 
 /// `src` relabelled with `crs` stated for it, as bytes.
 fn read_back_bytes(src: &[u8], crs: &crate::crs::Crs) -> Vec<u8> {
+    let how = Relabel {
+        stated: Some(crs),
+        ..how(&[6; 5], false)
+    };
     relabel_las(
         vec![Cursor::new(src.to_vec())],
         Cursor::new(Vec::new()),
-        &[6; 5],
-        false,
-        Some(crs),
+        &how,
     )
     .unwrap()
     .into_inner()

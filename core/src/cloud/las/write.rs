@@ -5,7 +5,7 @@ use std::io::{Seek, Write};
 use ::las::point::Format;
 use ::las::{Builder, PointDataBuilder, Transform, Vector, Vlr, Writer};
 
-use super::{LasError, extra_bytes};
+use super::{LasError, close, extra_bytes};
 use crate::cloud::Cloud;
 use crate::crs::{CrsRecord, LAS_PROJECTION};
 
@@ -55,6 +55,15 @@ pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
     });
     builder.transforms = Vector { x, y, z };
     let mut writer = Writer::new(sink, builder.into_header()?)?;
+    let written = write_points(&mut writer, cloud);
+    close::finish(writer, written)
+}
+
+/// Every point of `cloud`, in batches.
+fn write_points<W: Write + Seek + Send + Sync + 'static>(
+    writer: &mut Writer<W>,
+    cloud: &Cloud,
+) -> Result<(), LasError> {
     let slab = PointDataBuilder::new().for_header(writer.header());
     let mut bytes = Vec::new();
     let mut start = 0;
@@ -68,7 +77,7 @@ pub fn write_las<W: Write + Seek + Send + Sync + 'static>(
         writer.write_points(&points)?;
         start = end;
     }
-    Ok(writer.into_inner()?)
+    Ok(())
 }
 
 /// `records` as the file's `LASF_Projection` records.

@@ -113,7 +113,9 @@ pub fn parse_header(data: &[u8]) -> Result<Header, PlyError> {
         pos: 0,
         line: 0,
     };
-    match lines.next() {
+    // Trailing blanks after the magic word are accepted, as rply and PDAL
+    // do (PDAL's own simple_text.ply has `ply `).
+    match lines.next().map(<[u8]>::trim_ascii_end) {
         Some(b"ply") => {}
         _ => return Err(PlyError::BadMagic),
     }
@@ -304,6 +306,17 @@ impl<'a> Iterator for Lines<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn trailing_blanks_after_the_magic_and_on_lines_are_accepted() {
+        let h = parse_header(
+            b"ply \t\nformat ascii 1.0 \nelement vertex 3\nproperty float x \nend_header \n",
+        )
+        .unwrap();
+        assert_eq!(h.elements[0].count, 3);
+        assert_eq!(h.elements[0].properties.len(), 1);
+        assert!(matches!(parse_header(b"plyx\n"), Err(PlyError::BadMagic)));
+    }
 
     fn header(text: &str) -> Result<Header, PlyError> {
         parse_header(text.as_bytes())

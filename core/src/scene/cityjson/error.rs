@@ -67,6 +67,12 @@ pub enum CityJsonError {
         /// Ground objects (roads, land use, relief) found instead.
         ground_objects: usize,
     },
+    /// A CityJSONSeq header without `transform` (mandatory: its features'
+    /// integer vertices mean nothing without the scale).
+    #[error(
+        "CityJSONSeq header (line 1) has no `transform`: the features' integer vertices have no scale or translate (CityJSON 2.0 makes it mandatory)"
+    )]
+    SeqWithoutTransform,
     /// A CityJSONSeq line after the header is not a `CityJSONFeature`.
     #[error(
         "line {line}: a CityJSONSeq line after the header must be a CityJSONFeature (type is `{found}`)"

@@ -142,6 +142,9 @@ fn documents(data: &[u8]) -> Result<Vec<Document>, CityJsonError> {
         return Ok(vec![doc]);
     };
     check_header(&header)?;
+    if header.transform.is_none() {
+        return Err(CityJsonError::SeqWithoutTransform);
+    }
     let mut docs = vec![header];
     for (k, line) in lines.iter().enumerate().skip(1) {
         if line.iter().all(u8::is_ascii_whitespace) {

@@ -190,6 +190,22 @@ fn city_json_seq_features_keep_their_own_vertices() {
             found: "Feature".into()
         })
     );
+    // Without the header's transform the integers would be read as metres
+    // (one "building" kilometres across): refused.
+    let text = seq("2.0");
+    let mut lines: Vec<serde_json::Value> = text
+        .lines()
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_str(l).unwrap_or_default())
+        .collect();
+    if let Some(h) = lines[0].as_object_mut() {
+        h.remove("transform");
+    }
+    let untransformed: Vec<String> = lines.iter().map(ToString::to_string).collect();
+    assert_eq!(
+        parse_cityjson(untransformed.join("\n").as_bytes(), &no_ground).err(),
+        Some(CityJsonError::SeqWithoutTransform)
+    );
     let past_range = seq("2.0")
         .replace("[[[0, 1, 2]]]", "[[[0, 1, 3]]]")
         .replace("[[[0,1,2]]]", "[[[0,1,3]]]");
