@@ -170,6 +170,7 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
             a.gt_spacing
         )));
     }
+    let given = a.footprints.read(a.gt.as_deref())?;
     let cloud = a.units.read(&a.input)?;
     if let Some(c) = cloud.crs.as_ref().filter(|c| c.epsg.is_none()) {
         // CityJSON names a CRS by an authority's URL; a WKT alone has none.
@@ -179,7 +180,10 @@ pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
             c.horizontal_unit.name()
         );
     }
-    let footprints = a.footprints.load(&cloud.frame())?;
+    let footprints = given
+        .as_ref()
+        .map(|r| super::footprints::in_frame(r, &cloud.frame()))
+        .transpose()?;
     let t0 = std::time::Instant::now();
     let rec = reconstruct_and_write(&cloud, footprints.as_deref(), &a.out, "models")?;
     let seconds = t0.elapsed().as_secs_f64();
