@@ -8,16 +8,18 @@ use std::path::{Path, PathBuf};
 use geo::{Area, BooleanOps, Distance, Euclidean};
 use skyground_core::cloud::Cloud;
 use skyground_core::cloud::class::BUILDING;
+use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::footprint::{
-    DeriveParams, Footprint, FootprintError, ParseError, RingProblem, SplitParams, derive,
-    footprints_of_scene, iou, load_footprints, match_footprints, parse_cityjson_footprints,
-    parse_geojson, parse_obj_footprints, split,
+    DeriveParams, Footprint, FootprintError, ParseError, ReadOptions, RingProblem,
+    SourceFootprints, SplitParams, derive, footprints_of_scene, iou, load_footprints,
+    match_footprints, parse_cityjson_footprints, parse_geojson, parse_geojson_with,
+    parse_obj_footprints, read_footprints, resolve_source, split,
 };
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::scene::{REFERENCE_SEED, Scene, load_scene, reference_scene};
 
 mod common;
-use common::{city3d_001, real_file};
+use common::{city3d_001, conformance_file, real_file};
 
 fn prior(scene: &Scene) -> Cloud {
     airborne_scan(&Caster::new(scene).unwrap(), &AirborneConfig::default()).unwrap()
@@ -547,4 +549,183 @@ fn derive_with_height_split(pts: &[[f32; 3]]) -> Vec<Footprint> {
         ..DeriveParams::default()
     };
     derive(pts, &params).unwrap()
+}
+
+/// Footprints of `spec` as surveys have them (own ids read the default way).
+fn read(spec: &Path) -> SourceFootprints {
+    read_footprints(&spec.display().to_string(), &ReadOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn delft_cityjson_keeps_its_bag_ids_and_the_scene_numbering() {
+    let Some(path) = real_file("delft.json") else {
+        return;
+    };
+    let fps = read(&path);
+    assert_eq!(
+        fps.crs.as_ref().and_then(|c| c.horizontal_epsg()),
+        Some(28992)
+    );
+    let f = &fps.loaded.footprints;
+    assert_eq!(f.len(), 160);
+    // `identificatiebagpnd`: the BAG pand id (15 digits), not the BGT UUID.
+    assert!(
+        f.iter()
+            .all(|f| f.name.len() == 15 && f.name.bytes().all(|b| b.is_ascii_digit())),
+        "{:?}",
+        f.iter().map(|f| &f.name).take(3).collect::<Vec<_>>()
+    );
+    assert!(f.iter().any(|f| f.name == "503100000000035"));
+    // Numbered as the scene numbers its buildings: the same ids cover the same ground.
+    let scene = load_scene(path.to_str().unwrap()).unwrap();
+    let moved = read(&path)
+        .in_frame(&SourceFrame::new(scene.origin, None))
+        .unwrap();
+    let truth = footprints_of_scene(&scene);
+    for (a, b) in moved.footprints.iter().zip(&truth) {
+        assert_eq!(a.id, b.id);
+        assert!(iou(&a.polygon, &b.polygon) > 0.9, "building {}", a.id);
+    }
+    // The BGT UUID on request, and a field nobody has is refused by name.
+    let by_uuid = read_footprints(
+        &path.display().to_string(),
+        &ReadOptions {
+            id_field: Some("lokaalid".into()),
+        },
+    )
+    .unwrap();
+    assert!(by_uuid.loaded.footprints[0].name.starts_with("G0503."));
+    let e = read_footprints(
+        &path.display().to_string(),
+        &ReadOptions {
+            id_field: Some("osm_id".into()),
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("`osm_id`"), "{e}");
+}
+
+#[test]
+fn cityjson_ground_surfaces_join_building_parts_to_their_building() {
+    // 3DBAG: LoD 2.2 BuildingParts with GroundSurface under Buildings without geometry,
+    // as CityJSON and as CityJSONSeq (what 3DBAG serves).
+    let (Some(city), Some(seq)) = (
+        real_file("3dbag_2buildings.city.json"),
+        conformance_file("cjseq_3dbag_b2.city.jsonl"),
+    ) else {
+        return;
+    };
+    for path in [city, seq] {
+        let f = read(&path).loaded.footprints;
+        let names: Vec<&str> = f.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "NL.IMBAG.Pand.0503100000028341",
+                "NL.IMBAG.Pand.0503100000031927"
+            ],
+            "{}",
+            path.display()
+        );
+        assert!(f.iter().all(|f| f.area() > 20.0 && f.area() < 2000.0));
+    }
+    // cjio's multi-LoD buildings: LoD 1.2 / 1.3 / 2.2 solids, the BAG id in `identificatie`.
+    let Some(multi) = conformance_file("cjio_multi_lod.json") else {
+        return;
+    };
+    let f = read(&multi).loaded.footprints;
+    assert_eq!(f.len(), 10);
+    assert!(
+        f.iter().all(|f| f.name.starts_with("NL.IMBAG.Pand.")),
+        "{:?}",
+        f[0].name
+    );
+    // Zurich: 49 Buildings of 161 LoD2 parts.
+    if let Some(z) = real_file("zurich_subset_lod2.json") {
+        assert_eq!(read(&z).loaded.footprints.len(), 49);
+    }
+}
+
+#[test]
+fn cityjson_lod0_footprints_win_over_the_roof_outline() {
+    // A Building with a LoD 0 footprint (10 × 10 m) and a LoD 2 part whose
+    // roof overhangs it by 1 m all round (no GroundSurface).
+    let doc = br#"{"type":"CityJSON","version":"2.0","transform":{"scale":[1,1,1],"translate":[0,0,0]},
+      "CityObjects":{
+        "b1":{"type":"Building","attributes":{"identificatie":"NL.IMBAG.Pand.1"},"children":["b1-0"],
+          "geometry":[{"type":"MultiSurface","lod":"0","boundaries":[[[0,1,2,3]]]}]},
+        "b1-0":{"type":"BuildingPart","parents":["b1"],
+          "geometry":[{"type":"MultiSurface","lod":"2.2","boundaries":[[[4,5,6,7]]]}]}},
+      "vertices":[[0,0,0],[10,0,0],[10,10,0],[0,10,0],[-1,-1,6],[11,-1,6],[11,11,6],[-1,11,6]]}"#;
+    let loaded = parse_cityjson_footprints(doc, [0.0; 3]).unwrap();
+    let f = &loaded.footprints[0];
+    assert_eq!(f.name, "NL.IMBAG.Pand.1");
+    assert!((f.area() - 100.0).abs() < 1e-9, "area {}", f.area());
+}
+
+#[test]
+fn geojson_bag_and_osm_ids_come_through() {
+    // PDOK BAG panden (a MultiPolygon drawn as two features of one pand), OSM exports.
+    let doc = br#"{"type":"FeatureCollection","features":[
+      {"type":"Feature","properties":{"identificatie":"0503100000028341","bouwjaar":1930},
+       "geometry":{"type":"Polygon","coordinates":[[[0,0],[10,0],[10,10],[0,10],[0,0]]]}},
+      {"type":"Feature","properties":{"identificatie":"0503100000028341"},
+       "geometry":{"type":"MultiPolygon","coordinates":[[[[10,0],[20,0],[20,10],[10,10],[10,0]]]]}},
+      {"type":"Feature","id":"way/4242","properties":{"@id":"way/4242","building":"house"},
+       "geometry":{"type":"Polygon","coordinates":[[[30,0],[40,0],[40,10],[30,10],[30,0]]]}},
+      {"type":"Feature","properties":{"osm_id":"123456789","name":"Oude Kerk"},
+       "geometry":{"type":"Polygon","coordinates":[[[50,0],[60,0],[60,10],[50,10],[50,0]]]}}
+    ]}"#;
+    let loaded = parse_geojson(doc, [0.0; 3]).unwrap();
+    let got: Vec<(u32, &str, f64)> = loaded
+        .footprints
+        .iter()
+        .map(|f| (f.id, f.name.as_str(), f.area()))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (1, "0503100000028341", 200.0),
+            (2, "way/4242", 100.0),
+            (3, "123456789", 100.0)
+        ]
+    );
+    let named = parse_geojson_with(
+        doc,
+        [0.0; 3],
+        &ReadOptions {
+            id_field: Some("name".into()),
+        },
+    )
+    .unwrap();
+    assert_eq!(named.footprints.last().unwrap().name, "Oude Kerk");
+}
+
+#[test]
+fn the_model_keyword_and_files_that_cannot_be_used() {
+    let Some(delft) = real_file("delft.json") else {
+        return;
+    };
+    let spec = resolve_source("model", delft.to_str()).unwrap();
+    assert_eq!(read(Path::new(&spec)).loaded.footprints.len(), 160);
+    let e = resolve_source("model", Some("reference")).unwrap_err();
+    assert!(e.to_string().contains("not CityJSON"), "{e}");
+    // Another CRS than the cloud's is refused, naming both.
+    let zurich_frame = SourceFrame::new([0.0; 3], Crs::from_epsg(2056).ok());
+    let e = read(&delft).in_frame(&zurich_frame).unwrap_err();
+    assert!(matches!(e, FootprintError::CrsMismatch { .. }), "{e}");
+    let text = e.to_string();
+    assert!(text.contains("7415") && text.contains("2056"), "{text}");
+    // GeoPackage: said why and what to do.
+    let tmp = tempfile::tempdir().unwrap();
+    let gpkg = temp(tmp.path(), "panden.gpkg", b"SQLite format 3\0");
+    let e = read_footprints(&gpkg.display().to_string(), &ReadOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("ogr2ogr"), "{e}");
+    let missing =
+        read_footprints("/nonexistent/panden.geojson", &ReadOptions::default()).unwrap_err();
+    assert!(
+        missing.to_string().contains("/nonexistent/panden.geojson"),
+        "{missing}"
+    );
 }

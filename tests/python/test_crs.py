@@ -115,7 +115,7 @@ def test_detect_outputs_keep_crs_and_feet(tmp_path, name):
             for p in pts:
                 assert lo[0] <= p[0] <= hi[0] and lo[1] <= p[1] <= hi[1], (f, p)
     csv = (out / "completeness.csv").read_text().splitlines()
-    assert csv[0].startswith("building,centroid_x_ft"), csv[0]
+    assert csv[0].startswith("building,footprint_id,centroid_x_ft"), csv[0]
 
 
 @pytest.mark.parametrize("name,unit", [("laspy_nebraska_ftus.las", "US survey foot"), ("autzen_trim.las", "foot"),

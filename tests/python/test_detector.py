@@ -399,3 +399,53 @@ def test_cloud_without_labels_is_an_error_not_a_crash(spawn, ros, scene_cloud):
     pub.publish(cloud_msg({"x": xyz[:, 0], "y": xyz[:, 1], "z": xyz[:, 2], "label": label}, 2))
     assert ros.spin_until(out.detection, 60), stderr_of(det)
     assert det.p.poll() is None
+
+
+def test_footprint_ids_ride_on_completeness(spawn, ros, tmp_path, scene_cloud):
+    """Each footprint's own id (here BAG `identificatie`) is on its /completeness status."""
+    xyz, label, _ = scene_cloud
+    fp = footprints_geojson(tmp_path / "bag.geojson")
+    doc = json.loads(fp.read_text())
+    for f in doc["features"]:
+        f["properties"]["identificatie"] = f"05031000000{f['id']:05d}"
+    fp.write_text(json.dumps(doc))
+    out = Outputs(ros)
+    det = spawn("completeness_detector", "--ros-args", "-p", f"footprints:={fp}")
+    publish_classified(ros, xyz, label)
+    assert ros.spin_until(out.detection, 60), stderr_of(det)
+    for bid, s in out.statuses().items():
+        assert values(s)["footprint_id"] == f"05031000000{bid:05d}", values(s)
+
+
+def _fails_at_start(proc, timeout=30):
+    try:
+        proc.p.wait(timeout)
+    except Exception:  # noqa: BLE001 - still running is the failure
+        pass
+    return proc.p.poll()
+
+
+@pytest.mark.parametrize("case", ["missing", "not_json", "crs"])
+def test_footprints_that_cannot_be_used_stop_the_node_at_start(spawn, tmp_path, case):
+    """No silent fall-back to derived footprints: the node exits non-zero with the reason."""
+    params = []
+    if case == "missing":
+        fp, want = tmp_path / "nope.geojson", ["nope.geojson", "No such file"]
+    elif case == "not_json":
+        fp = tmp_path / "broken.geojson"
+        fp.write_text('{"type": "FeatureCollection", "features": [')
+        want = ["broken.geojson", "invalid JSON"]
+    else:
+        fp = footprints_geojson(tmp_path / "rd.geojson")
+        doc = json.loads(fp.read_text())
+        doc["crs"] = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::28992"}}
+        fp.write_text(json.dumps(doc))
+        params = ["-p", "crs:=EPSG:2056"]
+        want = ["EPSG:28992", "EPSG:2056"]
+    det = spawn("completeness_detector", "--ros-args", "-p", f"footprints:={fp}", *params, respawns=0)
+    rc = _fails_at_start(det)
+    assert rc is not None and rc != 0, f"still running or exit 0 ({rc})\n{stderr_of(det)}"
+    err = det.stderr()
+    for w in want:
+        assert w in err, err[-2000:]
+    assert "deriving them instead" not in err

@@ -14,6 +14,9 @@ use crate::targets::TargetSet;
 pub struct BuildingFigures {
     /// Building id.
     pub building: u32,
+    /// Its footprint's own id (BAG `identificatie`, OSM id, CityObject id),
+    /// empty when unknown.
+    pub footprint_id: String,
     /// Outline, local frame (metres).
     pub outline: MultiPolygon<f64>,
     /// What detection found for it, when a detected building matches it.
@@ -31,6 +34,8 @@ pub struct BuildingFigures {
 /// Detection's figures for one building.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DetectedFigures {
+    /// The detected building's footprint id (empty when it had none).
+    pub footprint_id: String,
     /// Building points in the prior.
     pub points: usize,
     /// Why it was not analysed, when it was not.
@@ -52,8 +57,10 @@ pub fn detection_figures(detection: &Detection, targets: &TargetSet) -> Vec<Buil
         .iter()
         .map(|b| BuildingFigures {
             building: b.building,
+            footprint_id: b.footprint_id.clone(),
             outline: b.global_contour.clone(),
             detection: Some(DetectedFigures {
+                footprint_id: b.footprint_id.clone(),
                 points: b.points,
                 skipped: b.skipped.as_ref().map(ToString::to_string),
                 boundary_points: b.boundary.len(),
@@ -96,6 +103,7 @@ pub fn completeness_geojson(rows: &[BuildingFigures], frame: &SourceFrame) -> Va
                 multipolygon(frame, &b.outline),
                 json!({
                     "building": b.building,
+                    "footprint_id": (!b.footprint_id.is_empty()).then_some(&b.footprint_id),
                     "points": d.map(|d| d.points),
                     "skipped": d.and_then(|d| d.skipped.clone()),
                     "boundary_points": d.map(|d| d.boundary_points),
@@ -119,7 +127,7 @@ pub fn completeness_geojson(rows: &[BuildingFigures], frame: &SourceFrame) -> Va
 pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String {
     let sym = frame.unit().symbol().to_string();
     let mut out = format!(
-        "building,centroid_x_{sym},centroid_y_{sym},points,skipped,boundary_points,missing_points,r_missing,detected_completeness,strategy,target_points,target_regions,completeness_before,completeness_after\n"
+        "building,footprint_id,centroid_x_{sym},centroid_y_{sym},points,skipped,boundary_points,missing_points,r_missing,detected_completeness,strategy,target_points,target_regions,completeness_before,completeness_after\n"
     );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
     for b in rows {
@@ -133,10 +141,7 @@ pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String
         let detected = b.detection.as_ref().map_or_else(
             || ",,,,,,".to_string(),
             |d| {
-                let skipped = d
-                    .skipped
-                    .as_deref()
-                    .map_or(String::new(), |s| format!("\"{}\"", s.replace('"', "\"\"")));
+                let skipped = d.skipped.as_deref().map_or(String::new(), csv_text);
                 format!(
                     "{},{skipped},{},{},{:.4},{},{}",
                     d.points,
@@ -149,8 +154,9 @@ pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String
             },
         );
         out.push_str(&format!(
-            "{},{cx},{cy},{detected},{},{},{},{}\n",
+            "{},{},{cx},{cy},{detected},{},{},{},{}\n",
             b.building,
+            csv_text(&b.footprint_id),
             b.target_points,
             b.target_regions,
             opt(b.before),
@@ -158,4 +164,13 @@ pub fn completeness_csv(rows: &[BuildingFigures], frame: &SourceFrame) -> String
         ));
     }
     out
+}
+
+/// A CSV cell: quoted when it holds a comma, quote or line break (RFC 4180).
+fn csv_text(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }

@@ -11,7 +11,7 @@ mod targets;
 pub use completeness::{
     BuildingFigures, DetectedFigures, completeness_csv, completeness_geojson, detection_figures,
 };
-pub use geojson::feature_collection;
+pub use geojson::{feature, feature_collection, multipolygon};
 pub use route::{FieldRoute, Leg, path_geojson, route_geojson};
 pub use targets::targets_geojson;
 
@@ -42,6 +42,7 @@ mod tests {
         let mut b =
             BuildingDetection::skipped(3, 500, SkipReason::TooFewPoints { points: 0, min: 0 });
         b.skipped = None;
+        b.footprint_id = "NL.IMBAG.Pand.0503100000028341".into();
         b.global_contour = MultiPolygon(vec![
             polygon![(x: 0.0, y: 0.0), (x: 20.0, y: 0.0), (x: 20.0, y: 20.0), (x: 0.0, y: 20.0)],
         ]);
@@ -104,6 +105,10 @@ mod tests {
         );
         assert!((c[1].as_f64().unwrap() - (849_000.0 + 10.0 / FT)).abs() < 1e-3);
         assert_eq!(p["properties"]["building"], 3);
+        assert_eq!(
+            p["properties"]["footprint_id"],
+            "NL.IMBAG.Pand.0503100000028341"
+        );
         // 8 m to the missing point = 26.247 ft, 5 m up = 16.404 ft.
         assert!((p["properties"]["gap_distance"].as_f64().unwrap() - 8.0 / FT).abs() < 1e-3);
         assert!((p["properties"]["gap_height"].as_f64().unwrap() - 5.0 / FT).abs() < 1e-3);
@@ -243,29 +248,38 @@ mod tests {
         let f = &fc["features"][0];
         assert_eq!(f["geometry"]["type"], "MultiPolygon");
         assert_eq!(f["properties"]["detected_completeness"], 0.75);
+        assert_eq!(
+            f["properties"]["footprint_id"],
+            "NL.IMBAG.Pand.0503100000028341"
+        );
         let csv = completeness_csv(&rows, &frame());
         let lines: Vec<&str> = csv.lines().collect();
         assert!(
-            lines[0].starts_with("building,centroid_x_ft,centroid_y_ft,"),
+            lines[0].starts_with("building,footprint_id,centroid_x_ft,centroid_y_ft,"),
             "{}",
             lines[0]
         );
         let cells: Vec<&str> = lines[1].split(',').collect();
         assert_eq!(cells[0], "3");
-        let cx: f64 = cells[1].parse().unwrap();
+        assert_eq!(cells[1], "NL.IMBAG.Pand.0503100000028341");
+        let cx: f64 = cells[2].parse().unwrap();
         assert!((cx - (636_000.0 + 10.0 / FT)).abs() < 1e-2, "{cx}");
-        assert_eq!(cells[8], "0.7500");
-        assert_eq!(cells[9], "point_based");
+        assert_eq!(cells[9], "0.7500");
+        assert_eq!(cells[10], "point_based");
         // A building no detection matched: empty detection cells, nulls in
         // the GeoJSON, the same number of columns.
         let mut unmatched = rows[0].clone();
         unmatched.detection = None;
+        unmatched.footprint_id = "way/12,5".into();
         unmatched.before = Some(0.5);
         let csv = completeness_csv(std::slice::from_ref(&unmatched), &frame());
-        let cells: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        let row = csv.lines().nth(1).unwrap();
+        assert!(row.starts_with("3,\"way/12,5\","), "{row}");
+        let unquoted = row.replace("\"way/12,5\"", "w");
+        let cells: Vec<&str> = unquoted.split(',').collect();
         assert_eq!(cells.len(), lines[0].split(',').count());
-        assert!(cells[3..10].iter().all(|c| c.is_empty()), "{cells:?}");
-        assert_eq!(cells[12], "0.5000");
+        assert!(cells[4..11].iter().all(|c| c.is_empty()), "{cells:?}");
+        assert_eq!(cells[13], "0.5000");
         let fc = completeness_geojson(&[unmatched], &frame());
         assert!(fc["features"][0]["properties"]["points"].is_null());
         assert!(fc["features"][0]["properties"]["detected_completeness"].is_null());

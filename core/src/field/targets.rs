@@ -29,6 +29,11 @@ pub fn targets_geojson(targets: &TargetSet, detection: &Detection, frame: &Sourc
     let unit = frame.unit();
     let f = frame.to_metre();
     let building = |id: u32| detection.buildings.iter().find(|b| b.building == id);
+    let own_id = |id: u32| {
+        building(id)
+            .map(|b| b.footprint_id.as_str())
+            .filter(|s| !s.is_empty())
+    };
     let mut features = Vec::new();
     for (i, t) in targets.points.iter().enumerate() {
         let b = building(t.building);
@@ -59,6 +64,7 @@ pub fn targets_geojson(targets: &TargetSet, detection: &Detection, frame: &Sourc
                 "kind": "point",
                 "index": i,
                 "building": t.building,
+                "footprint_id": own_id(t.building),
                 "strategy": strategy(Strategy::PointBased),
                 "why": why,
                 "gap_distance": nearest.map(|n| round3(frame.length_to_source(f64::from(n.0)))),
@@ -101,6 +107,7 @@ pub fn targets_geojson(targets: &TargetSet, detection: &Detection, frame: &Sourc
                 "kind": "region",
                 "index": i,
                 "building": reg.building,
+                "footprint_id": own_id(reg.building),
                 "strategy": strategy(Strategy::RegionBased),
                 "why": why,
                 "area": round3(area),

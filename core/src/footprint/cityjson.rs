@@ -1,68 +1,81 @@
-//! CityJSON (1.0, 1.1, 2.0) footprints: one per Building, its BuildingParts
-//! included.
+//! CityJSON (1.0, 1.1, 2.0) and CityJSONSeq footprints: one per Building,
+//! its BuildingParts joined to it.
 //!
-//! Per object the geometry with the highest LoD is used; its footprint is the
-//! xy outline of its `GroundSurface` surfaces when it has any, else the union
-//! of the xy projections of all its surfaces. A Building's footprint is the
-//! union over itself and its parts. Ids follow the scene reader
+//! A building whose objects carry a LoD 0 surface geometry (the cadastral
+//! footprint 3DBAG ships) takes the union of those; otherwise each object's
+//! highest-LoD geometry gives the xy outline of its `GroundSurface`
+//! surfaces when it has any, else the union of the xy projections of all
+//! its surfaces. Numeric ids follow the scene reader
 //! ([`crate::scene::cityjson`]): 1.. in the sorted order of the root
-//! buildings' CityJSON ids, so they match a scene loaded from the same file.
+//! buildings' CityJSON ids, so they match a scene loaded from the same
+//! file(s). The own id (`name`) is the root Building's attribute the user
+//! names, else the first of [`ID_FIELDS`](super::ids::ID_FIELDS) it has,
+//! else its CityObject id.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 use geo::Polygon;
-use serde::Deserialize;
-use serde_json::Value;
 
 use super::error::{ParseError, Skipped, shape};
+use super::ids::{ReadOptions, check_named_field, own_id};
 use super::polygon::{ring, union_valid};
 use super::types::{Footprint, Loaded};
 use crate::scene::cityjson::boundaries::{self, Surface};
-use crate::scene::cityjson::model::Geometry;
+use crate::scene::cityjson::{CityModel, CityObject, Geometry, parse_city_model};
 
-/// Parent links followed at most this deep (guards against cycles).
-const MAX_DEPTH: usize = 32;
-
-/// Decodes CityJSON bytes; coordinates have `origin` subtracted.
+/// Decodes CityJSON (or CityJSONSeq) bytes; coordinates have `origin` subtracted.
 pub fn parse_cityjson_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError> {
-    let doc = super::json::parse(data)?;
-    if doc.get("type").and_then(Value::as_str) != Some("CityJSON") {
-        return Err(shape(
-            "not a CityJSON document (top-level `type` is not `CityJSON`)",
-        ));
-    }
-    let vertices = real_vertices(&doc)?;
-    let objects = doc
-        .get("CityObjects")
-        .and_then(Value::as_object)
-        .ok_or_else(|| shape("CityJSON without a `CityObjects` object"))?;
-    let is_building = |o: &Value| {
-        matches!(
-            o.get("type").and_then(Value::as_str),
-            Some("Building" | "BuildingPart")
-        )
-    };
-    let parents = parent_map(objects);
-    let mut skipped = Vec::new();
-    let mut per_root: BTreeMap<&str, Vec<Polygon<f64>>> = BTreeMap::new();
-    for (id, object) in objects {
-        if !is_building(object) {
-            continue;
+    let model = parse_city_model(data).map_err(|e| shape(&e.to_string()))?;
+    cityjson_footprints(&model, origin, &ReadOptions::default())
+}
+
+/// The footprints of a city model (one or more files read as one, source
+/// CRS and unit), `origin` subtracted.
+pub fn cityjson_footprints(
+    model: &CityModel,
+    origin: [f64; 3],
+    options: &ReadOptions,
+) -> Result<Loaded, ParseError> {
+    let mut groups: BTreeMap<&str, Vec<(&str, &CityObject)>> = BTreeMap::new();
+    for (id, root) in model.roots() {
+        if let Some(o) = model.objects.get(id) {
+            groups.entry(root).or_default().push((id, o));
         }
-        let polys = object_footprint(id, object, &vertices, origin, &mut skipped)?;
+    }
+    if groups.is_empty() {
+        return Err(shape("the city model has no Building or BuildingPart"));
+    }
+    let mut skipped = Vec::new();
+    let mut footprints = Vec::with_capacity(groups.len());
+    let mut named = 0usize;
+    // Every building with an outline takes an id, as in the scene, even
+    // one whose outline then turns out unusable.
+    let mut next = 0u32;
+    let first_attrs = groups
+        .keys()
+        .next()
+        .and_then(|r| model.objects.get(*r))
+        .and_then(|o| o.attributes.as_ref())
+        .and_then(|a| a.as_object());
+    for (root, objects) in &groups {
+        let polys = group_footprint(objects, model, origin, &mut skipped)?;
         if polys.is_empty() {
             continue;
         }
-        let root = root_of(objects, &parents, id, &is_building);
-        per_root.entry(root).or_default().extend(polys);
-    }
-    let mut footprints = Vec::with_capacity(per_root.len());
-    for (root, polys) in per_root {
+        let attrs = model
+            .objects
+            .get(*root)
+            .and_then(|o| o.attributes.as_ref())
+            .and_then(|a| a.as_object());
+        let own = own_id(attrs, options);
+        named += usize::from(own.is_some());
+        next = next.saturating_add(1);
+        let id = next;
         match union_valid(&polys) {
             Ok(polygon) => footprints.push(Footprint {
-                id: u32::try_from(footprints.len() + 1).unwrap_or(u32::MAX),
+                id,
                 polygon,
-                name: root.to_string(),
+                name: own.unwrap_or_else(|| (*root).to_string()),
             }),
             Err(problem) => skipped.push(Skipped {
                 source: format!("building `{root}`"),
@@ -70,112 +83,53 @@ pub fn parse_cityjson_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded
             }),
         }
     }
+    check_named_field(options, named, first_attrs)?;
     Loaded::new(footprints, skipped)
 }
 
-/// Decompressed vertices (source CRS).
-fn real_vertices(doc: &Value) -> Result<Vec<[f64; 3]>, ParseError> {
-    let triple = |v: Option<&Value>, default: f64| -> Option<[f64; 3]> {
-        match v {
-            None => Some([default; 3]),
-            Some(v) => {
-                let a = v.as_array().filter(|a| a.len() == 3)?;
-                let out = [0, 1, 2].map(|k| a[k].as_f64().unwrap_or(f64::NAN));
-                out.iter().all(|c| c.is_finite()).then_some(out)
-            }
-        }
-    };
-    let t = doc.get("transform");
-    let scale = triple(t.and_then(|t| t.get("scale")), 1.0)
-        .ok_or_else(|| shape("`transform.scale` must be three finite numbers"))?;
-    let translate = triple(t.and_then(|t| t.get("translate")), 0.0)
-        .ok_or_else(|| shape("`transform.translate` must be three finite numbers"))?;
-    let vs = doc
-        .get("vertices")
-        .and_then(Value::as_array)
-        .ok_or_else(|| shape("CityJSON without a `vertices` array"))?;
-    vs.iter()
-        .enumerate()
-        .map(|(k, v)| {
-            let p = triple(Some(v), 0.0)
-                .ok_or_else(|| shape(&format!("vertex {k} is not three finite numbers")))?;
-            Ok([0, 1, 2].map(|a| p[a] * scale[a] + translate[a]))
-        })
-        .collect()
-}
-
-/// Each object's parent: its first `parents` entry, else the object listing it as a child.
-fn parent_map(objects: &serde_json::Map<String, Value>) -> HashMap<&str, &str> {
-    let mut map: HashMap<&str, &str> = HashMap::new();
-    for (id, o) in objects {
-        for child in o
-            .get("children")
-            .and_then(Value::as_array)
-            .into_iter()
-            .flatten()
-        {
-            if let Some(c) = child.as_str() {
-                map.entry(c).or_insert(id.as_str());
-            }
-        }
-    }
-    for (id, o) in objects {
-        if let Some(p) = o
-            .get("parents")
-            .and_then(Value::as_array)
-            .and_then(|a| a.first())
-            .and_then(Value::as_str)
-        {
-            map.insert(id.as_str(), p);
-        }
-    }
-    map
-}
-
-/// The id of the Building at the top of `id`'s parent chain.
-fn root_of<'a>(
-    objects: &'a serde_json::Map<String, Value>,
-    parents: &HashMap<&'a str, &'a str>,
-    id: &'a str,
-    is_building: &dyn Fn(&Value) -> bool,
-) -> &'a str {
-    let mut cur = id;
-    for _ in 0..MAX_DEPTH {
-        let Some(obj) = objects.get(cur) else { break };
-        if obj.get("type").and_then(Value::as_str) == Some("Building") {
-            break;
-        }
-        match parents.get(cur) {
-            Some(&p) if objects.get(p).is_some_and(is_building) => cur = p,
-            _ => break,
-        }
-    }
-    objects.get_key_value(cur).map_or(id, |(k, _)| k.as_str())
-}
-
-/// The footprint polygons of one object (empty when it has no surface geometry).
-fn object_footprint(
-    id: &str,
-    object: &Value,
-    vertices: &[[f64; 3]],
+/// The footprint polygons of one building (its objects): LoD 0 where any
+/// object has it, else each object's highest LoD.
+fn group_footprint(
+    objects: &[(&str, &CityObject)],
+    model: &CityModel,
     origin: [f64; 3],
     skipped: &mut Vec<Skipped>,
 ) -> Result<Vec<Polygon<f64>>, ParseError> {
-    // The highest-LoD surface geometry, read as the scene's CityJSON reader reads it.
-    let geoms: Vec<Geometry> = object
-        .get("geometry")
-        .and_then(Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(|g| Geometry::deserialize(g).ok())
-        .filter(|g| g.surface_depth().is_some())
-        .collect();
-    let Some(g) = geoms
-        .iter()
-        .max_by(|a, b| a.lod_value().total_cmp(&b.lod_value()))
-    else {
-        return Ok(Vec::new());
-    };
+    let surface = |g: &&Geometry| g.surface_depth().is_some();
+    let lod0 = objects.iter().any(|(_, o)| {
+        o.geometry
+            .iter()
+            .filter(surface)
+            .any(|g| g.lod_value() < 1.0)
+    });
+    let mut out = Vec::new();
+    for (id, o) in objects {
+        let usable = o.geometry.iter().filter(surface);
+        let chosen: Vec<&Geometry> = if lod0 {
+            usable.filter(|g| g.lod_value() < 1.0).collect()
+        } else {
+            usable
+                .max_by(|a, b| a.lod_value().total_cmp(&b.lod_value()))
+                .into_iter()
+                .collect()
+        };
+        for g in chosen {
+            geometry_footprint(id, g, &model.vertices, origin, skipped, &mut out)?;
+        }
+    }
+    Ok(out)
+}
+
+/// Appends the xy outline of one geometry: its ground surfaces when it has
+/// any, else every surface's projection.
+fn geometry_footprint(
+    id: &str,
+    g: &Geometry,
+    vertices: &[[f64; 3]],
+    origin: [f64; 3],
+    skipped: &mut Vec<Skipped>,
+    out: &mut Vec<Polygon<f64>>,
+) -> Result<(), ParseError> {
     let values = g.semantics.as_ref().and_then(|s| s.get("values"));
     let depth = g.surface_depth().unwrap_or(0);
     let surfaces = boundaries::surfaces(&g.boundaries, values, depth)
@@ -184,7 +138,6 @@ fn object_footprint(
     let grounds = surfaces
         .iter()
         .any(|s| semantic(s) == Some("GroundSurface"));
-    let mut out = Vec::new();
     for (k, s) in surfaces.iter().enumerate() {
         if grounds && semantic(s) != Some("GroundSurface") {
             continue;
@@ -217,5 +170,5 @@ fn object_footprint(
             _ => {}
         }
     }
-    Ok(out)
+    Ok(())
 }

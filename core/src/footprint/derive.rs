@@ -1,13 +1,14 @@
 //! Footprints from building points when no footprint file is given: an
-//! occupancy grid, connected components (optionally cut at roof-height
-//! jumps), traced outlines with courtyards kept, simplified.
+//! occupancy grid, connected components cut at roof-height steps between
+//! houses of a row (small and enclosed parts joined back), traced outlines
+//! with courtyards kept, simplified.
 
 use geo::{Area, Simplify};
 use rayon::prelude::*;
 
 use super::params::DeriveParams;
 use super::polygon::union_valid;
-use super::raster::Raster;
+use super::raster::{Cuts, Raster};
 use super::trace::trace;
 use super::types::Footprint;
 use crate::density::Density;
@@ -31,7 +32,13 @@ pub fn derive(
     ) else {
         return Ok(Vec::new());
     };
-    let (label, n) = r.components(params.height_jump_m, params.min_open_share);
+    let cell_area = r.frame.cell * r.frame.cell;
+    let cuts = Cuts {
+        jump: params.height_jump_m,
+        min_part_cells: (params.min_part_m2 / cell_area).ceil() as usize,
+        min_open: params.min_open_share,
+    };
+    let (label, n) = r.components(&cuts);
     let mut points = vec![0usize; n as usize];
     for (l, c) in label.iter().zip(&r.count) {
         if *l > 0 {

@@ -29,13 +29,46 @@ pub enum FootprintError {
         /// The cloud's CRS.
         cloud: String,
     },
-    /// Neither the extension nor the content says GeoJSON, CityJSON or OBJ.
+    /// Neither the extension nor the content says GeoJSON, CityJSON, FlatGeobuf or OBJ.
     #[error(
-        "{path}: unknown footprint format (expected .geojson/.json GeoJSON, CityJSON .json, or .obj)"
+        "{path}: unknown footprint format (expected GeoJSON .geojson/.json, CityJSON .json/.city.json, CityJSONSeq .jsonl, FlatGeobuf .fgb or OBJ .obj)"
     )]
     UnknownFormat {
         /// The file.
         path: PathBuf,
+    },
+    /// GeoPackage is not read (no maintained pure-Rust SQLite reader).
+    #[error(
+        "{path}: GeoPackage is not read here (it is SQLite, and no maintained pure-Rust SQLite reader exists): convert it first, e.g. `ogr2ogr -f FlatGeobuf footprints.fgb {path}` or `ogr2ogr -f GeoJSON footprints.geojson {path}`"
+    )]
+    GeoPackage {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A CityJSON file (or tiles) that could not be read as a city model.
+    #[error("{source}")]
+    City {
+        /// The city model reader's error (names the file).
+        source: Box<crate::scene::SceneError>,
+    },
+    /// `--footprints model` without a CityJSON scene to take them from.
+    #[error(
+        "--footprints model takes a CityJSON scene's own buildings, but {}: give the footprint file instead",
+        scene.as_ref().map_or_else(|| "there is no scene".to_string(), |s| format!("the scene `{s}` is not CityJSON"))
+    )]
+    ModelWithoutCity {
+        /// The scene spec, when there is one.
+        scene: Option<String>,
+    },
+    /// RFC 7946 GeoJSON (no `crs`) in longitude/latitude over a projected cloud.
+    #[error(
+        "{path}: the footprints are in longitude/latitude (GeoJSON without a `crs` member is WGS 84, RFC 7946) but the cloud is in {cloud}: reproject them to the cloud's CRS first (e.g. ogr2ogr -t_srs)"
+    )]
+    LongitudeLatitude {
+        /// The file.
+        path: PathBuf,
+        /// The cloud's CRS.
+        cloud: String,
     },
 }
 

@@ -1,9 +1,13 @@
 //! GeoJSON footprints: a FeatureCollection, a Feature or a bare geometry;
 //! Polygon, MultiPolygon and GeometryCollections of them, with holes.
 //!
-//! Ids come from the feature's `id`, or its property `id` or `building`
-//! (a positive integer or a string of one); features without one get the
-//! next free ids in file order. Features sharing an id are merged.
+//! Each footprint's own id (its `name`) is the property the user names, else
+//! the first of [`ID_FIELDS`](super::ids::ID_FIELDS) present, else the
+//! Feature's `id`, else its `name`. Numeric ids come from the property `id`
+//! or `building` or the Feature's `id` (a positive integer or a string of
+//! one); the others get the next free ids in file order. Features sharing a
+//! numeric id, or without one sharing their own id (a building drawn in
+//! several features), are merged.
 
 use std::collections::BTreeMap;
 
@@ -11,39 +15,46 @@ use geo::{MultiPolygon, Polygon};
 use serde_json::Value;
 
 use super::error::{ParseError, RingProblem, Skipped, shape};
+use super::ids::{ReadOptions, check_named_field, id_text, own_id};
 use super::polygon::{ring, union_valid};
 use super::types::{Footprint, Loaded};
 
+/// One feature's polygons with its ids.
+struct Part {
+    id: Option<u32>,
+    name: Option<String>,
+    polygons: MultiPolygon<f64>,
+}
+
 /// Decodes GeoJSON bytes; coordinates have `origin` (x, y) subtracted.
 pub fn parse_geojson(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError> {
+    parse_geojson_with(data, origin, &ReadOptions::default())
+}
+
+/// [`parse_geojson`] with the own ids read as `options` say.
+pub fn parse_geojson_with(
+    data: &[u8],
+    origin: [f64; 3],
+    options: &ReadOptions,
+) -> Result<Loaded, ParseError> {
     let v = super::json::parse(data)?;
-    let kind = v.get("type").and_then(Value::as_str).unwrap_or("");
-    let features: Vec<&Value> = match kind {
-        "FeatureCollection" => v
-            .get("features")
-            .and_then(Value::as_array)
-            .ok_or_else(|| shape("a FeatureCollection needs a `features` array"))?
-            .iter()
-            .collect(),
-        "Feature" | "Polygon" | "MultiPolygon" | "GeometryCollection" => vec![&v],
-        "" => return Err(shape("not GeoJSON: no `type` member at the top level")),
-        other => {
-            return Err(shape(&format!(
-                "GeoJSON type `{other}` holds no polygons (FeatureCollection, Feature, Polygon or MultiPolygon expected)"
-            )));
-        }
-    };
+    let features = features_of(&v)?;
     let mut skipped = Vec::new();
-    let mut parts: Vec<(Option<u32>, String, MultiPolygon<f64>)> = Vec::new();
+    let mut parts: Vec<Part> = Vec::new();
+    let mut named = 0usize;
+    let mut first_props = None;
     for (k, f) in features.iter().enumerate() {
         let (geometry, props) = if f.get("type").and_then(Value::as_str) == Some("Feature") {
             (
                 f.get("geometry").unwrap_or(&Value::Null),
-                f.get("properties"),
+                f.get("properties").and_then(Value::as_object),
             )
         } else {
             (*f, None)
         };
+        first_props = first_props.or(props);
+        let own = own_id(props, options);
+        named += usize::from(own.is_some());
         let label = format!("feature {k}");
         let mut polys = Vec::new();
         collect_polygons(geometry, origin, &label, &mut polys, &mut skipped);
@@ -51,44 +62,71 @@ pub fn parse_geojson(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError
             continue;
         }
         match union_valid(&polys) {
-            Ok(mp) => {
-                let id = feature_id(f, props);
-                let name = props
-                    .and_then(|p| p.get("name"))
-                    .and_then(Value::as_str)
-                    .map(str::to_string)
-                    .or_else(|| id.map(|i| i.to_string()))
-                    .unwrap_or_else(|| format!("feature_{k}"));
-                parts.push((id, name, mp));
-            }
+            Ok(polygons) => parts.push(Part {
+                id: feature_id(f, props),
+                name: own
+                    .or_else(|| f.get("id").and_then(id_text))
+                    .or_else(|| props.and_then(|p| p.get("name")).and_then(id_text)),
+                polygons,
+            }),
             Err(problem) => skipped.push(Skipped {
                 source: label,
                 problem,
             }),
         }
     }
-    let mut next = parts.iter().filter_map(|p| p.0).max().unwrap_or(0);
+    check_named_field(options, named, first_props)?;
+    Loaded::new(merged(parts), skipped)
+}
+
+/// The features of a document (a bare geometry is one).
+fn features_of(v: &Value) -> Result<Vec<&Value>, ParseError> {
+    match v.get("type").and_then(Value::as_str).unwrap_or("") {
+        "FeatureCollection" => Ok(v
+            .get("features")
+            .and_then(Value::as_array)
+            .ok_or_else(|| shape("a FeatureCollection needs a `features` array"))?
+            .iter()
+            .collect()),
+        "Feature" | "Polygon" | "MultiPolygon" | "GeometryCollection" => Ok(vec![v]),
+        "" => Err(shape("not GeoJSON: no `type` member at the top level")),
+        other => Err(shape(&format!(
+            "GeoJSON type `{other}` holds no polygons (FeatureCollection, Feature, Polygon or MultiPolygon expected)"
+        ))),
+    }
+}
+
+/// One footprint per numeric id, or per own id where there is none; the
+/// rest get the next free numeric ids in file order.
+fn merged(parts: Vec<Part>) -> Vec<Footprint> {
+    let mut next = parts.iter().filter_map(|p| p.id).max().unwrap_or(0);
+    let mut by_name: BTreeMap<String, u32> = BTreeMap::new();
     let mut by_id: BTreeMap<u32, (String, Vec<Polygon<f64>>)> = BTreeMap::new();
-    for (id, name, mp) in parts {
-        let id = id.unwrap_or_else(|| {
+    for (k, part) in parts.into_iter().enumerate() {
+        let mut fresh = || {
             next = next.saturating_add(1);
             next
-        });
+        };
+        let id = match (part.id, &part.name) {
+            (Some(id), _) => id,
+            (None, Some(name)) => *by_name.entry(name.clone()).or_insert_with(&mut fresh),
+            (None, None) => fresh(),
+        };
+        let name = part.name.unwrap_or_else(|| format!("feature_{k}"));
         by_id
             .entry(id)
             .or_insert_with(|| (name, Vec::new()))
             .1
-            .extend(mp);
+            .extend(part.polygons);
     }
-    let footprints: Vec<Footprint> = by_id
+    by_id
         .into_iter()
         .filter_map(|(id, (name, polys))| Footprint::from_parts(id, name, &polys))
-        .collect();
-    Loaded::new(footprints, skipped)
+        .collect()
 }
 
 /// A positive id from the feature's `id` or its properties `id` / `building`.
-fn feature_id(feature: &Value, props: Option<&Value>) -> Option<u32> {
+fn feature_id(feature: &Value, props: Option<&serde_json::Map<String, Value>>) -> Option<u32> {
     let as_id = |v: &Value| -> Option<u32> {
         let n = match v {
             Value::Number(n) => n.as_u64()?,

@@ -1,104 +1,241 @@
-//! Choosing a footprint reader by extension, then by content.
+//! Choosing a footprint reader by extension, then by content; the CRS the
+//! file names; moving the footprints into a cloud's frame.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use geo::{Coord, MapCoordsInPlace};
+use geo::{BoundingRect, Coord, MapCoordsInPlace};
 use serde_json::Value;
 
-use crate::crs::{Crs, JsonCrs, SourceFrame, cityjson_crs, geojson_crs};
+use crate::crs::{Crs, JsonCrs, SourceFrame, geojson_crs};
 use crate::file;
+use crate::scene::cityjson::{city_files, read_city_model};
 
-use super::cityjson::parse_cityjson_footprints;
+use super::cityjson::cityjson_footprints;
 use super::error::FootprintError;
-use super::geojson::parse_geojson;
+use super::geojson::parse_geojson_with;
+use super::ids::ReadOptions;
 use super::obj::parse_obj_footprints;
 use super::types::Loaded;
 
-/// Reads footprints from a GeoJSON (`.geojson`, `.json`), CityJSON (`.json`,
-/// `.city.json`) or OBJ (`.obj`) file; `.json` files are told apart by their
-/// top-level `type`. Coordinates have `origin` subtracted (the local frame of
-/// the cloud or scene they go with).
-pub fn load_footprints(path: &Path, origin: [f64; 3]) -> Result<Loaded, FootprintError> {
-    parse_file(path, &read(path)?, origin)
+/// The `--footprints` keyword for a CityJSON scene's own buildings.
+pub const MODEL_KEYWORD: &str = "model";
+
+/// Footprints as a file holds them: source CRS and unit, no origin taken off.
+#[derive(Debug, Clone)]
+pub struct SourceFootprints {
+    /// The file (the first one, for CityJSON tiles).
+    pub path: PathBuf,
+    /// The CRS the file names, when the registry resolves it.
+    pub crs: Option<Crs>,
+    /// GeoJSON without a `crs` member (RFC 7946 says WGS 84 longitude/latitude).
+    pub rfc7946: bool,
+    /// What the reader found.
+    pub loaded: Loaded,
 }
 
-/// Reads footprints that go with a cloud in `frame`: their coordinates are in
-/// the CRS the file names (GeoJSON `crs`, CityJSON `referenceSystem`), else
-/// in the cloud's own CRS and unit (a layer drawn over the survey), and come
-/// out in metres in the cloud's local frame. A file naming another
-/// horizontal CRS than the cloud's is refused.
-pub fn load_footprints_in(path: &Path, frame: &SourceFrame) -> Result<Loaded, FootprintError> {
-    let data = read(path)?;
-    let stated = stated_crs(&data);
-    if let (Some(file), Some(cloud)) = (stated.as_ref(), frame.crs.as_ref())
-        && let (Some(a), Some(b)) = (file.horizontal_epsg(), cloud.horizontal_epsg())
-        && a != b
-    {
-        return Err(FootprintError::CrsMismatch {
-            path: path.to_path_buf(),
-            file: file.label(),
-            cloud: cloud.label(),
+/// Reads footprints from `spec`: a GeoJSON (`.geojson`, `.json`), CityJSON
+/// (`.json`, `.city.json`) or CityJSONSeq (`.jsonl`), FlatGeobuf (`.fgb`)
+/// or OBJ (`.obj`) file, or several CityJSON files (tiles) joined by
+/// commas; `.json` files are told apart by their top-level `type`.
+/// Coordinates stay in the file's CRS and unit.
+pub fn read_footprints(
+    spec: &str,
+    options: &ReadOptions,
+) -> Result<SourceFootprints, FootprintError> {
+    let paths: Vec<PathBuf> = spec
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .map(PathBuf::from)
+        .collect();
+    let Some(first) = paths.first().cloned() else {
+        return Err(FootprintError::UnknownFormat {
+            path: PathBuf::from(spec),
         });
+    };
+    let parse_err = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| FootprintError::Parse { path, source }
+    };
+    let data = if paths.len() == 1 && !is_city(&first)? {
+        file::read(&first)?
+    } else {
+        return read_city(&paths, options);
+    };
+    let ext = extension(&first);
+    let (loaded, crs, rfc7946) = match ext.as_str() {
+        "obj" => (
+            parse_obj_footprints(&data, [0.0; 3]).map_err(parse_err(&first))?,
+            None,
+            false,
+        ),
+        "fgb" => {
+            let (loaded, crs) =
+                super::flatgeobuf::parse_fgb(&data, options).map_err(parse_err(&first))?;
+            (loaded, crs, false)
+        }
+        "geojson" | "json" => {
+            let loaded = parse_geojson_with(&data, [0.0; 3], options).map_err(parse_err(&first))?;
+            let v: Value = serde_json::from_slice(&data).unwrap_or_default();
+            match geojson_crs(&v) {
+                Ok(JsonCrs::Epsg(crs)) => (loaded, Some(crs), false),
+                Ok(JsonCrs::Wgs84Default) => (loaded, None, true),
+                _ => (loaded, None, false),
+            }
+        }
+        "gpkg" => return Err(FootprintError::GeoPackage { path: first }),
+        _ => return Err(FootprintError::UnknownFormat { path: first }),
+    };
+    Ok(SourceFootprints {
+        path: first,
+        crs,
+        rfc7946,
+        loaded,
+    })
+}
+
+fn extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default()
+}
+
+/// Whether `path` is a city model: `.jsonl`, or `.json` whose top-level
+/// `type` is `CityJSON` (writers put it anywhere: cjio's delft.json has it
+/// 1 MB in, after the vertices).
+fn is_city(path: &Path) -> Result<bool, FootprintError> {
+    #[derive(serde::Deserialize)]
+    struct Kind {
+        #[serde(rename = "type")]
+        kind: Option<String>,
     }
-    let f = stated.as_ref().map_or(frame.to_metre(), Crs::to_metre);
-    let origin = [0, 1, 2].map(|k| frame.origin[k] / f[k]);
-    let mut loaded = parse_file(path, &data, origin)?;
-    if f[..2] != [1.0, 1.0] {
-        for fp in &mut loaded.footprints {
-            fp.polygon.map_coords_in_place(|c| Coord {
-                x: c.x * f[0],
-                y: c.y * f[1],
+    match extension(path).as_str() {
+        "jsonl" => Ok(true),
+        "json" => {
+            let data = file::read(path)?;
+            let kind: Option<Kind> = serde_json::from_slice(&data).ok();
+            Ok(kind.and_then(|k| k.kind).as_deref() == Some("CityJSON"))
+        }
+        _ => Ok(false),
+    }
+}
+
+fn read_city(paths: &[PathBuf], options: &ReadOptions) -> Result<SourceFootprints, FootprintError> {
+    let first = paths[0].clone();
+    let model = read_city_model(paths).map_err(|source| FootprintError::City {
+        source: Box::new(source),
+    })?;
+    let loaded =
+        cityjson_footprints(&model, [0.0; 3], options).map_err(|source| FootprintError::Parse {
+            path: first.clone(),
+            source,
+        })?;
+    Ok(SourceFootprints {
+        path: first,
+        crs: model.crs(),
+        rfc7946: false,
+        loaded,
+    })
+}
+
+/// `--footprints` as a spec [`read_footprints`] takes: the keyword
+/// [`MODEL_KEYWORD`] is the CityJSON scene's own files (`scene`, a scene
+/// spec), anything else a path.
+pub fn resolve_source(spec: &str, scene: Option<&str>) -> Result<String, FootprintError> {
+    if spec.trim() != MODEL_KEYWORD {
+        return Ok(spec.to_string());
+    }
+    let not_city = || FootprintError::ModelWithoutCity {
+        scene: scene.map(str::to_string),
+    };
+    let scene = scene.ok_or_else(not_city)?;
+    let files = city_files(scene).map_err(|_| not_city())?;
+    let all_city = !files.is_empty()
+        && files
+            .iter()
+            .all(|f| is_city(f).unwrap_or(false) && f.is_file());
+    if !all_city {
+        return Err(not_city());
+    }
+    Ok(files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect::<Vec<_>>()
+        .join(","))
+}
+
+impl SourceFootprints {
+    /// The footprints in a cloud's `frame` (local, metres): their
+    /// coordinates are in the CRS the file names, else in the cloud's own
+    /// CRS and unit (a layer drawn over the survey). A file naming another
+    /// horizontal CRS than the cloud's is refused, and so is an RFC 7946
+    /// GeoJSON in longitude/latitude over a projected cloud.
+    pub fn in_frame(&self, frame: &SourceFrame) -> Result<Loaded, FootprintError> {
+        if let (Some(file), Some(cloud)) = (self.crs.as_ref(), frame.crs.as_ref())
+            && let (Some(a), Some(b)) = (file.horizontal_epsg(), cloud.horizontal_epsg())
+            && a != b
+        {
+            return Err(FootprintError::CrsMismatch {
+                path: self.path.clone(),
+                file: file.label(),
+                cloud: cloud.label(),
             });
         }
+        if self.rfc7946 && self.looks_geographic() && !frame_is_geographic(frame) {
+            return Err(FootprintError::LongitudeLatitude {
+                path: self.path.clone(),
+                cloud: frame
+                    .crs
+                    .as_ref()
+                    .map_or_else(|| "a projected frame".to_string(), Crs::label),
+            });
+        }
+        let f = self.crs.as_ref().map_or(frame.to_metre(), Crs::to_metre);
+        let origin = frame.origin;
+        let mut loaded = self.loaded.clone();
+        for fp in &mut loaded.footprints {
+            fp.polygon.map_coords_in_place(|c| Coord {
+                x: c.x * f[0] - origin[0],
+                y: c.y * f[1] - origin[1],
+            });
+        }
+        Ok(loaded)
+    }
+
+    /// Every coordinate within longitude/latitude's range.
+    fn looks_geographic(&self) -> bool {
+        self.loaded.footprints.iter().all(|f| {
+            f.polygon.bounding_rect().is_none_or(|r| {
+                r.min().x >= -180.0 && r.max().x <= 180.0 && r.min().y >= -90.0 && r.max().y <= 90.0
+            })
+        })
+    }
+}
+
+/// A frame whose origin could be longitude/latitude (or that says so).
+fn frame_is_geographic(frame: &SourceFrame) -> bool {
+    let o = frame.to_source([0.0; 3]);
+    o[0].abs() <= 180.0 && o[1].abs() <= 90.0
+}
+
+/// Reads footprints from `path` ([`read_footprints`]) with `origin`
+/// subtracted, in the file's own unit.
+pub fn load_footprints(path: &Path, origin: [f64; 3]) -> Result<Loaded, FootprintError> {
+    let mut loaded = read_footprints(&path.display().to_string(), &ReadOptions::default())?.loaded;
+    for fp in &mut loaded.footprints {
+        fp.polygon.map_coords_in_place(|c| Coord {
+            x: c.x - origin[0],
+            y: c.y - origin[1],
+        });
     }
     Ok(loaded)
 }
 
-fn read(path: &Path) -> Result<Vec<u8>, FootprintError> {
-    Ok(file::read(path)?)
-}
-
-/// The CRS a GeoJSON or CityJSON file names and the registry resolves
-/// (a GeoJSON without `crs` is RFC 7946 WGS 84, which no survey is in:
-/// taken as unstated).
-fn stated_crs(data: &[u8]) -> Option<Crs> {
-    let v: Value = serde_json::from_slice(data).ok()?;
-    let named = if v.get("type").and_then(Value::as_str) == Some("CityJSON") {
-        cityjson_crs(&v)
-    } else {
-        geojson_crs(&v)
-    };
-    match named {
-        Ok(JsonCrs::Epsg(crs)) => Some(crs),
-        _ => None,
-    }
-}
-
-fn parse_file(path: &Path, data: &[u8], origin: [f64; 3]) -> Result<Loaded, FootprintError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    let parse_err = |source| FootprintError::Parse {
-        path: path.to_path_buf(),
-        source,
-    };
-    match ext.as_str() {
-        "obj" => parse_obj_footprints(data, origin).map_err(parse_err),
-        "geojson" => parse_geojson(data, origin).map_err(parse_err),
-        "json" => {
-            let v = super::json::parse(data).map_err(parse_err)?;
-            if v.get("type").and_then(Value::as_str) == Some("CityJSON") {
-                parse_cityjson_footprints(data, origin).map_err(parse_err)
-            } else {
-                parse_geojson(data, origin).map_err(parse_err)
-            }
-        }
-        _ => Err(FootprintError::UnknownFormat {
-            path: path.to_path_buf(),
-        }),
-    }
+/// Reads footprints that go with a cloud in `frame`
+/// ([`SourceFootprints::in_frame`]).
+pub fn load_footprints_in(path: &Path, frame: &SourceFrame) -> Result<Loaded, FootprintError> {
+    read_footprints(&path.display().to_string(), &ReadOptions::default())?.in_frame(frame)
 }
 
 #[cfg(test)]
@@ -155,6 +292,39 @@ mod tests {
         let e = load_footprints_in(&path, &feet_frame()).expect_err("another CRS");
         let _ = std::fs::remove_file(&path);
         assert!(matches!(e, FootprintError::CrsMismatch { .. }), "{e}");
+        let text = e.to_string();
+        assert!(
+            text.contains("EPSG:28992") && text.contains("EPSG:2994"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn longitude_latitude_over_a_projected_cloud_is_refused() {
+        let doc = br#"{"type":"Feature","properties":{"@id":"way/1"},"geometry":{"type":"Polygon",
+            "coordinates":[[[4.35,52.0],[4.351,52.0],[4.351,52.001],[4.35,52.0]]]}}"#;
+        let path =
+            std::env::temp_dir().join(format!("skyground-{}-osm.geojson", std::process::id()));
+        std::fs::write(&path, doc).expect("temp file");
+        let read = read_footprints(&path.display().to_string(), &ReadOptions::default());
+        let _ = std::fs::remove_file(&path);
+        let read = read.expect("reads");
+        assert_eq!(read.loaded.footprints[0].name, "way/1");
+        let rd = SourceFrame::new([84_000.0, 447_000.0, 0.0], Crs::from_epsg(28992).ok());
+        let e = read.in_frame(&rd).expect_err("degrees over metres");
+        assert!(matches!(e, FootprintError::LongitudeLatitude { .. }), "{e}");
         assert!(e.to_string().contains("EPSG:28992"), "{e}");
+    }
+
+    #[test]
+    fn the_model_keyword_needs_a_city_scene() {
+        assert_eq!(
+            resolve_source("a.geojson", None).ok().as_deref(),
+            Some("a.geojson")
+        );
+        for scene in [None, Some("reference"), Some("/nonexistent/city.json")] {
+            let e = resolve_source("model", scene).expect_err("no city model");
+            assert!(matches!(e, FootprintError::ModelWithoutCity { .. }), "{e}");
+        }
     }
 }

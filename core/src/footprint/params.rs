@@ -65,9 +65,13 @@ pub struct DeriveParams {
     /// are hedges, bushes, cars and pergolas, alone or against a wall (a
     /// storey with a door is about 2.5 m); 0: off.
     pub min_height_m: f64,
-    /// Adjacent cells whose highest points differ by more (m) belong to
-    /// different buildings; 0 turns this split off.
+    /// Adjacent cells whose highest points differ by more (m) than the
+    /// roof's own slope either side belong to different buildings (the
+    /// eave or ridge step between two houses of a row); 0 turns this split off.
     pub height_jump_m: f64,
+    /// A height-split part smaller than this (m²) is merged back into its
+    /// neighbour (a dormer, chimney or noisy roof patch, not a house).
+    pub min_part_m2: f64,
     /// A height-split part whose outline touches open ground for less than
     /// this share of its cell edges is merged back into its neighbour (a
     /// tower on its podium is one building).
@@ -85,6 +89,7 @@ impl Default for DeriveParams {
             min_area_m2: 10.0,
             min_height_m: 2.5,
             height_jump_m: 0.0,
+            min_part_m2: 20.0,
             min_open_share: 0.25,
             simplify_m: 0.4,
         }
@@ -136,6 +141,13 @@ impl DeriveParams {
             0.0,
             1e4,
             "value ≥ 0 m (0 = off)",
+        )?;
+        check(
+            "min_part_m2",
+            self.min_part_m2,
+            0.0,
+            1e6,
+            "0 ≤ value ≤ 10⁶ m²",
         )?;
         check(
             "min_open_share",

@@ -99,35 +99,42 @@ impl Raster {
         self.filled = closed;
     }
 
-    /// Component label per cell (0 = empty), 4-connected; with `jump > 0`,
-    /// neighbours whose tops differ by more are cut apart, then parts that
-    /// touch open ground on less than `min_open` of their edges are merged
-    /// into the neighbour they share most edges with.
-    pub fn components(&self, jump: f64, min_open: f64) -> (Vec<u32>, u32) {
-        let n = self.frame.nx * self.frame.ny;
+    /// Component label per cell (0 = empty), 4-connected; with a step
+    /// `cuts.jump > 0`, neighbours across a roof-height step ([`Self::step`])
+    /// larger than it are cut apart, then parts smaller than
+    /// `cuts.min_part_cells` or touching open ground on less than
+    /// `cuts.min_open` of their edges are merged into the neighbour they
+    /// share most edges with.
+    pub fn components(&self, cuts: &Cuts) -> (Vec<u32>, u32) {
+        let (nx, ny) = (self.frame.nx, self.frame.ny);
+        let n = nx * ny;
         let mut uf = UnionFind::new(n);
-        let joins = |a: usize, b: usize| {
-            jump <= 0.0 || f64::from((self.top[a] - self.top[b]).abs()) <= jump
+        let joins = |a: usize, b: usize, before: Option<usize>, after: Option<usize>| {
+            cuts.jump <= 0.0 || self.step(a, b, before, after) <= cuts.jump
         };
-        for j in 0..self.frame.ny {
-            for i in 0..self.frame.nx {
-                let k = j * self.frame.nx + i;
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
                 if !self.filled[k] {
                     continue;
                 }
-                if i + 1 < self.frame.nx && self.filled[k + 1] && joins(k, k + 1) {
-                    uf.union(k, k + 1);
+                if i + 1 < nx && self.filled[k + 1] {
+                    let (before, after) = ((i > 0).then(|| k - 1), (i + 2 < nx).then(|| k + 2));
+                    if joins(k, k + 1, before, after) {
+                        uf.union(k, k + 1);
+                    }
                 }
-                if j + 1 < self.frame.ny
-                    && self.filled[k + self.frame.nx]
-                    && joins(k, k + self.frame.nx)
-                {
-                    uf.union(k, k + self.frame.nx);
+                if j + 1 < ny && self.filled[k + nx] {
+                    let before = (j > 0).then(|| k - nx);
+                    let after = (j + 2 < ny).then(|| k + 2 * nx);
+                    if joins(k, k + nx, before, after) {
+                        uf.union(k, k + nx);
+                    }
                 }
             }
         }
-        if jump > 0.0 {
-            self.merge_enclosed(&mut uf, min_open);
+        if cuts.jump > 0.0 {
+            self.merge_small_and_enclosed(&mut uf, cuts);
         }
         let mut label = vec![0u32; n];
         let mut ids: HashMap<usize, u32> = HashMap::new();
@@ -141,9 +148,25 @@ impl Raster {
         (label, u32::try_from(ids.len()).unwrap_or(u32::MAX))
     }
 
-    fn merge_enclosed(&self, uf: &mut UnionFind, min_open: f64) {
+    /// The roof-height step between neighbours `a` and `b` (m): their top
+    /// difference less the larger of the differences beside it (`before`
+    /// → `a`, `b` → `after`, occupied ones only), so a pitched roof's own
+    /// slope, however steep, is no step while an eave or ridge that jumps
+    /// between two houses is.
+    fn step(&self, a: usize, b: usize, before: Option<usize>, after: Option<usize>) -> f64 {
+        let top = |k: usize| f64::from(self.top[k]);
+        let flank = |x: Option<usize>, y: usize| {
+            x.filter(|&x| self.filled[x])
+                .map_or(0.0, |x| (top(x) - top(y)).abs())
+        };
+        let d = (top(b) - top(a)).abs();
+        (d - flank(before, a).max(flank(after, b))).max(0.0)
+    }
+
+    fn merge_small_and_enclosed(&self, uf: &mut UnionFind, cuts: &Cuts) {
         for _ in 0..8 {
-            // Per part: edges to open ground, and edges shared with each neighbour part.
+            // Per part: cells, edges to open ground, and edges shared with each neighbour part.
+            let mut cells: HashMap<usize, usize> = HashMap::new();
             let mut open: HashMap<usize, usize> = HashMap::new();
             let mut total: HashMap<usize, usize> = HashMap::new();
             let mut shared: HashMap<(usize, usize), usize> = HashMap::new();
@@ -154,6 +177,7 @@ impl Raster {
                         continue;
                     }
                     let a = uf.find(k);
+                    *cells.entry(a).or_default() += 1;
                     let nbrs = [
                         (i > 0).then(|| k - 1),
                         (i + 1 < self.frame.nx).then(|| k + 1),
@@ -182,7 +206,8 @@ impl Raster {
             parts.sort_unstable();
             for (t, a) in parts {
                 let o = open.get(&a).copied().unwrap_or(0);
-                if t == 0 || (o as f64) >= min_open * t as f64 {
+                let small = cells.get(&a).copied().unwrap_or(0) < cuts.min_part_cells;
+                if t == 0 || (!small && (o as f64) >= cuts.min_open * t as f64) {
                     continue;
                 }
                 let best = shared
@@ -202,6 +227,18 @@ impl Raster {
             }
         }
     }
+}
+
+/// Where [`Raster::components`] cuts touching buildings apart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cuts {
+    /// Roof-height step (m) that separates two buildings; 0: no cuts.
+    pub jump: f64,
+    /// Parts with fewer cells join their neighbour (dormers, chimneys, noise).
+    pub min_part_cells: usize,
+    /// Parts touching open ground on less than this share of their edges
+    /// join their neighbour (a tower on its podium).
+    pub min_open: f64,
 }
 
 /// Disjoint sets over cell indices.

@@ -282,6 +282,7 @@ fn analyse(
     let height_of = |k: usize| levels.get(k).map_or(0.0, |l| l.height);
     BuildingDetection {
         building: id,
+        footprint_id: String::new(),
         points: n,
         skipped: None,
         ground_z: sliced.ground_z,

@@ -104,6 +104,9 @@ pub struct StructureReport {
 pub struct BuildingDetection {
     /// Building id (1-based).
     pub building: u32,
+    /// Its footprint's own id (BAG `identificatie`, OSM id, CityObject id;
+    /// `derived_N` for a derived one), empty when no footprint named it.
+    pub footprint_id: String,
     /// Points it has.
     pub points: usize,
     /// Set when the building was not analysed; everything below is then empty.
@@ -133,6 +136,7 @@ impl BuildingDetection {
     pub fn skipped(building: u32, points: usize, reason: SkipReason) -> Self {
         BuildingDetection {
             building,
+            footprint_id: String::new(),
             points,
             skipped: Some(reason),
             ground_z: 0.0,

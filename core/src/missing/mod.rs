@@ -34,4 +34,4 @@ pub use detection::{
 pub use eval::{BuildingScore, DetectionScore, WallCounts, evaluate};
 pub use ground::GroundGrid;
 pub use params::DetectParams;
-pub use scene::{SceneDetectError, SceneParams, detect_scene, shift_missing};
+pub use scene::{SceneDetectError, SceneParams, derive_footprints, detect_scene, shift_missing};

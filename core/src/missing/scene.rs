@@ -99,8 +99,36 @@ pub fn detect_scene(
     // along the outline of what stands, not round the bushes at its foot.
     let outlines: Vec<(u32, geo::MultiPolygon<f64>)> =
         used.iter().map(|f| (f.id, f.polygon.clone())).collect();
-    let detection = detect_all_on(&pts, &ids, Some(&outlines), terrain.as_ref(), detect)?;
+    let mut detection = detect_all_on(&pts, &ids, Some(&outlines), terrain.as_ref(), detect)?;
+    name_buildings(&mut detection, &used);
     Ok((detection, used))
+}
+
+/// Each detected building takes its footprint's own id.
+fn name_buildings(detection: &mut Detection, footprints: &[Footprint]) {
+    let names: std::collections::HashMap<u32, &str> =
+        footprints.iter().map(|f| (f.id, f.name.as_str())).collect();
+    for b in &mut detection.buildings {
+        if let Some(n) = names.get(&b.building) {
+            b.footprint_id = (*n).to_string();
+        }
+    }
+}
+
+/// The footprints [`detect_scene`] derives when none are given: from the
+/// building points (label 6) of `aerial` standing `min_height_m` over its
+/// terrain (label 2), in its frame.
+pub fn derive_footprints(
+    aerial: &Cloud,
+    params: &DeriveParams,
+) -> Result<Vec<Footprint>, SceneDetectError> {
+    let pts = building_xyz(aerial, aerial.origin, true)?;
+    let ground = aerial.xyz_of_class(class::GROUND);
+    let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
+    Ok(derive(
+        &standing(&pts, terrain.as_ref(), params.min_height_m),
+        params,
+    )?)
 }
 
 /// The building points standing at least `min_height_m` over the terrain,

@@ -502,6 +502,9 @@ impl VehicleStatus {
 pub struct BuildingStatus {
     /// Building id.
     pub building: u32,
+    /// Its footprint's own id (BAG, OSM, CityObject id; `derived_N`), empty
+    /// when none named it (key `footprint_id`, absent then).
+    pub footprint_id: String,
     /// Its points in the prior.
     pub points: usize,
     /// Detection round (0 on the aerial prior alone).
@@ -548,6 +551,9 @@ impl BuildingStatus {
             ),
         };
         w.put("building", self.building);
+        if !self.footprint_id.is_empty() {
+            w.put("footprint_id", &self.footprint_id);
+        }
         w.put("points", self.points);
         w.put("round", self.round);
         if self.skipped.is_none() {
@@ -572,6 +578,7 @@ impl BuildingStatus {
             .filter(|_| w.level != OK);
         let mut s = BuildingStatus {
             building: w.get("building")?,
+            footprint_id: w.get::<String>("footprint_id").unwrap_or_default(),
             points: w.get("points")?,
             round: w.get("round")?,
             skipped,
@@ -678,12 +685,13 @@ mod tests {
         fn building()(
             building in 1u32..1000, points in 0usize..100_000, round in 0u32..5,
             skipped in prop::option::of("[a-z][a-z ]{0,20}[a-z]"),
+            footprint_id in "([A-Za-z0-9./_-]{1,30})?",
             r_missing in 0.0f32..1.0, counts in (0usize..1000, 0usize..1000, 0usize..50, 0usize..9),
             region in any::<bool>(), ground_z in -100.0f32..100.0,
         ) -> BuildingStatus {
             let detected = skipped.is_none();
             BuildingStatus {
-                building, points, round, skipped,
+                building, footprint_id, points, round, skipped,
                 r_missing: if detected { r_missing } else { 0.0 },
                 missing: if detected { counts.0 } else { 0 },
                 boundary: if detected { counts.1 } else { 0 },

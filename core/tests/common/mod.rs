@@ -34,6 +34,19 @@ pub fn real_file(name: &str) -> Option<PathBuf> {
     Some(dir.join(name))
 }
 
+/// `name` in the conformance folder next to the real one
+/// (`../shared/data/conformance`); `None`, said plainly, when it is absent.
+#[allow(dead_code)]
+pub fn conformance_file(name: &str) -> Option<PathBuf> {
+    let real = real_file("")?;
+    let path = real.parent()?.join("conformance").join(name);
+    if !path.is_file() {
+        eprintln!("SKIPPED: {} not found", path.display());
+        return None;
+    }
+    Some(path)
+}
+
 /// The City3D sample building: its cloud, and its footprint (OBJ) loaded in
 /// the cloud's frame; `None` when the real data is absent.
 #[allow(dead_code)] // Not every test file that shares this module reads it.

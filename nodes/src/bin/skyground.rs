@@ -4,8 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use skyground_nodes::cli::{
-    self, aerial, bench, classify, demo, detect, echo, eval, info, plan, play, reconstruct, record,
-    sink,
+    self, aerial, bench, classify, demo, detect, echo, eval, footprints, info, plan, play,
+    reconstruct, record, sink,
 };
 use skyground_nodes::netns;
 use skyground_nodes::runtime::{RosArgs, run_with};
@@ -37,6 +37,8 @@ enum Cmd {
     Info(info::InfoArgs),
     /// Find where buildings' walls are missing and make ground targets (with a PNG).
     Detect(detect::DetectArgs),
+    /// Derive building footprints from a classified cloud (GeoJSON); with --truth, score them.
+    Footprints(footprints::FootprintsArgs),
     /// Build the ground graph and route over the targets of `skyground detect`.
     Plan(plan::PlanArgs),
     /// Measure an aerial cloud and a merged cloud against a scene's buildings.
@@ -126,6 +128,7 @@ fn main() -> ExitCode {
         Cmd::Train(a) => offline("train", a.json, true, classify::run_train(&a)),
         Cmd::Info(a) => offline("info", a.json, false, info::run(&a)),
         Cmd::Detect(a) => offline("detect", a.json, false, detect::run(&a)),
+        Cmd::Footprints(a) => offline("footprints", a.json, false, footprints::run(&a)),
         Cmd::Plan(a) => offline("plan", a.json, false, plan::run(&a)),
         Cmd::Node { name } => skyground_nodes::node::run_by_name(&name, ros).unwrap_or_else(|| {
             eprintln!(

@@ -137,9 +137,16 @@ fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         a.params_file.as_deref(),
         &["targets"],
     )?;
+    // Footprints are read first: a file that cannot be used stops here.
+    let scene = a.gt.as_deref().map(gt_scene).transpose()?;
+    let given = a.footprints.read(scene.as_deref())?;
     let t0 = Instant::now();
     let mut cloud: Cloud = a.units.read_tiles(&a.inputs)?;
     check_plan_extent(&cloud).map_err(err)?;
+    let footprints = given
+        .as_ref()
+        .map(|r| super::footprints::in_frame(r, &cloud.frame()))
+        .transpose()?;
     let labelled = cloud
         .label
         .as_ref()
@@ -154,7 +161,6 @@ fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         cloud.label = Some(c.classify_cloud(&cloud).map_err(err)?.labels);
         classify_s = t.elapsed().as_secs_f64();
     }
-    let footprints = a.footprints.load(&cloud.frame())?;
     let t1 = Instant::now();
     let (detection, used) = detect_scene(&cloud, None, footprints.as_deref(), &pd).map_err(err)?;
     let detect_s = t1.elapsed().as_secs_f64();
@@ -223,6 +229,7 @@ fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         .map(|b| {
             json!({
                 "building": b.building,
+                "footprint_id": b.footprint_id,
                 "points": b.points,
                 "skipped": b.skipped.as_ref().map(ToString::to_string),
                 "slices": b.slices.len(),

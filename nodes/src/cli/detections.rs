@@ -148,6 +148,7 @@ impl Detections {
 /// Detection's figures from its status on /completeness.
 fn figures(s: &BuildingStatus) -> DetectedFigures {
     DetectedFigures {
+        footprint_id: s.footprint_id.clone(),
         points: s.points,
         skipped: s.skipped.clone(),
         boundary_points: s.boundary,
@@ -211,6 +212,7 @@ mod tests {
     fn status(building: u32, round: u32) -> BuildingStatus {
         BuildingStatus {
             building,
+            footprint_id: format!("NL.IMBAG.Pand.{building}"),
             points: 100 * building as usize,
             round,
             skipped: None,

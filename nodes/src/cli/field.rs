@@ -86,6 +86,13 @@ pub fn write_mission(
         .iter()
         .map(|b| BuildingFigures {
             building: b.building,
+            // The given footprint's own id, as the detector's status carries it.
+            footprint_id: b
+                .detected
+                .detection
+                .as_ref()
+                .map(|d| d.footprint_id.clone())
+                .unwrap_or_default(),
             outline: b.outline.clone(),
             detection: b.detected.detection.clone(),
             target_points: b.detected.target_points,

@@ -175,6 +175,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             a.gt_spacing
         )));
     }
+    let given = a.footprints.read(a.gt.as_deref())?;
     let cloud = a.units.read(&a.input)?;
     check_plan_extent(&cloud).map_err(err)?;
     if let Some(c) = cloud.crs.as_ref().filter(|c| c.epsg.is_none()) {
@@ -185,7 +186,10 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             c.horizontal_unit.name()
         );
     }
-    let footprints = a.footprints.load(&cloud.frame())?;
+    let footprints = given
+        .as_ref()
+        .map(|r| super::footprints::in_frame(r, &cloud.frame()))
+        .transpose()?;
     let t0 = std::time::Instant::now();
     let rec = reconstruct_and_write(&cloud, footprints.as_deref(), &a.out, "models")?;
     let seconds = t0.elapsed().as_secs_f64();

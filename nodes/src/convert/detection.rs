@@ -147,6 +147,7 @@ pub fn completeness_array(header: &Header, d: &Detection, round: u32) -> Diagnos
         .map(|b| {
             let s = BuildingStatus {
                 building: b.building,
+                footprint_id: b.footprint_id.clone(),
                 points: b.points,
                 round,
                 skipped: b.skipped.as_ref().map(ToString::to_string),

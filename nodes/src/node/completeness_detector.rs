@@ -2,13 +2,13 @@
 //! in later rounds) → per building, where the walls are missing (docs/design.md
 //! steps 2–3) → /missing_points, /completeness, /detection_markers.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
-use skyground_core::footprint::{Footprint, load_footprints};
+use skyground_core::crs::{Crs, SourceFrame, epsg_from_reference};
+use skyground_core::footprint::{Footprint, ReadOptions, read_footprints};
 use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::mission::PlannerStatus;
 use skyground_core::mission::detector::{DetectorEvent, DetectorGate};
@@ -28,6 +28,8 @@ struct Params {
     resampled_topic: String,
     planner_status_topic: String,
     footprints: String,
+    footprint_id: String,
+    crs: String,
     origin: Vec<f64>,
     /// The sections `detect`, `split` and `derive`, as `skyground detect` reads them.
     #[serde(flatten)]
@@ -47,6 +49,9 @@ struct Setup {
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
     p.scene.detect.validate()?;
+    // Read before anything starts: a footprint file that cannot be used
+    // stops the node with the reason, never a silent fall-back to deriving.
+    let footprints = given_footprints(rt, &p)?;
     let tile = p.transport.tile_points;
     let mut aerial_sub = CloudSubscription::new(rt, &p.input_topic, qos::latched(256), tile)?;
     let mut resampled_sub = match p.resampled_topic.as_str() {
@@ -67,8 +72,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let missing_pub = CloudPublisher::new(rt, "/missing_points", qos::latched(1), p.transport)?;
     let status_pub = rt.publisher::<DiagnosticArray>("/completeness", qos::latched(1))?;
     let marker_pub = rt.publisher::<MarkerArray>("/detection_markers", qos::latched(1))?;
-    let mut setup = Arc::new(Setup {
-        footprints: None,
+    let setup = Arc::new(Setup {
+        footprints,
         scene: p.scene,
     });
     rt.log.info(&format!("waiting for {}", p.input_topic));
@@ -84,19 +89,6 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                         rt.log.error(&format!("cloud on {} has no `label` field: run scene_classifier first", p.input_topic));
                         vec![]
                     } else {
-                        if !p.footprints.is_empty() && setup.footprints.is_none() {
-                            let origin = [0, 1, 2].map(|k| p.origin.get(k).copied().unwrap_or(0.0));
-                            match load_footprints(Path::new(&p.footprints), origin) {
-                                Ok(l) => {
-                                    for s in &l.skipped {
-                                        rt.log.warn(&format!("footprints {}: {s}", p.footprints));
-                                    }
-                                    rt.log.info(&format!("{} footprints from {}", l.footprints.len(), p.footprints));
-                                    Arc::make_mut(&mut setup).footprints = Some(l.footprints);
-                                }
-                                Err(e) => rt.log.error(&format!("footprints {}: {e}; deriving them instead", p.footprints)),
-                            }
-                        }
                         aerial = Some((cloud, msg.header));
                         vec![DetectorEvent::Aerial]
                     }
@@ -174,6 +166,40 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         round += 1;
     }
     Ok(())
+}
+
+/// The footprints named by the `footprints` param in the clouds' frame
+/// (`origin`, `crs`), `None` without one; an error names the file and why.
+fn given_footprints(rt: &NodeRuntime, p: &Params) -> Result<Option<Vec<Footprint>>, RuntimeError> {
+    if p.footprints.trim().is_empty() {
+        return Ok(None);
+    }
+    let fail =
+        |e: &dyn std::fmt::Display| RuntimeError::Node(format!("footprints {}: {e}", p.footprints));
+    let crs = match p.crs.trim() {
+        "" => None,
+        c => Some(
+            epsg_from_reference(c)
+                .ok_or_else(|| fail(&format!("crs `{c}` names no EPSG code (EPSG:N expected)")))
+                .and_then(|code| Crs::from_epsg(code).map_err(|e| fail(&e)))?,
+        ),
+    };
+    let origin = [0, 1, 2].map(|k| p.origin.get(k).copied().unwrap_or(0.0));
+    let options = ReadOptions {
+        id_field: Some(p.footprint_id.trim().to_string()).filter(|f| !f.is_empty()),
+    };
+    let loaded = read_footprints(&p.footprints, &options)
+        .and_then(|s| s.in_frame(&SourceFrame::new(origin, crs)))
+        .map_err(|e| fail(&e))?;
+    for s in &loaded.skipped {
+        rt.log.warn(&format!("footprints {}: {s}", p.footprints));
+    }
+    rt.log.info(&format!(
+        "{} footprints from {}",
+        loaded.footprints.len(),
+        p.footprints
+    ));
+    Ok(Some(loaded.footprints))
 }
 
 #[cfg(test)]

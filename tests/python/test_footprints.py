@@ -1,0 +1,59 @@
+"""Footprints as surveys have them, through the command line: a footprints
+file that cannot be used stops `detect` and `reconstruct` before they start
+anything, and the BAG ids of a real city model (delft.json over its AHN3
+tiles) come through to the completeness outputs."""
+import csv
+import json
+import subprocess
+
+import pytest
+
+from conftest import BIN, real_file
+
+
+def skyground(*args, timeout=900):
+    return subprocess.run([str(BIN / "skyground"), *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+@pytest.mark.parametrize("command", ["detect", "reconstruct"])
+@pytest.mark.parametrize("case", ["missing", "broken", "model_without_city"])
+def test_bad_footprints_stop_the_command_at_start(tmp_path, command, case):
+    cloud = real_file("sample_c.las")
+    if case == "missing":
+        fp, want = tmp_path / "nope.geojson", "No such file"
+    elif case == "broken":
+        fp = tmp_path / "broken.json"
+        fp.write_text('{"type": "FeatureCollection", "features": [{"type": "Feature"')
+        want = "invalid JSON"
+    else:
+        fp, want = "model", "--footprints model"
+    out = tmp_path / "out"
+    p = skyground(command, "--in", cloud, "--out", out, "--footprints", fp, timeout=120)
+    assert p.returncode != 0, p.stderr[-2000:]
+    assert want in p.stderr, p.stderr[-2000:]
+    # Nothing started: no output folder, no classification of the cloud.
+    assert not out.exists(), sorted(out.rglob("*"))
+
+
+def test_delft_bag_ids_reach_the_completeness_outputs(tmp_path):
+    model = real_file("delft.json")
+    tiles = [real_file("ahn3_delft_1.laz"), real_file("ahn3_delft_2.laz")]
+    ids = {o["attributes"]["identificatiebagpnd"] for o in json.loads(model.read_text())["CityObjects"].values()
+           if o["type"] == "Building"}
+    out = tmp_path / "detect"
+    p = skyground("detect", "--in", *tiles, "--out", out, "--footprints", model, "--json")
+    assert p.returncode == 0, p.stderr[-3000:]
+    summary = json.loads(p.stdout)
+    assert summary["footprints"] == "given"
+    rows = list(csv.DictReader((out / "completeness.csv").open()))
+    analysed = [r for r in rows if r["strategy"]]
+    assert len(analysed) >= 100, len(analysed)
+    assert all(r["footprint_id"] in ids for r in rows), [r["footprint_id"] for r in rows][:5]
+    fc = json.loads((out / "completeness.geojson").read_text())
+    assert {f["properties"]["footprint_id"] for f in fc["features"]} <= ids
+    assert len({f["properties"]["footprint_id"] for f in fc["features"]}) == len(fc["features"])
+    targets = json.loads((out / "targets.geojson").read_text())["features"]
+    assert targets and all(t["properties"]["footprint_id"] in ids for t in targets)
+    per = {b["building"]: b["footprint_id"] for b in summary["per_building"]}
+    assert set(per.values()) <= ids
