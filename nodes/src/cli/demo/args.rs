@@ -45,9 +45,10 @@ pub struct DemoArgs {
     /// hand); default: global_planner's `set_downs` (3); 0: never.
     #[arg(long)]
     pub set_downs: Option<usize>,
-    /// Give footprints to the detector: for a CityJSON scene, its own buildings.
-    #[arg(long)]
-    pub footprints: Option<PathBuf>,
+    /// Footprints for the detector (`--footprints`, `--footprint-id`); `model`: a CityJSON
+    /// scene's own buildings. Read and checked before any node starts.
+    #[command(flatten)]
+    pub footprints: crate::cli::footprints::FootprintsArg,
     /// Field mode: a real robot instead of vehicle_sim.
     #[command(flatten)]
     pub field: FieldArgs,

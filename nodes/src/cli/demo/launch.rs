@@ -54,19 +54,20 @@ fn start(
     })
 }
 
-/// Starts the recorder, then every node of the mission; `aerial` is the
-/// prior the cloud publisher sends, `driver` the vehicle (sim or bridge).
+/// Starts the recorder, then every node of the mission; `detector` holds
+/// completeness_detector's parameters, `aerial` is the prior the cloud
+/// publisher sends, `driver` the vehicle (sim or bridge).
 pub(super) fn start_all(
     a: &DemoArgs,
     exe: &Path,
-    origin: [f64; 3],
+    detector: Vec<String>,
     aerial: &Path,
     driver: (&'static str, Vec<String>),
 ) -> Result<Vec<Proc>, RuntimeError> {
     let mut procs = vec![start("recorder", exe, &record_args(a), &a.out)?];
     for (name, params) in [
         ("scene_classifier", vec![]),
-        ("completeness_detector", detector_params(a, origin)),
+        ("completeness_detector", detector),
         ("target_generator", vec![]),
         ("global_planner", planner_params(a)),
         ("local_explorer", graph_params(a)),
@@ -191,17 +192,6 @@ fn planner_params(a: &DemoArgs) -> Vec<String> {
     let mut v = graph_params(a);
     v.extend(a.set_downs.map(|n| format!("set_downs:={n}")));
     v
-}
-
-/// completeness_detector's parameters: the footprints given, in the scene's frame.
-fn detector_params(a: &DemoArgs, origin: [f64; 3]) -> Vec<String> {
-    let Some(f) = &a.footprints else {
-        return Vec::new();
-    };
-    vec![
-        format!("footprints:={}", f.display()),
-        format!("origin:=[{}, {}, {}]", origin[0], origin[1], origin[2]),
-    ]
 }
 
 fn node_args(name: &str, params: &[String]) -> Vec<String> {

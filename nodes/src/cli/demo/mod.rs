@@ -45,6 +45,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let (full, model_crs) =
         load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
+    // Footprints that cannot be used stop the demo here, before any node starts.
+    let detector = a
+        .footprints
+        .detector_params(Some(&a.scene()), prior.cloud.crs.as_ref(), prior.scene.origin)
+        .map_err(|e| err(format!("footprints: {e}")))?;
     // The prior's measurement and models are ready before the mission ends;
     // the merged cloud is measured as its points arrive (report: only the
     // last round's points are left to measure).
@@ -77,7 +82,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         let real = a.real_prior().then_some(&prior.cloud);
         launch::sim_driver(&prior.scene, &scene_spec, a.time_factor, real)?
     };
-    let mut procs = launch::start_all(&a, &exe, prior.scene.origin, &aerial, driver)?;
+    let mut procs = launch::start_all(&a, &exe, detector, &aerial, driver)?;
     prof.stage("start-up, classification, detection, first route");
     eprintln!(
         "  started {} processes: {}",
