@@ -28,6 +28,7 @@ pub mod params;
 pub mod plot;
 pub mod prior;
 pub mod reconstruct;
+pub mod rng;
 pub mod route;
 pub mod scene;
 pub mod skeleton;

@@ -170,7 +170,9 @@ fn lod22_without_terrain_stands_on_built_ground_with_a_start() {
     // as given; anything else is a clear error.
     assert_eq!(start_spot(&caster, &[]).ok(), start);
     assert_eq!(start_spot(&caster, &[3.0, 4.0]), Ok([3.0, 4.0]));
-    let bad = start_spot(&caster, &[1.0, 2.0, 3.0]).unwrap_err();
+    let bad = start_spot(&caster, &[1.0, 2.0, 3.0])
+        .unwrap_err()
+        .to_string();
     assert!(bad.contains("[x, y] or []"), "{bad}");
 }
 

@@ -20,6 +20,7 @@ use std::time::{Duration, Instant};
 
 use skyground_core::cloud::{Cloud, parse_ply, read_las};
 use skyground_core::footprint::parse_geojson;
+use skyground_core::rng::Rng;
 use skyground_core::scene::{
     CityJsonOptions, ObjOptions, parse_cityjson, parse_obj, parse_ply_mesh,
 };
@@ -124,20 +125,6 @@ fn ply_seeds() -> Vec<Vec<u8>> {
     v
 }
 
-/// xorshift64*: deterministic, so a run is reproducible from its seed.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
 
 /// Bytes and numbers that break decoders' assumptions.
 const BYTES: [u8; 8] = [0, 1, 0x7f, 0x80, 0xff, b'-', b'9', b'\n'];
@@ -257,7 +244,7 @@ fn no_decoder_panics_on_mutated_inputs() {
     let mut failed = Vec::new();
     for (k, t) in TARGETS.iter().enumerate() {
         let seeds = corpus(t, dir.as_deref());
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ k as u64);
+        let mut rng = Rng::keyed(0xF022, k as u64);
         let started = Instant::now();
         let (runs, crashes) = fuzz(t, &seeds, Duration::from_secs_f64(seconds), &mut rng);
         let rate = runs as f64 / started.elapsed().as_secs_f64();

@@ -36,6 +36,23 @@ def test_bad_footprints_stop_the_command_at_start(tmp_path, command, case):
     assert not out.exists(), sorted(out.rglob("*"))
 
 
+@pytest.mark.parametrize("case", ["missing", "model_of_a_scene_without_buildings_ids"])
+def test_bad_footprints_stop_the_demo_before_any_node_starts(tmp_path, case):
+    if case == "missing":
+        fp, scene, want = tmp_path / "nope.geojson", "reference", "No such file"
+    else:
+        # `model` stands for a CityJSON scene's own buildings; the built-in scene has none.
+        fp, scene, want = "model", "reference", "model"
+    out = tmp_path / "out"
+    p = skyground("demo", "--scene", scene, "--out", out, "--footprints", fp, "--no-netns",
+                  "--timeout", "30", timeout=300)
+    assert p.returncode != 0, p.stderr[-2000:]
+    assert "footprints" in p.stderr and want in p.stderr, p.stderr[-2000:]
+    # No node was started: no node logs, no bag.
+    logs = sorted(out.rglob("*.log")) if out.exists() else []
+    assert not logs and not (out / "mission.mcap").exists(), logs
+
+
 def test_delft_bag_ids_reach_the_completeness_outputs(tmp_path):
     model = real_file("delft.json")
     tiles = [real_file("ahn3_delft_1.laz"), real_file("ahn3_delft_2.laz")]

@@ -1,7 +1,7 @@
 //! A trained classifier as one file: the feature definition and the forest.
 
 use std::fs::File;
-use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use flate2::Compression;
@@ -105,19 +105,16 @@ impl Model {
             path: path.display().to_string(),
             message: m,
         };
-        let f = File::create(path).map_err(|e| err(e.to_string()))?;
-        let w = BufWriter::new(f);
+        // Built in memory and written atomically: a failure leaves an earlier model whole.
+        let mut bytes = Vec::new();
         if path.extension().is_some_and(|e| e == "gz") {
-            let mut gz = GzEncoder::new(w, Compression::best());
+            let mut gz = GzEncoder::new(&mut bytes, Compression::best());
             serde_json::to_writer(&mut gz, self).map_err(|e| err(e.to_string()))?;
-            gz.finish()
-                .and_then(|mut w| w.flush())
-                .map_err(|e| err(e.to_string()))
+            gz.finish().map_err(|e| err(e.to_string()))?;
         } else {
-            let mut w = w;
-            serde_json::to_writer(&mut w, self).map_err(|e| err(e.to_string()))?;
-            w.flush().map_err(|e| err(e.to_string()))
+            serde_json::to_writer(&mut bytes, self).map_err(|e| err(e.to_string()))?;
         }
+        crate::file::write(path, bytes).map_err(|e| err(e.to_string()))
     }
 
     /// Reads and checks a model from the bytes of a file written by

@@ -1,20 +1,8 @@
 //! Choosing viewpoints: greedy set cover of the uncovered samples, with
 //! randomized restarts that pick among the near-best instead of the best.
 
+use crate::rng::Rng;
 use crate::route::tour::{Costs, tsp};
-
-/// A SplitMix64 stream: small, seedable, the same on every machine.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-}
 
 /// What the selection works on.
 pub struct Problem<'a> {
@@ -48,7 +36,7 @@ impl Score {
 /// samples covered, then the shortest tour from `from`. Returns the chosen
 /// candidates in tour order.
 pub fn select(p: &Problem<'_>, from: [f32; 3], restarts: u32, seed: u64) -> Vec<usize> {
-    let mut rng = SplitMix(seed);
+    let mut rng = Rng::from_state(seed);
     // Best so far: (viewpoints, samples covered, tour length) and the tour.
     let mut best: Option<(Score, Vec<usize>)> = None;
     for run in 0..=restarts {
@@ -69,7 +57,7 @@ pub fn select(p: &Problem<'_>, from: [f32; 3], restarts: u32, seed: u64) -> Vec<
 
 /// One greedy cover; with `rng`, each step takes a random one of the
 /// candidates within 80 % of the best gain.
-fn greedy(p: &Problem<'_>, mut rng: Option<&mut SplitMix>) -> (Vec<usize>, usize) {
+fn greedy(p: &Problem<'_>, mut rng: Option<&mut Rng>) -> (Vec<usize>, usize) {
     let mut covered = vec![false; p.samples];
     let mut used = vec![false; p.sees.len()];
     let mut chosen = Vec::new();
@@ -96,7 +84,7 @@ fn greedy(p: &Problem<'_>, mut rng: Option<&mut SplitMix>) -> (Vec<usize>, usize
                 let near: Vec<usize> = (0..gains.len())
                     .filter(|&c| gains[c] * 5 >= best * 4)
                     .collect();
-                near[(r.next() % near.len() as u64) as usize]
+                near[(r.next_u64() % near.len() as u64) as usize]
             }
             None => (0..gains.len())
                 .max_by_key(|&c| (gains[c], std::cmp::Reverse(c)))

@@ -15,9 +15,14 @@ mod bins;
 pub mod error;
 pub mod model;
 pub mod params;
-mod rng;
 mod tree;
 
 pub use error::ForestError;
 pub use model::RandomForest;
 pub use params::ForestParams;
+
+/// The generator of tree `tree` of a forest grown from `seed` (its own
+/// key, so forests trained before the generator was shared grow the same).
+pub(crate) fn tree_rng(seed: u64, tree: u64) -> crate::rng::Rng {
+    crate::rng::Rng::split(seed, tree, 0xA076_1D64_78BD_642F)
+}

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::bins::Bins;
 use super::error::ForestError;
 use super::params::ForestParams;
-use super::rng::Rng;
+use super::tree_rng;
 use super::tree::{Grow, Tree, grow};
 
 /// Rows voted on together, tree by tree (about 60 kB of 30 features).
@@ -75,7 +75,7 @@ impl RandomForest {
         let grown: Vec<(Tree, Vec<f64>)> = (0..params.trees)
             .into_par_iter()
             .map(|t| {
-                let mut rng = Rng::new(params.seed, t as u64);
+                let mut rng = tree_rng(params.seed, t as u64);
                 let mut sample: Vec<u32> = (0..draw).map(|_| rng.below(rows) as u32).collect();
                 grow(&g, &mut sample, &mut rng)
             })
@@ -212,7 +212,7 @@ mod tests {
     /// Two noisy interleaved spirals plus a third class on a ring: not
     /// separable by one axis-aligned split.
     fn data(n: usize, seed: u64) -> (Vec<f32>, Vec<u8>) {
-        let mut rng = Rng::new(seed, 0);
+        let mut rng = tree_rng(seed, 0);
         let mut u = || rng.next_u64() as f64 / u64::MAX as f64;
         let (mut x, mut y) = (Vec::new(), Vec::new());
         for i in 0..n {

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::bins::Bins;
-use super::rng::Rng;
+use crate::rng::Rng;
 
 /// `feature` value marking a leaf.
 pub const LEAF: u16 = u16::MAX;

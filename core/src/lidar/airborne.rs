@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::caster::Caster;
 use super::intensity::{INTENSITY_FULL_SCALE, reflectance};
-use super::noise::Stream;
+use crate::rng::Rng;
 use super::ray::{Hit, Ray, cross, dot, normalize};
 use crate::cloud::Cloud;
 use crate::params::{Checks, ParamError};
@@ -370,8 +370,8 @@ pub fn airborne_scan(caster: &Caster, config: &AirborneConfig) -> Result<Cloud, 
                 // Nadir swept across track, then tilted forward.
                 let d0: [f32; 3] = std::array::from_fn(|i| sa * right[i] - ca * f32::from(i == 2));
                 let axis: [f32; 3] = std::array::from_fn(|i| cos_b * d0[i] + sin_b * line.dir[i]);
-                let mut rng = Stream::new(config.seed, first + k as u64);
-                if config.dropout > 0.0 && rng.uniform() < f64::from(config.dropout) {
+                let mut rng = Rng::keyed(config.seed, first + k as u64);
+                if config.dropout > 0.0 && rng.unit() < f64::from(config.dropout) {
                     continue;
                 }
                 sub.clear();
@@ -451,7 +451,7 @@ fn cast_footprint(
     caster: &Caster,
     beam: &Beam,
     config: &AirborneConfig,
-    rng: &mut Stream,
+    rng: &mut Rng,
     out: &mut Vec<SubHit>,
 ) {
     let (u, w) = basis(beam.axis);
@@ -478,7 +478,7 @@ fn walk(
     unit: [f32; 3],
     max_t: f32,
     config: &AirborneConfig,
-    rng: &mut Stream,
+    rng: &mut Rng,
     out: &mut Vec<SubHit>,
 ) {
     const STEP: f32 = 1e-3;
@@ -510,7 +510,7 @@ fn walk(
         };
         let mut t = hit.t;
         loop {
-            t += -(1.0 - rng.uniform() as f32).ln() / config.canopy_events_per_m;
+            t += -(1.0 - rng.unit() as f32).ln() / config.canopy_events_per_m;
             if t >= leave {
                 break;
             }

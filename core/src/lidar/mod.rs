@@ -21,7 +21,6 @@ pub mod bench;
 mod bvh;
 mod caster;
 mod intensity;
-mod noise;
 mod parry_mesh;
 mod pose;
 mod ray;

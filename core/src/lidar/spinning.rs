@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::bvh::PACKET;
 use super::caster::Caster;
 use super::intensity::return_intensity;
-use super::noise::{Stream, combine};
+use crate::rng::{Rng, combine};
 use super::pose::{Pose, rotate};
 use super::ray::{Hit, Ray, dot};
 use crate::cloud::Cloud;
@@ -172,8 +172,8 @@ pub fn scan(
     let sigma = config.range_noise_sigma;
     let fire = |(i, (ray, hit)): (usize, (&Ray, Option<Hit>))| -> Option<Return> {
         let hit = hit?;
-        let mut rng = Stream::new(seed, i as u64);
-        if config.dropout > 0.0 && rng.uniform() < f64::from(config.dropout) {
+        let mut rng = Rng::keyed(seed, i as u64);
+        if config.dropout > 0.0 && rng.unit() < f64::from(config.dropout) {
             return None;
         }
         let range = if sigma > 0.0 {

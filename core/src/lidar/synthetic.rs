@@ -1,7 +1,7 @@
 //! Synthetic scenes for tests and benchmarks: boxes on a plane, and a dense
 //! city-like scene of any size.
 
-use super::noise::Stream;
+use crate::rng::Rng;
 use crate::scene::{ObjectKind, Scene, SceneObject};
 
 /// Builds a [`Scene`] object by object.
@@ -211,7 +211,7 @@ fn dense_height(x: f32, y: f32) -> f32 {
 /// trees with ellipsoid crowns along the streets (the rest). The same
 /// `(triangles, seed)` always gives the same scene.
 pub fn dense_scene(triangles: usize, seed: u64) -> Scene {
-    let mut rng = Stream::new(seed, 0);
+    let mut rng = Rng::keyed(seed, 0);
     let mut b = SyntheticBuilder::new();
     let ground = b.object("terrain", ObjectKind::Ground);
     let cells = ((triangles as f64 / 4.0).sqrt().ceil() as usize).max(1);
@@ -221,9 +221,9 @@ pub fn dense_scene(triangles: usize, seed: u64) -> Scene {
     let mut footprints = Vec::new();
     for bj in 0..4 {
         for bi in 0..4 {
-            let sx = 15.0 + 20.0 * rng.uniform() as f32;
-            let sy = 15.0 + 20.0 * rng.uniform() as f32;
-            let h = 6.0 + 34.0 * rng.uniform() as f32;
+            let sx = 15.0 + 20.0 * rng.unit() as f32;
+            let sy = 15.0 + 20.0 * rng.unit() as f32;
+            let h = 6.0 + 34.0 * rng.unit() as f32;
             let cx = 25.0 + 50.0 * bi as f32;
             let cy = 25.0 + 50.0 * bj as f32;
             footprints.push((
@@ -255,16 +255,16 @@ pub fn dense_scene(triangles: usize, seed: u64) -> Scene {
     let trees = (triangles / 6 / per_tree).max(1);
     for t in 0..trees {
         let o = b.object(&format!("tree{}", t + 1), ObjectKind::Vegetation);
-        let along = 200.0 * rng.uniform() as f32;
-        let street = 50.0 * (1 + (rng.uniform() * 3.0) as usize).min(3) as f32;
-        let side = if rng.uniform() < 0.5 { -5.0 } else { 5.0 };
-        let (x, y) = if rng.uniform() < 0.5 {
+        let along = 200.0 * rng.unit() as f32;
+        let street = 50.0 * (1 + (rng.unit() * 3.0) as usize).min(3) as f32;
+        let side = if rng.unit() < 0.5 { -5.0 } else { 5.0 };
+        let (x, y) = if rng.unit() < 0.5 {
             (street + side, along)
         } else {
             (along, street + side)
         };
         let z = dense_height(x, y);
-        let r = 2.0 + 2.0 * rng.uniform() as f32;
+        let r = 2.0 + 2.0 * rng.unit() as f32;
         b.add_box(
             o,
             [x - 0.2, y - 0.2, z - 0.5],

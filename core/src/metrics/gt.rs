@@ -27,7 +27,7 @@ use super::ground_height::GroundHeight;
 use super::triangle_grid::TriangleGrid;
 use super::winding::winding_number;
 use crate::cloud::{Cloud, PlyError, write_ply};
-use crate::scene::reference::rng::mix;
+use crate::rng::mix;
 use crate::scene::vec3::{add, area_vector, cross, dot, narrow, norm, scale, sub, wide};
 use crate::scene::{ObjectKind, Scene};
 

@@ -6,11 +6,16 @@ mod config;
 mod incline;
 mod probe;
 mod schedule;
+mod start;
 mod state;
 
 pub use clock::RobotClock;
 pub use config::VehicleConfig;
 pub use incline::{INCLINE_BASE_M, incline_deg, profile_climbable};
-pub use probe::{Terrain, free_spot, goal_inside_building, start_spot};
+pub use probe::{Terrain, goal_inside_building};
 pub use schedule::{Every, ScanSchedule};
+pub use start::{
+    GraphStart, NEAR_RADIUS_M, START_CLEARANCE_M, StartError, find_start, free_spot,
+    start_on_classes, start_spot,
+};
 pub use state::{Step, Vehicle, VehicleState};

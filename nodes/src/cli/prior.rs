@@ -6,13 +6,13 @@ use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::{Cloud, read_cloud};
 use skyground_core::crs::Crs;
-use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::graph::GraphParams;
 use skyground_core::lidar::Caster;
 use skyground_core::prior::{
     CrsCheck, check_crs, extent_xy, join_tiles, mission_window, overlap, to_frame,
 };
 use skyground_core::scene::{Cropped, Scene, Window};
-use skyground_core::vehicle::free_spot;
+use skyground_core::vehicle::start_on_classes;
 
 use super::aerial::{Survey, survey_of_real};
 use super::crop::{CropArg, CropArgs};
@@ -116,12 +116,9 @@ pub(super) fn real_prior(
     Ok((spec, survey, crop))
 }
 
-/// Where the vehicle starts on a real prior: of free spots of the model on
-/// a 4 × 4 grid over the prior's extent, the one whose ground graph (built
-/// on the producer's classes, as the planner will on the classifier's) is
-/// largest. A real survey's ground is cut by cars, kerbs, quays and canals
-/// into hundreds of pieces (AHN3 Delft 1 + 2: 772), and the middle of the
-/// model stood on one of 23 nodes.
+/// Where the vehicle starts on a real prior: the spot whose ground graph
+/// on the producer's classes (as the planner will build it on the
+/// classifier's) is largest ([`start_on_classes`]).
 pub fn start_on_prior(caster: &Caster, prior: &Cloud) -> Result<[f32; 2], RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let labels = prior
@@ -133,43 +130,13 @@ pub fn start_on_prior(caster: &Caster, prior: &Cloud) -> Result<[f32; 2], Runtim
         canopy_is_obstacle: false,
         ..GraphParams::default()
     };
-    let mut best: Option<([f32; 2], usize)> = None;
-    for i in 0..4 {
-        for j in 0..4 {
-            let x = extent.min[0] + extent.size()[0] * (f64::from(i) + 0.5) / 4.0;
-            let y = extent.min[1] + extent.size()[1] * (f64::from(j) + 0.5) / 4.0;
-            let Some(s) = free_spot(caster, x as f32, y as f32, 2.0, 30.0) else {
-                continue;
-            };
-            let z = prior_ground_z(prior, labels, s);
-            let Ok(g) = GroundGraph::build(&prior.xyz, labels, [s[0], s[1], z], &params) else {
-                continue;
-            };
-            let n = g.report().nodes;
-            if best.is_none_or(|(_, m)| n > m) {
-                best = Some((s, n));
-            }
-        }
-    }
-    let (s, n) =
-        best.ok_or_else(|| err("no free spot on the prior's ground to start the vehicle".into()))?;
+    let s = start_on_classes(caster, &prior.xyz, labels, &extent, &params)
+        .map_err(|e| err(format!("no start for the vehicle: {e}")))?;
     eprintln!(
-        "  vehicle starts at ({:.1}, {:.1}): its ground graph on the prior's classes has {n} nodes, the largest of 16 spots tried",
-        s[0], s[1]
+        "  vehicle starts at ({:.1}, {:.1}): its ground graph on the prior's classes has {} nodes, the largest of {} spots tried",
+        s.at[0], s.at[1], s.nodes, s.tried
     );
-    Ok(s)
-}
-
-/// The mean height of the prior's ground points within 3 m of `xy` (0 when none).
-fn prior_ground_z(prior: &Cloud, labels: &[u8], xy: [f32; 2]) -> f32 {
-    let (mut sum, mut n) = (0.0f64, 0usize);
-    for (p, &l) in prior.xyz.iter().zip(labels) {
-        if l == 2 && (p[0] - xy[0]).hypot(p[1] - xy[1]) < 3.0 {
-            sum += f64::from(p[2]);
-            n += 1;
-        }
-    }
-    if n > 0 { (sum / n as f64) as f32 } else { 0.0 }
+    Ok(s.at)
 }
 
 fn area(w: &Window) -> f64 {

@@ -81,7 +81,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let t_load = Instant::now();
     let scene = load_scene(&p.scene).map_err(|e| err(format!("scene {}: {e}", p.scene)))?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {}: {e}", p.scene)))?;
-    let start = start_spot(&caster, &p.start).map_err(err)?;
+    let start = start_spot(&caster, &p.start).map_err(|e| err(e.to_string()))?;
     let mut vehicle = Vehicle::new(p.vehicle, &caster, start[0], start[1], p.start_yaw as f32)
         .ok_or_else(|| err(format!("start {start:?} is off the terrain")))?;
     rt.log.info(&format!(

@@ -27,11 +27,19 @@
 //!   the lowest vertex under each wall) and the file's ground surfaces,
 //!   smoothed away from the buildings. Most city models (3DBAG, municipal
 //!   LoD2) ship buildings only: this is the ground the vehicle drives on.
+//!   Clusters whose patches do not meet are joined by 10 m streets along a
+//!   minimum spanning tree (`streets`), so buildings hundreds of metres
+//!   apart stand on one piece of ground.
+//! - A file's ground surfaces that lie at another height than the
+//!   buildings' bases (by a median of more than [`MISMATCH_M`]: another
+//!   vertical datum) are moved to meet them ([`ground_shift`]).
 
 pub(crate) mod boundaries;
 mod error;
+mod ground_level;
 pub(crate) mod model;
 mod source;
+mod streets;
 mod terrain;
 mod write;
 
@@ -39,6 +47,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 pub use error::CityJsonError;
+pub use ground_level::{MISMATCH_M, ground_shift};
 pub use model::{CityObject, Document, Geometry, Transform};
 pub use source::{
     BUILDING_TYPES, CityModel, GROUND_TYPES, city_files, crs_key, is_city_file, parse_city_model,
@@ -189,10 +198,18 @@ pub fn scene_of_model(
         }
         b.add(l.id, ObjectKind::Building, building, &part);
     }
-    for g in &grounds {
-        let part = mesh_of(g, &local)?;
+    let mut parts: Vec<MeshPart> = grounds
+        .iter()
+        .map(|g| mesh_of(g, &local))
+        .collect::<Result<_, _>>()?;
+    let all: Vec<[f64; 3]> = parts.iter().flat_map(|p| p.vertices.clone()).collect();
+    let shift = ground_shift(&samples, &all);
+    for (g, part) in grounds.iter().zip(&mut parts) {
+        for p in &mut part.vertices {
+            p[2] += shift;
+        }
         samples.extend(part.vertices.iter().copied());
-        b.add(g.id, ObjectKind::Ground, 0, &part);
+        b.add(g.id, ObjectKind::Ground, 0, part);
     }
     if let Some(t) = &options.terrain {
         let fps: Vec<Footprint> = footprints.into_values().collect();

@@ -16,6 +16,7 @@ use std::collections::{BTreeSet, HashMap};
 
 use spade::{DelaunayTriangulation, FloatTriangulation, HasPosition, Point2, Triangulation};
 
+use super::streets::{length, street_cells, streets};
 use crate::scene::builder::MeshPart;
 
 /// Where a building stands: its footprint's bounding box and base height.
@@ -48,6 +49,9 @@ pub struct TerrainOptions {
     pub smoothing: usize,
     /// The surface is lowered by this much, metres (under a file's own ground).
     pub drop: f64,
+    /// Width of the streets built between clusters whose patches do not
+    /// meet, metres (0: none; each cluster stands on its own island).
+    pub street: f64,
 }
 
 impl Default for TerrainOptions {
@@ -57,6 +61,7 @@ impl Default for TerrainOptions {
             cell: 2.0,
             smoothing: 8,
             drop: 0.0,
+            street: STREET_WIDTH,
         }
     }
 }
@@ -130,7 +135,77 @@ impl Surface {
 }
 
 const MAX_CELLS: usize = 4_000_000;
+/// A two-lane street with its verges: room for the vehicle and its graph's
+/// clearance, and for the airborne survey to see it as ground.
+const STREET_WIDTH: f64 = 10.0;
 const BUCKET: f64 = 128.0;
+
+/// The cells of the ground grid: `(j, i)` is the square from
+/// `(x0 + i cell, y0 + j cell)`.
+struct Cells {
+    x0: f64,
+    y0: f64,
+    cell: f64,
+    cells: BTreeSet<(i64, i64)>,
+}
+
+impl Cells {
+    /// Each footprint box grown by `margin`, and the streets of `width`
+    /// between clusters; the cell grows from `cell` until they fit in
+    /// [`MAX_CELLS`]. `None` without footprints.
+    fn new(footprints: &[Footprint], margin: f64, width: f64, mut cell: f64) -> Option<Self> {
+        let x0 = footprints
+            .iter()
+            .map(|f| f.min[0] - margin)
+            .min_by(f64::total_cmp)?;
+        let y0 = footprints
+            .iter()
+            .map(|f| f.min[1] - margin)
+            .fold(f64::INFINITY, f64::min);
+        let roads = if width > 0.0 {
+            streets(footprints, margin)
+        } else {
+            Vec::new()
+        };
+        let cells_at = |cell: f64| -> f64 {
+            let patches: f64 = footprints
+                .iter()
+                .map(|f| {
+                    ((f.max[0] - f.min[0] + 2.0 * margin) / cell + 2.0)
+                        * ((f.max[1] - f.min[1] + 2.0 * margin) / cell + 2.0)
+                })
+                .sum();
+            let along: f64 = roads.iter().map(|r| (length(r) + width) / cell + 2.0).sum();
+            patches + along * (width / cell + 2.0)
+        };
+        while cells_at(cell) > MAX_CELLS as f64 {
+            cell *= 2.0;
+        }
+        let index = |v: f64, o: f64| ((v - o) / cell).floor() as i64;
+        let mut cells: BTreeSet<(i64, i64)> = BTreeSet::new();
+        for f in footprints {
+            for j in index(f.min[1] - margin, y0)..=index(f.max[1] + margin, y0) {
+                for i in index(f.min[0] - margin, x0)..=index(f.max[0] + margin, x0) {
+                    cells.insert((j, i));
+                }
+            }
+        }
+        for r in &roads {
+            cells.extend(street_cells(r, width, cell, [x0, y0]));
+        }
+        Some(Self {
+            x0,
+            y0,
+            cell,
+            cells,
+        })
+    }
+}
+
+/// A finite, non-negative `v`, else `fallback`.
+fn non_negative(v: f64, fallback: f64) -> f64 {
+    if v.is_finite() { v.max(0.0) } else { fallback }
+}
 
 /// The ground mesh around `footprints` through the base `samples` (empty
 /// when there are no footprints).
@@ -140,48 +215,17 @@ pub fn terrain_around(
     options: &TerrainOptions,
 ) -> MeshPart {
     let mut m = MeshPart::default();
-    let margin = if options.margin.is_finite() {
-        options.margin.max(0.0)
-    } else {
-        30.0
-    };
-    let mut cell = if options.cell.is_finite() && options.cell > 0.01 {
+    let margin = non_negative(options.margin, 30.0);
+    let cell = if options.cell.is_finite() && options.cell > 0.01 {
         options.cell
     } else {
         2.0
     };
-    let Some(x0) = footprints
-        .iter()
-        .map(|f| f.min[0] - margin)
-        .min_by(f64::total_cmp)
-    else {
+    let width = non_negative(options.street, 0.0);
+    let Some(grid) = Cells::new(footprints, margin, width, cell) else {
         return m;
     };
-    let y0 = footprints
-        .iter()
-        .map(|f| f.min[1] - margin)
-        .fold(f64::INFINITY, f64::min);
-    let cells_at = |cell: f64| -> f64 {
-        footprints
-            .iter()
-            .map(|f| {
-                ((f.max[0] - f.min[0] + 2.0 * margin) / cell + 2.0)
-                    * ((f.max[1] - f.min[1] + 2.0 * margin) / cell + 2.0)
-            })
-            .sum()
-    };
-    while cells_at(cell) > MAX_CELLS as f64 {
-        cell *= 2.0;
-    }
-    let index = |v: f64, o: f64| ((v - o) / cell).floor() as i64;
-    let mut cells: BTreeSet<(i64, i64)> = BTreeSet::new();
-    for f in footprints {
-        for j in index(f.min[1] - margin, y0)..=index(f.max[1] + margin, y0) {
-            for i in index(f.min[0] - margin, x0)..=index(f.max[0] + margin, x0) {
-                cells.insert((j, i));
-            }
-        }
-    }
+    let (x0, y0, cell) = (grid.x0, grid.y0, grid.cell);
     let near = Buckets::new(footprints, margin + 2.0 * cell);
     let surface = Surface::new(samples);
     let mut ids: HashMap<(i64, i64), u32> = HashMap::new();
@@ -195,7 +239,7 @@ pub fn terrain_around(
             m.vertex([x, y, z])
         })
     };
-    for &(j, i) in &cells {
+    for &(j, i) in &grid.cells {
         let v00 = vertex(&mut m, i, j);
         let v10 = vertex(&mut m, i + 1, j);
         let v11 = vertex(&mut m, i + 1, j + 1);
@@ -396,6 +440,88 @@ mod tests {
                 - z.iter().fold(f64::INFINITY, |a, &b| a.min(b));
             assert!(spread < 0.5, "step of {spread} m in one 2 m cell");
         }
+    }
+
+    /// Pieces of `m` whose triangles share vertices.
+    fn pieces(m: &MeshPart) -> usize {
+        let mut parent: Vec<usize> = (0..m.vertices.len()).collect();
+        fn find(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        for t in &m.triangles {
+            for k in 1..3 {
+                let (a, b) = (
+                    find(&mut parent, t[0] as usize),
+                    find(&mut parent, t[k] as usize),
+                );
+                parent[a] = b;
+            }
+        }
+        let used: BTreeSet<usize> = m.triangles.iter().flatten().map(|&v| v as usize).collect();
+        let roots: BTreeSet<usize> = used.into_iter().map(|v| find(&mut parent, v)).collect();
+        roots.len()
+    }
+
+    /// Four clusters of two buildings at the corners of a 500 m × 380 m
+    /// rectangle, each cluster on ground 4–6 m above or below the others.
+    fn corners() -> (Vec<Footprint>, Vec<[f64; 3]>) {
+        let mut fps = Vec::new();
+        let mut samples = Vec::new();
+        for (cx, cy, z) in [
+            (0.0, 0.0, 400.0),
+            (500.0, 0.0, 406.0),
+            (0.0, 380.0, 396.0),
+            (500.0, 380.0, 403.0),
+        ] {
+            for dx in [0.0, 40.0] {
+                let f = Footprint {
+                    min: [cx + dx, cy],
+                    max: [cx + dx + 15.0, cy + 12.0],
+                    base: z,
+                };
+                for x in [f.min[0], f.max[0]] {
+                    for y in [f.min[1], f.max[1]] {
+                        samples.push([x, y, z]);
+                    }
+                }
+                fps.push(f);
+            }
+        }
+        (fps, samples)
+    }
+
+    #[test]
+    fn clusters_far_apart_stand_on_one_piece_of_ground() {
+        let (fps, samples) = corners();
+        for s in [&samples[..], &[]] {
+            let m = terrain_around(&fps, s, &TerrainOptions::default());
+            assert_eq!(pieces(&m), 1, "with {} samples", s.len());
+            let islands = TerrainOptions {
+                street: 0.0,
+                ..TerrainOptions::default()
+            };
+            assert_eq!(pieces(&terrain_around(&fps, s, &islands)), 4);
+            // The streets climb no more than the clusters differ: 10 m over
+            // 380 m, nowhere a step the vehicle (20°) cannot drive.
+            for t in &m.triangles {
+                let p = t.map(|i| m.vertices[i as usize]);
+                let dz = (0..3)
+                    .map(|k| (p[k][2] - p[(k + 1) % 3][2]).abs())
+                    .fold(0.0, f64::max);
+                assert!(dz < 0.5, "a step of {dz} m in a 2 m cell at {:?}", p[0]);
+            }
+        }
+        // The middle of the rectangle, 190 m from every street, has no ground.
+        let m = terrain_around(&fps, &samples, &TerrainOptions::default());
+        assert!(
+            m.vertices
+                .iter()
+                .all(|p| (p[0] - 257.0).hypot(p[1] - 196.0) > 100.0)
+        );
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //!   low box;
 //! - north-east: an L, a mid-rise box, two gable houses across an alley, a park.
 
-use super::rng::Rng;
+use crate::rng::Rng;
 use super::solids::{Rect, gable_house, podium_with_towers, prism, slab_on_pillars};
 use super::terrain::ReferenceTerrain;
 use crate::scene::builder::MeshPart;

@@ -17,7 +17,6 @@
 //!   icosphere crown, two closed parts).
 
 mod buildings;
-pub(crate) mod rng;
 pub(crate) mod solids;
 mod terrain;
 mod trees;

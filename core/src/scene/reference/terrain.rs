@@ -1,7 +1,7 @@
 //! The reference scene's terrain: a tilted plane (2–4 % slope) with gentle
 //! value-noise undulation, meshed as a regular grid.
 
-use super::rng::{Rng, mix};
+use crate::rng::{Rng, mix};
 use crate::scene::builder::MeshPart;
 
 /// Side of the square reference scene, metres (it spans `[0, SIZE]²`).

@@ -2,7 +2,7 @@
 //! the wall, crowns 4–9 m wide) and free-standing trees in the parks.
 
 use super::buildings::{PARKS, Plan};
-use super::rng::Rng;
+use crate::rng::Rng;
 use super::terrain::SIZE;
 use crate::geom::{ring, segment};
 

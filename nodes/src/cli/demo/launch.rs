@@ -8,7 +8,7 @@ use std::time::Duration;
 use skyground_core::cloud::Cloud;
 use skyground_core::lidar::Caster;
 use skyground_core::scene::Scene;
-use skyground_core::vehicle::free_spot;
+use skyground_core::vehicle::find_start;
 use tokio::process::{Child, Command};
 
 use super::DemoArgs;
@@ -270,10 +270,7 @@ pub(super) fn sim_driver(
     let start_xy = match real_prior {
         Some(cloud) => crate::cli::prior::start_on_prior(&caster, cloud)?,
         None => {
-            let (lo, hi) = caster.bounds().ok_or_else(|| err("empty scene".into()))?;
-            let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-            free_spot(&caster, centre[0], centre[1], 2.0, 100.0)
-                .ok_or_else(|| err("no free spot to start the vehicle".into()))?
+            find_start(&caster, None).map_err(|e| err(format!("no start for the vehicle: {e}")))?
         }
     };
     Ok((

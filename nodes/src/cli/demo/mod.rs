@@ -40,6 +40,10 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.scene(),
         a.out.display()
     );
+    // A footprints file that cannot be read stops the demo before the scene is.
+    a.footprints
+        .read(Some(&a.scene()))
+        .map_err(|e| err(format!("footprints: {e}")))?;
     // The model is read once: its CRS is kept, the scene moves into the
     // mission's (or its crop is taken and the whole dropped).
     let (full, model_crs) =

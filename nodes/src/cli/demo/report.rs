@@ -91,7 +91,8 @@ pub(super) fn report(
         prof.to_markdown()
     ));
     write_json(&a.out.join("report.json"), &value)?;
-    std::fs::write(a.out.join("report.md"), md).map_err(|e| RuntimeError::Node(e.to_string()))?;
+    skyground_core::file::write(&a.out.join("report.md"), md)
+        .map_err(|e| RuntimeError::Node(e.to_string()))?;
     print_summary(r, &e, wall, &city);
     Ok(e)
 }
