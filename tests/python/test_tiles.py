@@ -59,7 +59,7 @@ def test_tiles_classified_together_and_scored(tmp_path):
     las = laspy.read(str(out))
     assert len(las.points) == r["points"] == 640_510 + 208_432
     building = next(c for c in r["report"]["per_class"] if c["class"] == 6)
-    # The shipped model on each tile alone: 0.937 and 0.969 (README).
+    # The shipped model on each tile alone: 0.952 and 0.973 (docs/classification.md).
     assert building["f1"] >= 0.93, building
     assert r["ground"]["total_error"] <= 0.05, r["ground"]
     # The producer's own labels against their neighbours' majority, on an
@@ -100,7 +100,7 @@ def test_tile_by_tile_with_a_buffer(tmp_path):
     out = tmp_path / "classified"
     r = json.loads(run("classify", "--in", d1, d2, "--out-dir", out, "--buffer", "30", "--json").stdout)
     assert r["buffer_m"] == 30 and len(r["tiles"]) == 2
-    # The 0.937 and 0.969 of each tile alone (README); the buffer gives the
+    # The 0.952 and 0.973 of each tile alone (docs/classification.md); the buffer gives the
     # narrow Delft 2 its neighbour's ground across the seam.
     for t, src, floor in zip(r["tiles"], (d1, d2), (0.93, 0.96)):
         assert t["output"] == str(out / src.name), t["output"]

@@ -56,7 +56,7 @@ pub struct RoofCheck {
     /// angle (°) of the roof plane's, and within `grow_dist_m` of it: the
     /// faces' edges, which the growing angle leaves off. Default 20°,
     /// chosen on Montpellier; held out, building F1 St Barth 0.873 → 0.880,
-    /// Delft 0.940 / 0.968 → 0.952 / 0.973 (README, "Roof faces' edges").
+    /// Delft 0.940 / 0.968 → 0.952 / 0.973 (docs/classification.md, "The roof-plane check").
     /// 0: off.
     pub extend_angle_deg: f64,
     /// Building points within this distance (m) form one object, which
