@@ -125,7 +125,6 @@ fn ply_seeds() -> Vec<Vec<u8>> {
     v
 }
 
-
 /// Bytes and numbers that break decoders' assumptions.
 const BYTES: [u8; 8] = [0, 1, 0x7f, 0x80, 0xff, b'-', b'9', b'\n'];
 const NUMBERS: [&[u8]; 8] = [
@@ -145,8 +144,14 @@ fn mutate(input: &[u8], other: &[u8], rng: &mut Rng) -> Vec<u8> {
     for _ in 0..=rng.below(4) {
         let at = rng.below(d.len() + 1);
         match rng.below(8) {
-            0 if !d.is_empty() => d[at.min(d.len() - 1)] ^= 1 << rng.below(8),
-            1 if !d.is_empty() => d[at.min(d.len() - 1)] = BYTES[rng.below(BYTES.len())],
+            0 if !d.is_empty() => {
+                let i = at.min(d.len() - 1);
+                d[i] ^= 1 << rng.below(8);
+            }
+            1 if !d.is_empty() => {
+                let i = at.min(d.len() - 1);
+                d[i] = BYTES[rng.below(BYTES.len())];
+            }
             2 => {
                 let n = NUMBERS[rng.below(NUMBERS.len())];
                 d.splice(at..at, n.iter().copied());

@@ -18,8 +18,8 @@ use skyground_core::vehicle::{
     goal_inside_building, start_on_classes,
 };
 
-/// Each root Building of a CityJSON document as (objects, real vertices), sorted by id.
-fn buildings(doc: &Value) -> Vec<(serde_json::Map<String, Value>, Vec<[f64; 3]>)> {
+/// Each root Building of a CityJSON document, sorted by id.
+fn buildings(doc: &Value) -> Vec<Piece> {
     fn indices(v: &Value, out: &mut Vec<u64>) {
         match v {
             Value::Array(a) => a.iter().for_each(|x| indices(x, out)),

@@ -8,8 +8,8 @@ use serde::{Deserialize, Serialize};
 use super::bins::Bins;
 use super::error::ForestError;
 use super::params::ForestParams;
-use super::tree_rng;
 use super::tree::{Grow, Tree, grow};
+use super::tree_rng;
 
 /// Rows voted on together, tree by tree (about 60 kB of 30 features).
 const VOTE_BLOCK: usize = 512;

@@ -13,10 +13,10 @@ use serde::{Deserialize, Serialize};
 
 use super::caster::Caster;
 use super::intensity::{INTENSITY_FULL_SCALE, reflectance};
-use crate::rng::Rng;
 use super::ray::{Hit, Ray, cross, dot, normalize};
 use crate::cloud::Cloud;
 use crate::params::{Checks, ParamError};
+use crate::rng::Rng;
 use crate::scene::ObjectKind;
 
 /// Which way the flight lines run.

@@ -6,11 +6,11 @@ use serde::{Deserialize, Serialize};
 use super::bvh::PACKET;
 use super::caster::Caster;
 use super::intensity::return_intensity;
-use crate::rng::{Rng, combine};
 use super::pose::{Pose, rotate};
 use super::ray::{Hit, Ray, dot};
 use crate::cloud::Cloud;
 use crate::params::{Checks, ParamError};
+use crate::rng::{Rng, combine};
 
 /// Spinning LiDAR parameters; every field has a default (a Velodyne VLP-16
 /// at 10 Hz), so a config file names only what differs.

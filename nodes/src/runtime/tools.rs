@@ -28,7 +28,11 @@ pub fn require_python(python: &Path, modules: &[&str], what: &str) -> Result<(),
         Ok(o) => {
             let err = String::from_utf8_lossy(&o.stderr);
             let last = err.lines().last().unwrap_or("it failed").trim().to_string();
-            format!("{} cannot import {}: {last}", python.display(), modules.join(", "))
+            format!(
+                "{} cannot import {}: {last}",
+                python.display(),
+                modules.join(", ")
+            )
         }
     };
     Err(RuntimeError::Node(format!(
@@ -54,22 +58,22 @@ mod tests {
 
     #[test]
     fn a_missing_python_says_how_to_make_the_venv() {
-        let e = require_python(Path::new("/nonexistent/.venv/bin/python"), &["rclpy"], "bench")
-            .unwrap_err()
-            .to_string();
+        let e = require_python(
+            Path::new("/nonexistent/.venv/bin/python"),
+            &["rclpy"],
+            "bench",
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("bench needs Python with rclpy"), "{e}");
         assert!(e.contains("tests/setup_venv.sh"), "{e}");
     }
 
     #[test]
     fn a_python_without_the_module_names_it() {
-        let e = require_python(
-            Path::new("python3"),
-            &["no_such_module_skyground"],
-            "bench",
-        )
-        .unwrap_err()
-        .to_string();
+        let e = require_python(Path::new("python3"), &["no_such_module_skyground"], "bench")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("cannot import no_such_module_skyground"), "{e}");
         assert!(e.contains("ModuleNotFoundError"), "{e}");
         assert!(require_python(Path::new("python3"), &["json"], "bench").is_ok());

@@ -80,6 +80,7 @@ pub fn check<R: Read + Seek>(source: &mut R) -> Result<Preflight, LasError> {
         check_evlr(source, start, file_len)?;
     }
     if compressed && let Some(data) = laszip {
+        check_chunk_count(source, offset, file_len)?;
         check_chunks(source, &data, offset, count)?;
     }
     let capacity = if compressed {
@@ -175,6 +176,39 @@ fn check_chunks<R: Read + Seek>(
         )));
     }
     Ok(())
+}
+
+/// Checks that a LAZ chunk table does not count more chunks than the file
+/// has bytes: the `laz` crate allocates the table from that count before it
+/// reads an entry (a damaged count of 4e9 asks for 63 GB and aborts).
+fn check_chunk_count<R: Read + Seek>(
+    source: &mut R,
+    offset: u32,
+    file_len: u64,
+) -> Result<(), LasError> {
+    let mut read_i64_at = |at: u64| -> Option<[u8; 8]> {
+        let mut b = [0u8; 8];
+        source.seek(SeekFrom::Start(at)).ok()?;
+        source.read_exact(&mut b).ok()?;
+        Some(b)
+    };
+    let mut table_at = read_i64_at(u64::from(offset)).map(i64::from_le_bytes);
+    // -1: the writer put the table's offset in the file's last 8 bytes.
+    if table_at == Some(-1) {
+        table_at = read_i64_at(file_len.saturating_sub(8)).map(i64::from_le_bytes);
+    }
+    let chunks = table_at
+        .and_then(|at| u64::try_from(at).ok())
+        .filter(|&at| at > 0 && at.saturating_add(8) <= file_len)
+        .and_then(&mut read_i64_at)
+        .map(|b| u32::from_le_bytes([b[4], b[5], b[6], b[7]]));
+    source.seek(SeekFrom::Start(0))?;
+    match chunks {
+        Some(n) if u64::from(n) > file_len => Err(LasError::LazChunks(format!(
+            "the chunk table counts {n} chunks in a file of {file_len} bytes"
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// Checks that the first extended VLR (the only one the `las` crate reads) fits.

@@ -133,6 +133,30 @@ fn corrupt_headers_give_typed_errors() {
 }
 
 #[test]
+fn a_chunk_table_counting_more_chunks_than_bytes_is_refused_before_it_is_allocated() {
+    let mut laz = write(&sample_cloud(), true);
+    let le = |at: usize, n: usize| -> u64 {
+        laz[at..at + n]
+            .iter()
+            .rev()
+            .fold(0u64, |v, &b| (v << 8) | u64::from(b))
+    };
+    // The point data starts with the chunk table's offset; the table starts
+    // with its version and its count of chunks.
+    let data_at = le(96, 4) as usize;
+    let table_at = le(data_at, 8) as usize;
+    assert!(
+        table_at > data_at && table_at + 8 <= laz.len(),
+        "{table_at}"
+    );
+    patch(&mut laz, table_at + 4, &u32::MAX.to_le_bytes());
+    match read(laz) {
+        Err(LasError::LazChunks(why)) => assert!(why.contains("4294967295 chunks"), "{why}"),
+        other => panic!("unexpected {other:?}"),
+    }
+}
+
+#[test]
 fn truncated_laz_reports_the_point_index() {
     let cloud = Cloud::from_xyz(
         (0..5000)

@@ -10,9 +10,9 @@
 //!   low box;
 //! - north-east: an L, a mid-rise box, two gable houses across an alley, a park.
 
-use crate::rng::Rng;
 use super::solids::{Rect, gable_house, podium_with_towers, prism, slab_on_pillars};
 use super::terrain::ReferenceTerrain;
+use crate::rng::Rng;
 use crate::scene::builder::MeshPart;
 
 /// How far walls reach below the lowest terrain point of their footprint (m),

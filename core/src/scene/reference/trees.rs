@@ -2,9 +2,9 @@
 //! the wall, crowns 4–9 m wide) and free-standing trees in the parks.
 
 use super::buildings::{PARKS, Plan};
-use crate::rng::Rng;
 use super::terrain::SIZE;
 use crate::geom::{ring, segment};
+use crate::rng::Rng;
 
 /// One tree: trunk position, trunk height (to the crown's bottom), crown
 /// radius and vertical squash of the crown.

@@ -52,7 +52,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     // Footprints that cannot be used stop the demo here, before any node starts.
     let detector = a
         .footprints
-        .detector_params(Some(&a.scene()), prior.cloud.crs.as_ref(), prior.scene.origin)
+        .detector_params(
+            Some(&a.scene()),
+            prior.cloud.crs.as_ref(),
+            prior.scene.origin,
+        )
         .map_err(|e| err(format!("footprints: {e}")))?;
     // The prior's measurement and models are ready before the mission ends;
     // the merged cloud is measured as its points arrive (report: only the
