@@ -145,6 +145,10 @@ fn check_chunks<R: Read + Seek>(
 ) -> Result<(), LasError> {
     let bad = |why: String| LasError::LazChunks(why);
     let vlr = LazVlr::from_buffer(laszip).map_err(|e| bad(format!("LASzip record: {e}")))?;
+    if vlr.items().is_empty() {
+        // The laz crate needs one item to build its decompressor (it panics).
+        return Err(bad("the LASzip record lists no compressed items".into()));
+    }
     let compressor = laszip
         .get(..2)
         .map_or(0, |b| u16::from_le_bytes([b[0], b[1]]));

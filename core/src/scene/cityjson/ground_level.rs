@@ -40,7 +40,11 @@ pub fn ground_shift(bases: &[[f64; 3]], ground: &[[f64; 3]]) -> f64 {
         let mut best: Option<(f64, f64)> = None;
         for di in -1..=1 {
             for dj in -1..=1 {
-                for &i in cells.get(&(ci + di, cj + dj)).into_iter().flatten() {
+                for &i in cells
+                    .get(&(ci.saturating_add(di), cj.saturating_add(dj)))
+                    .into_iter()
+                    .flatten()
+                {
                     let g = ground[i];
                     let d = (g[0] - b[0]).hypot(g[1] - b[1]);
                     if d <= REACH_M && best.is_none_or(|(bd, _)| d < bd) {
@@ -89,5 +93,10 @@ mod tests {
         assert_eq!(ground_shift(&far, &grid(350.0)), 0.0);
         assert_eq!(ground_shift(&bases, &[]), 0.0);
         assert_eq!(ground_shift(&[], &grid(0.0)), 0.0);
+        // Coordinates past i64's cells (a damaged file) are compared, not overflowed.
+        assert_eq!(
+            ground_shift(&[[1e300, 1e300, 0.0]], &[[1e300, 1e300, 0.0]]),
+            0.0
+        );
     }
 }
