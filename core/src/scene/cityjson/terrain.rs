@@ -300,41 +300,55 @@ fn smooth(
 /// Footprints registered in square buckets, for finding those near a point.
 struct Buckets {
     map: HashMap<(i64, i64), Vec<usize>>,
+    /// Footprints whose box spans more than [`MAX_BUCKETS`] buckets (a
+    /// damaged vertex kilometres away): looked at for every point instead
+    /// of filling the map (one such box asked for 5.5 GB).
+    large: Vec<usize>,
 }
+
+/// Most buckets one footprint's box is registered in.
+const MAX_BUCKETS: i128 = 4096;
 
 impl Buckets {
     fn new(footprints: &[Footprint], reach: f64) -> Self {
         let mut map: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        let mut large = Vec::new();
         let b = |v: f64| (v / BUCKET).floor() as i64;
         for (k, f) in footprints.iter().enumerate() {
-            for by in b(f.min[1] - reach)..=b(f.max[1] + reach) {
-                for bx in b(f.min[0] - reach)..=b(f.max[0] + reach) {
+            let (xs, ys) = (
+                b(f.min[0] - reach)..=b(f.max[0] + reach),
+                b(f.min[1] - reach)..=b(f.max[1] + reach),
+            );
+            let span = |r: &std::ops::RangeInclusive<i64>| {
+                i128::from(*r.end()) - i128::from(*r.start()) + 1
+            };
+            if span(&xs).saturating_mul(span(&ys)) > MAX_BUCKETS {
+                large.push(k);
+                continue;
+            }
+            for by in ys {
+                for bx in xs.clone() {
                     map.entry((bx, by)).or_default().push(k);
                 }
             }
         }
-        Self { map }
+        Self { map, large }
     }
 
     /// True when `(x, y)` lies within `reach` of a registered footprint box.
     fn within(&self, footprints: &[Footprint], x: f64, y: f64, reach: f64) -> bool {
         let key = ((x / BUCKET).floor() as i64, (y / BUCKET).floor() as i64);
-        self.map
-            .get(&key)
-            .is_some_and(|c| c.iter().any(|&k| footprints[k].distance(x, y) <= reach))
+        let near = |k: &usize| footprints[*k].distance(x, y) <= reach;
+        self.map.get(&key).is_some_and(|c| c.iter().any(near)) || self.large.iter().any(near)
     }
 
     fn height(&self, footprints: &[Footprint], x: f64, y: f64) -> f64 {
         let key = ((x / BUCKET).floor() as i64, (y / BUCKET).floor() as i64);
-        let all: Vec<usize>;
-        let candidates: &[usize] = match self.map.get(&key) {
-            Some(c) => c,
-            None => {
-                all = (0..footprints.len()).collect();
-                &all
-            }
+        let candidates: Vec<usize> = match self.map.get(&key) {
+            Some(c) => c.iter().chain(&self.large).copied().collect(),
+            None => (0..footprints.len()).collect(),
         };
-        blend_bases(candidates.iter().map(|&k| {
+        blend_bases(candidates.into_iter().map(|k| {
             let f = &footprints[k];
             let d = f.distance(x, y);
             (d * d, f.base)
