@@ -26,7 +26,8 @@ def test_the_demo_starts_on_a_city_layout(tmp_path, layout):
     p = subprocess.run([str(BIN / "skyground"), "demo", "--scene", str(scene), "--out", str(out),
                         "--crop", "none", "--timeout", "40"],
                        capture_output=True, text=True, timeout=400, env=env)
-    assert p.returncode == 0, p.stderr[-3000:]
+    # Finished, or stopped by the test's short --timeout (exit 1, report written).
+    assert p.returncode == 0 or "(--timeout)" in p.stderr, p.stderr[-3000:]
     assert "no start" not in p.stderr, p.stderr[-3000:]
     report = json.loads((out / "report.json").read_text())
     assert report["coverage_before"] > 0.0, report
