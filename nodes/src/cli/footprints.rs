@@ -47,21 +47,22 @@ impl FootprintsArg {
         read_footprints(&spec, &options).map(Some).map_err(err)
     }
 
-    /// The completeness_detector params that give it these footprints for a
-    /// cloud in `crs` whose local frame starts at `origin` (metres): what the
-    /// demo passes (`footprints:=`, `footprint_id:=`, `crs:=`, `origin:=`),
-    /// after reading the file and checking its CRS, so a bad one stops the
-    /// demo before any node starts.
+    /// The completeness_detector params that give it these footprints
+    /// (`read`, from [`Self::read`]) for a cloud in `crs` whose local frame
+    /// starts at `origin` (metres): what the demo passes (`footprints:=`,
+    /// `footprint_id:=`, `crs:=`, `origin:=`), after checking their CRS, so a
+    /// bad file stops the demo before any node starts.
     pub fn detector_params(
         &self,
+        read: Option<&SourceFootprints>,
         scene: Option<&str>,
         crs: Option<&Crs>,
         origin: [f64; 3],
     ) -> Result<Vec<String>, RuntimeError> {
-        let Some(read) = self.read(scene)? else {
+        let Some(read) = read else {
             return Ok(Vec::new());
         };
-        in_frame(&read, &SourceFrame::new(origin, crs.cloned()))?;
+        in_frame(read, &SourceFrame::new(origin, crs.cloned()))?;
         let spec = resolve_source(
             &self
                 .footprints

@@ -190,21 +190,21 @@ fn check_chunk_count<R: Read + Seek>(
     offset: u32,
     file_len: u64,
 ) -> Result<(), LasError> {
-    let mut read_i64_at = |at: u64| -> Option<[u8; 8]> {
+    let mut read8 = |at: u64| -> Option<[u8; 8]> {
         let mut b = [0u8; 8];
         source.seek(SeekFrom::Start(at)).ok()?;
         source.read_exact(&mut b).ok()?;
         Some(b)
     };
-    let mut table_at = read_i64_at(u64::from(offset)).map(i64::from_le_bytes);
+    let mut table_at = read8(u64::from(offset)).map(i64::from_le_bytes);
     // -1: the writer put the table's offset in the file's last 8 bytes.
     if table_at == Some(-1) {
-        table_at = read_i64_at(file_len.saturating_sub(8)).map(i64::from_le_bytes);
+        table_at = read8(file_len.saturating_sub(8)).map(i64::from_le_bytes);
     }
     let chunks = table_at
         .and_then(|at| u64::try_from(at).ok())
         .filter(|&at| at > 0 && at.saturating_add(8) <= file_len)
-        .and_then(&mut read_i64_at)
+        .and_then(&mut read8)
         .map(|b| u32::from_le_bytes([b[4], b[5], b[6], b[7]]));
     source.seek(SeekFrom::Start(0))?;
     match chunks {

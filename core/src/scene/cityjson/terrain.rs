@@ -344,15 +344,16 @@ impl Buckets {
 
     fn height(&self, footprints: &[Footprint], x: f64, y: f64) -> f64 {
         let key = ((x / BUCKET).floor() as i64, (y / BUCKET).floor() as i64);
-        let candidates: Vec<usize> = match self.map.get(&key) {
-            Some(c) => c.iter().chain(&self.large).copied().collect(),
-            None => (0..footprints.len()).collect(),
-        };
-        blend_bases(candidates.into_iter().map(|k| {
+        let term = |k: usize| {
             let f = &footprints[k];
             let d = f.distance(x, y);
             (d * d, f.base)
-        }))
+        };
+        // Called for every grid vertex: no list is built per call.
+        match self.map.get(&key) {
+            Some(c) => blend_bases(c.iter().chain(&self.large).map(|&k| term(k))),
+            None => blend_bases((0..footprints.len()).map(term)),
+        }
     }
 }
 

@@ -41,7 +41,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         a.out.display()
     );
     // A footprints file that cannot be read stops the demo before the scene is.
-    a.footprints
+    let given = a
+        .footprints
         .read(Some(&a.scene()))
         .map_err(|e| err(format!("footprints: {e}")))?;
     // The model is read once: its CRS is kept, the scene moves into the
@@ -49,10 +50,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let (full, model_crs) =
         load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
-    // Footprints that cannot be used stop the demo here, before any node starts.
+    // Footprints in another CRS than the cloud's stop the demo here, before any node starts.
     let detector = a
         .footprints
         .detector_params(
+            given.as_ref(),
             Some(&a.scene()),
             prior.cloud.crs.as_ref(),
             prior.scene.origin,
