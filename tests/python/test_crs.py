@@ -432,7 +432,7 @@ def test_a_mission_on_a_city_model_in_feet_is_written_in_feet(tmp_path, env):
     assert report["coverage_after"] > report["coverage_before"] + 0.02, report["coverage_after"]
     # Around the two buildings (the survey reaches 100 m past them), in feet.
     near = lambda x, y: lo[0] - 400 < x < hi[0] + 400 and lo[1] - 400 < y < hi[1] + 400
-    las = laspy.read(str(out / "resampled.las"))
+    las = laspy.read(str(out / "resampled.laz"))
     assert las.header.parse_crs().to_epsg() == 2263
     assert near(las.header.mins[0], las.header.mins[1]) and near(las.header.maxs[0], las.header.maxs[1])
     route = json.loads((out / "route.geojson").read_text())

@@ -38,7 +38,7 @@ def test_the_mission_on_ahn3_delft_2_finishes_and_gains(tmp_path, env):
     # AHN3 names no CRS: taken to be the model's (EPSG:7415, RD New + NAP),
     # and written so, in RD coordinates (Delft: x ≈ 85 km, y ≈ 447 km).
     import laspy
-    for name in ["aerial.las", "resampled.las"]:
+    for name in ["aerial.laz", "resampled.laz"]:
         hdr = laspy.read(str(out / name)).header
         crs = hdr.parse_crs()
         assert crs is not None and "Amersfoort / RD New" in crs.name, (name, crs)

@@ -42,7 +42,7 @@ def sim(spawn, ros, tmp_path):
     from nav_msgs.msg import Odometry
 
     odom = []
-    ros.node.create_subscription(Odometry, "/state_estimation", odom.append, qos("reliable", 100))
+    ros.node.create_subscription(Odometry, "/state_estimation", odom.append, qos("sensor", 100))
     proc = spawn("vehicle_sim", "--ros-args", "-p", f"scene:={scene}", "-p", "start:=[0.0, 5.0]",
                  "-p", "time_factor:=20.0")
     assert ros.spin_until(lambda: len(odom) > 0, 30), proc.stderr()

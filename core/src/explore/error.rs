@@ -23,6 +23,6 @@ pub enum ExploreError {
         corners: usize,
     },
     /// The resampling voxel is not a positive finite size.
-    #[error("voxel size {0} must be finite and > 0")]
+    #[error("voxel size {0} must be finite and > 0 (a merge also takes 0: every point kept)")]
     Voxel(f32),
 }

@@ -6,12 +6,14 @@
 //!
 //! - [`ExploreParams`] (`params`), [`ExploreError`] (`error`), [`SurfaceSamples`] (`surface`);
 //! - `voxels`: known occupancy and line of sight; `select`: greedy cover + tour;
-//! - [`Explorer`] (`explorer`); [`VoxelMerge`], [`resample`] (`voxel_merge`): voxel de-duplication.
+//! - [`Explorer`] (`explorer`); [`VoxelMerge`], [`resample`] (`voxel_merge`): voxel de-duplication;
+//! - [`MergeStore`] (`store`): the merged cloud on disk as it grows.
 
 mod error;
 mod explorer;
 mod params;
 mod select;
+mod store;
 mod surface;
 mod voxel_merge;
 mod voxels;
@@ -19,5 +21,6 @@ mod voxels;
 pub use error::ExploreError;
 pub use explorer::Explorer;
 pub use params::ExploreParams;
+pub use store::{KeptMerge, MergeStore, STATE_FILE, StoreError, Stored, read_store};
 pub use surface::SurfaceSamples;
 pub use voxel_merge::{VoxelMerge, resample};

@@ -26,9 +26,10 @@ const CHUNK: i64 = 16;
 type Chunk = [u64; (CHUNK * CHUNK * CHUNK / 64) as usize];
 
 impl VoxelMerge {
-    /// An empty merge with cubes `voxel_m` wide; the size must be finite and > 0.
+    /// An empty merge with cubes `voxel_m` wide; the size must be finite
+    /// and ≥ 0 (0: no thinning, every finite point is kept).
     pub fn new(voxel_m: f32) -> Result<Self, ExploreError> {
-        if !(voxel_m.is_finite() && voxel_m > 0.0) {
+        if !(voxel_m.is_finite() && voxel_m >= 0.0) {
             return Err(ExploreError::Voxel(voxel_m));
         }
         Ok(Self {
@@ -42,6 +43,10 @@ impl VoxelMerge {
     pub fn add(&mut self, p: [f32; 3]) -> bool {
         if !p.iter().all(|v| v.is_finite()) {
             return false;
+        }
+        if self.voxel == 0.0 {
+            self.points.push(p);
+            return true;
         }
         // f64 so that large local coordinates with small voxels do not overflow or collapse.
         let key: [i64; 3] = std::array::from_fn(|k| (f64::from(p[k]) / self.voxel).floor() as i64);
@@ -79,6 +84,9 @@ impl VoxelMerge {
 /// Keeps the first point of every `voxel`-wide cube, in input order;
 /// non-finite points are dropped.
 pub fn resample(points: &[[f32; 3]], voxel: f32) -> Result<Vec<[f32; 3]>, ExploreError> {
+    if voxel == 0.0 {
+        return Err(ExploreError::Voxel(voxel));
+    }
     let mut merge = VoxelMerge::new(voxel)?;
     for p in points {
         merge.add(*p);
@@ -103,6 +111,16 @@ mod tests {
         assert_eq!(r, vec![[0.1, 0.1, 0.1], [1.1, 0.1, 0.1], [-0.1, 0.0, 0.0]]);
         assert_eq!(resample(&pts, 0.0), Err(ExploreError::Voxel(0.0)));
         assert!(resample(&[], 0.1).unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_zero_voxel_merge_keeps_every_finite_point() {
+        let mut m = VoxelMerge::new(0.0).unwrap();
+        for p in [[0.1, 0.1, 0.1], [0.1, 0.1, 0.1], [f32::INFINITY, 0.0, 0.0]] {
+            m.add(p);
+        }
+        assert_eq!(m.len(), 2);
+        assert!(VoxelMerge::new(-0.01).is_err() && VoxelMerge::new(f32::NAN).is_err());
     }
 
     #[test]
@@ -175,7 +193,8 @@ mod tests {
 
     #[test]
     fn merge_rejects_bad_voxel() {
-        for v in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        // 0 is full density (a_zero_voxel_merge_keeps_every_finite_point).
+        for v in [-1.0, f32::NAN, f32::INFINITY] {
             assert!(
                 matches!(VoxelMerge::new(v), Err(ExploreError::Voxel(_))),
                 "{v}"

@@ -27,6 +27,10 @@ pub struct DetectorGate {
     route_done: Option<u32>,
     /// The round the last merged-cloud detection ran for.
     detected_after: Option<u32>,
+    /// A resumed mission: the first detection waits for the merge so far.
+    wait_merge: bool,
+    merge_seen: bool,
+    detected_once: bool,
 }
 
 impl DetectorGate {
@@ -38,11 +42,21 @@ impl DetectorGate {
         }
     }
 
+    /// A gate for a resumed mission: the first detection runs on the aerial
+    /// cloud and the merged cloud the explorer kept, whichever comes last.
+    pub fn resuming(mut self) -> Self {
+        self.wait_merge = true;
+        self
+    }
+
     /// Takes one event; true when detection should run now.
     pub fn handle(&mut self, e: DetectorEvent) -> bool {
         match e {
             DetectorEvent::Aerial => self.has_aerial = true,
-            DetectorEvent::Resampled => self.unused_cloud = true,
+            DetectorEvent::Resampled => {
+                self.unused_cloud = true;
+                self.merge_seen = true;
+            }
             DetectorEvent::RouteDone(r) => {
                 // A restarted planner may report an older round: keep the newest.
                 if self.route_done.is_none_or(|d| r > d) {
@@ -50,8 +64,14 @@ impl DetectorGate {
                 }
             }
         }
-        if !self.has_aerial {
+        if !self.has_aerial || (self.wait_merge && !self.merge_seen) {
             return false;
+        }
+        if self.wait_merge && !self.detected_once {
+            // The merge so far is part of the first detection.
+            self.detected_once = true;
+            self.unused_cloud = false;
+            return true;
         }
         let cloud_due = if self.follows_planner {
             self.unused_cloud && self.route_done.is_some() && self.route_done != self.detected_after
@@ -76,6 +96,17 @@ mod tests {
     fn gate(follows_planner: bool, events: &[DetectorEvent]) -> Vec<bool> {
         let mut g = DetectorGate::new(follows_planner);
         events.iter().map(|&e| g.handle(e)).collect()
+    }
+
+    #[test]
+    fn a_resumed_gate_waits_for_the_kept_merge_in_either_order() {
+        for events in [[Aerial, Resampled], [Resampled, Aerial]] {
+            let mut g = DetectorGate::new(true).resuming();
+            assert_eq!(events.map(|e| g.handle(e)), [false, true], "{events:?}");
+            // The kept merge was used: the next detection waits for round 1.
+            assert!(!g.handle(RouteDone(1)));
+            assert!(g.handle(Resampled));
+        }
     }
 
     #[test]

@@ -11,7 +11,9 @@ use std::sync::Arc;
 use geo::{Distance, Euclidean, LineString, Point, Polygon};
 
 use crate::cloud::class;
-use crate::explore::{ExploreError, ExploreParams, Explorer, VoxelMerge};
+use crate::explore::{
+    ExploreError, ExploreParams, Explorer, KeptMerge, StoreError, Stored, VoxelMerge,
+};
 use crate::graph::{GraphParams, GroundGraph};
 use crate::targets::Region;
 
@@ -151,6 +153,47 @@ impl ExplorerMachine {
     /// Scans received so far (what the simulator sent less what DDS dropped).
     pub fn scans(&self) -> usize {
         self.scans
+    }
+
+    /// Keeps the merge in the store in `dir` (a batch at most every
+    /// `every_s`), going on from what the store holds (a respawned explorer,
+    /// a resumed mission): the points and scans read back.
+    pub fn keep_merge_in(
+        &mut self,
+        dir: &std::path::Path,
+        every_s: f64,
+    ) -> Result<(KeptMerge, Stored), StoreError> {
+        let (mut kept, stored) = KeptMerge::open(dir, self.config.resample_voxel_m, every_s)?;
+        for p in &stored.points {
+            self.merged.add(*p);
+        }
+        self.scans += stored.scans;
+        kept.merged_after_resume(self.merged.len());
+        if !self.merged.is_empty() {
+            // The detector and the demo learn the merge so far as they would at a route's end.
+            self.out.push(ExplorerCommand::Resampled);
+        }
+        Ok((kept, stored))
+    }
+
+    /// At shutdown: the last batch written to `kept`, and the line to log
+    /// (scans received, points merged, what the store holds).
+    pub fn stop(&self, kept: Option<&mut KeptMerge>) -> String {
+        let stored = match kept.map(|k| self.keep(k, 0.0, true).map(|_| k.stored())) {
+            None => "no store".to_string(),
+            Some(Ok((p, s))) => format!("on disk: {p} points of {s} scans"),
+            Some(Err(e)) => format!("the last batch could not be written: {e}"),
+        };
+        format!(
+            "stopping: {} scans received, {} points merged; {stored}",
+            self.scans,
+            self.merged.len()
+        )
+    }
+
+    /// Writes what was merged since the last batch to `kept` when due (see [`KeptMerge::flush`]).
+    pub fn keep(&self, kept: &mut KeptMerge, now_s: f64, force: bool) -> Result<usize, StoreError> {
+        kept.flush(self.merged.points(), self.scans, now_s, force)
     }
 
     /// The ground graph regions are explored on (once one was requested).

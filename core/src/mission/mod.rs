@@ -10,7 +10,8 @@
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
 //! - `explorer`: when a region starts and ends, when scans count;
 //! - `detector`: when detection re-runs on the merged cloud;
-//! - `progress`: what a launcher follows of the rounds, and when the loop ends.
+//! - `progress`: what a launcher follows of the rounds, and when the loop ends;
+//! - `watchdog`: the robot's clock watched, a stalled vehicle restarted.
 
 pub mod detector;
 pub mod explorer;
@@ -20,6 +21,7 @@ pub mod inspect;
 pub mod planner;
 pub mod progress;
 pub mod protocol;
+pub mod watchdog;
 
 pub use georef::Georeference;
 pub use inspect::{CloudStatus, CloudSummary, LabelCount};

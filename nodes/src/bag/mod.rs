@@ -14,5 +14,7 @@ mod writer;
 
 pub use error::BagError;
 pub use qos::TopicQos;
-pub use reader::{BagMessage, read_intact_messages, read_messages, read_topic_qos};
+pub use reader::{
+    BagMessage, TopicSize, read_intact_messages, read_messages, read_topic_qos, topic_sizes,
+};
 pub use writer::BagWriter;

@@ -56,6 +56,35 @@ pub fn read_intact_messages(path: impl AsRef<Path>) -> Result<Vec<BagMessage>, B
     }
 }
 
+/// Messages and serialized bytes of one topic of a bag.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct TopicSize {
+    /// Messages recorded.
+    pub messages: u64,
+    /// Their serialized size (CDR with its header), bytes, before the bag's compression.
+    pub bytes: u64,
+}
+
+/// Messages and bytes per topic of a bag, also of one cut off (a killed
+/// recorder): the messages up to the cut are counted.
+pub fn topic_sizes(
+    path: impl AsRef<Path>,
+) -> Result<std::collections::BTreeMap<String, TopicSize>, BagError> {
+    let path = path.as_ref();
+    let bytes = read_file(path)?;
+    let options = Options::ValidateChunkCrcs | Options::IgnoreEndMagic;
+    let stream = MessageStream::new_with_options(&bytes, options)
+        .map_err(|source| malformed(path, source))?;
+    let mut sizes = std::collections::BTreeMap::<String, TopicSize>::new();
+    // Counting stops at the first unreadable record, as reading a cut bag does.
+    for m in stream.map_while(Result::ok) {
+        let t = sizes.entry(m.channel.topic.clone()).or_default();
+        t.messages += 1;
+        t.bytes += m.data.len() as u64;
+    }
+    Ok(sizes)
+}
+
 /// Where reading a file stopped.
 #[derive(Debug)]
 enum Stop {

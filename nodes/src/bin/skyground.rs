@@ -104,10 +104,27 @@ fn main() -> ExitCode {
             None => ExitCode::from(2),
         },
         Cmd::Demo(a) => {
+            let a = match a.resumed() {
+                Ok(a) => a,
+                Err(e) => {
+                    eprintln!("skyground demo: {e}");
+                    return ExitCode::from(2);
+                }
+            };
             // Field mode talks to a robot on the real network: no namespace.
             if !a.no_netns && !a.field.field && !netns::is_isolated() {
                 eprintln!("skyground demo: re-running inside a loopback-only network namespace");
                 return exec_failed(netns::exec_self_isolated());
+            }
+            // A resumed mission's relative paths mean what they meant when it started.
+            if let Some(cwd) = &a.started_in
+                && let Err(e) = std::env::set_current_dir(cwd)
+            {
+                eprintln!(
+                    "skyground demo: --resume: the mission ran in {}: {e}",
+                    cwd.display()
+                );
+                return ExitCode::from(2);
             }
             if !a.field.field && std::env::var_os("ROS_AUTOMATIC_DISCOVERY_RANGE").is_none() {
                 // The demo is a local mission: keep discovery on this host.

@@ -37,14 +37,16 @@ pub fn merged_cloud(prior: &Cloud, resampled: Option<&Cloud>) -> Cloud {
 /// What [`after`] gives: the LAS written (or why not) and the models.
 pub type AfterResult = (Result<(), String>, Result<ModelEvaluation, RuntimeError>);
 
-/// `DIR/resampled.las` written while `DIR/models_after.*` are made.
-pub fn after(out: &Path, scene: &Scene, merged: &Cloud, spacing: f32) -> AfterResult {
+/// The merged cloud written to `file` (LAS or LAZ by its extension) while
+/// `models_after.*` are made beside it.
+pub fn after(file: &Path, scene: &Scene, merged: &Cloud, spacing: f32) -> AfterResult {
+    let out = file.parent().unwrap_or(Path::new("."));
     std::thread::scope(|s| {
-        let las = s.spawn(|| write_cloud(&out.join("resampled.las"), merged));
+        let las = s.spawn(|| write_cloud(file, merged));
         let models = super::reconstruct::models_of(out, "models_after", scene, merged, spacing);
         let las = las
             .join()
-            .map_err(|_| "writing resampled.las panicked".to_string())
+            .map_err(|_| format!("writing {} panicked", file.display()))
             .and_then(|r| r.map_err(|e| e.to_string()));
         (las, models)
     })

@@ -26,6 +26,8 @@ use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportCon
 struct Params {
     input_topic: String,
     resampled_topic: String,
+    /// A resumed mission: the first detection also waits for the kept merge.
+    wait_resampled: bool,
     planner_status_topic: String,
     footprints: String,
     footprint_id: String,
@@ -69,6 +71,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     };
     futures::pin_mut!(planner_s);
     let mut gate = DetectorGate::new(planner_sub.is_some());
+    if p.wait_resampled {
+        gate = gate.resuming();
+    }
     let missing_pub = CloudPublisher::new(rt, "/missing_points", qos::latched(1), p.transport)?;
     let status_pub = rt.publisher::<DiagnosticArray>("/completeness", qos::latched(1))?;
     let marker_pub = rt.publisher::<MarkerArray>("/detection_markers", qos::latched(1))?;

@@ -86,7 +86,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         false => None,
     };
     let regions_sub = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
-    let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
     let estatus_sub = rt.subscription::<DiagnosticArray>("/explorer_status", qos::latched(1))?;
     let own_status_sub = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;

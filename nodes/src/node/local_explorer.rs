@@ -3,7 +3,8 @@
 //! ground graph inside it, scored by the missing wall they would see, visited
 //! in a short tour on /local_path until the gain per metre runs out; then
 //! "done" on /explorer_status. Every building point the vehicle scans is
-//! merged (voxel de-duplicated) into /resampled_cloud. The region's index and
+//! merged (voxel de-duplicated) into /resampled_cloud and kept on disk as
+//! it grows (`merge_store`). The region's index and
 //! round, and the spots the planner found blocked, come on /planner_status.
 //! The executive is `skyground_core::mission::explorer`.
 
@@ -12,7 +13,7 @@ use std::time::Duration;
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::{Cloud, class};
-use skyground_core::explore::ExploreParams;
+use skyground_core::explore::{ExploreParams, KeptMerge};
 use skyground_core::graph::GraphParams;
 use skyground_core::mission::explorer::{
     ExplorerCommand, ExplorerConfig, ExplorerEvent, ExplorerMachine,
@@ -46,6 +47,10 @@ struct Params {
     resample_voxel_m: f32,
     /// Viewpoints the vehicle is blocked on this many times end the region.
     block_retries: u32,
+    /// Folder the merged cloud is kept in as it grows ("" = memory only).
+    merge_store: String,
+    /// Seconds between two batches written to `merge_store`.
+    merge_flush_s: f64,
     transport: TransportConfig,
 }
 
@@ -64,12 +69,14 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         block_retries: p.block_retries,
     })
     .map_err(|e| RuntimeError::Node(format!("explore params: {e}")))?;
+    let mut kept = keep_merge(rt, (&p.merge_store, p.merge_flush_s), &mut ex)?;
+    let t0 = std::time::Instant::now();
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
     let region_sub = rt.subscription::<MarkerArray>("/active_region", qos::latched(1))?;
     let scan_sub = rt.subscription::<PointCloud2>("/registered_scan", qos::sensor(50))?;
-    let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
     let pstatus_sub = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;
     let leg_pub = rt.publisher::<Path>("/local_path", qos::reliable(10))?;
@@ -110,12 +117,41 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             _ = tick.tick() => vec![ExplorerEvent::Tick],
         };
         for e in events {
-            for c in ex.handle(e) {
+            let cmds = ex.handle(e);
+            // What goes out on /resampled_cloud is on disk first.
+            let force = cmds.iter().any(|c| matches!(c, ExplorerCommand::Resampled));
+            let now = t0.elapsed().as_secs_f64();
+            if let Some(Err(e)) = kept.as_mut().map(|k| ex.keep(k, now, force)) {
+                rt.log
+                    .error(&format!("merge store (kept, tried again): {e}"));
+            }
+            for c in cmds {
                 perform(rt, &ex, c, &leg_pub, &status_pub, &resampled_pub).await?;
             }
         }
     }
+    rt.log.info(&ex.stop(kept.as_mut()));
     Ok(())
+}
+
+/// The store named by `merge_store` (flushed every `every_s`), its merge taken into `ex`.
+fn keep_merge(
+    rt: &NodeRuntime,
+    (dir, every_s): (&str, f64),
+    ex: &mut ExplorerMachine,
+) -> Result<Option<KeptMerge>, RuntimeError> {
+    if dir.is_empty() {
+        return Ok(None);
+    }
+    let (kept, s) = ex
+        .keep_merge_in(std::path::Path::new(dir), every_s)
+        .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?;
+    let n = s.points.len();
+    rt.log.info(&format!(
+        "merge store {dir}: going on from {n} points, {} scans",
+        s.scans
+    ));
+    Ok(Some(kept))
 }
 
 async fn perform(

@@ -91,7 +91,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
     let way_pub = rt.publisher::<PointStamped>("/way_point", qos::reliable(10))?;
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
-    let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let odom = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let (tx, mut legs) = tokio::sync::mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
     let odom_s = odom.async_stream();

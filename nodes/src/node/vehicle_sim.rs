@@ -95,7 +95,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         p.time_factor
     ));
 
-    let odom_pub = rt.publisher::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let odom_pub = rt.publisher::<Odometry>("/state_estimation", qos::odometry())?;
     let scan_pub = rt.publisher::<PointCloud2>("/registered_scan", qos::sensor(5))?;
     // A reader that keeps one scan in N (the demo's recorder) would still be
     // sent all N by DDS; this topic, named as topic_tools' throttle names
@@ -104,7 +104,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let clock_pub = rt.publisher::<Clock>("/clock", qos::sensor(1))?;
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
     // As tf2's broadcasters: /tf reliable and volatile, /tf_static latched.
-    let tf_pub = rt.publisher::<TFMessage>("/tf", qos::reliable(100))?;
+    let tf_pub = rt.publisher::<TFMessage>("/tf", qos::tf())?;
     let tf_static_pub = rt.publisher::<TFMessage>("/tf_static", qos::latched(1))?;
     let body = Header {
         stamp: Time::from_secs(0.0),

@@ -17,9 +17,16 @@ pub struct DemoArgs {
     /// A real aerial survey as the prior (`--prior`, `--prior-margin`).
     #[command(flatten)]
     pub prior: crate::cli::prior::PriorArgs,
-    /// Output directory (aerial.las, resampled.las, mission.mcap, report.*, overview.png, logs).
+    /// Output directory (aerial.laz, resampled.laz, merge/, mission.mcap, report.*, overview.png, logs).
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
+    /// Write the big clouds as uncompressed LAS (aerial.las, resampled.las) instead of LAZ.
+    #[arg(long)]
+    pub las: bool,
+    /// Edge of the voxels the merged ground scans are thinned to (one point
+    /// each), m; 0 keeps every point the LiDAR returned (full density).
+    #[arg(long, default_value_t = 0.05)]
+    pub merge_voxel: f32,
     /// Run here even if other network interfaces exist (default: re-run inside
     /// a loopback-only network namespace).
     #[arg(long)]
@@ -52,7 +59,19 @@ pub struct DemoArgs {
     /// Field mode: a real robot instead of vehicle_sim.
     #[command(flatten)]
     pub field: FieldArgs,
+    /// Go on with the mission in DIR (killed, stalled, a battery run out): its
+    /// command line (DIR/command.json), the scans merged (DIR/merge), the
+    /// rounds done and the vehicle's last place (DIR/progress.json) are
+    /// taken from there; `--timeout` and `--no-netns` given now still apply.
+    #[arg(long, value_name = "DIR")]
+    pub resume: Option<PathBuf>,
+    /// With `--resume`: the folder the mission was started in (its relative paths' base).
+    #[arg(skip)]
+    pub started_in: Option<PathBuf>,
 }
+
+/// The file in a mission's folder that holds its command line.
+pub const COMMAND_FILE: &str = "command.json";
 
 /// Field mode: every node but vehicle_sim, and a robot of the CMU
 /// exploration environment's interface on the network.
@@ -75,6 +94,68 @@ impl DemoArgs {
     /// The scene spec every process loads (tiles joined by commas).
     pub fn scene(&self) -> String {
         self.scenes.join(",")
+    }
+
+    /// `OUT/STEM.laz`, or `OUT/STEM.las` with `--las`.
+    pub fn cloud_file(&self, stem: &str) -> PathBuf {
+        self.out
+            .join(format!("{stem}.{}", if self.las { "las" } else { "laz" }))
+    }
+
+    /// Where the merged scans are kept as they arrive (`skyground_core::explore::MergeStore`).
+    pub fn merge_store(&self) -> PathBuf {
+        self.out.join("merge")
+    }
+
+    /// These arguments, or with `--resume DIR` the ones DIR's mission was
+    /// started with (output DIR), with this `--timeout` and `--no-netns`;
+    /// `started_in` is the folder its relative paths were given in.
+    pub fn resumed(self) -> Result<DemoArgs, String> {
+        let Some(given) = self.resume.clone() else {
+            return Ok(self);
+        };
+        let dir = std::fs::canonicalize(&given)
+            .map_err(|e| format!("--resume {}: {e}", given.display()))?;
+        let path = dir.join(COMMAND_FILE);
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            format!(
+                "--resume {}: {e} (not a demo's output folder?)",
+                path.display()
+            )
+        })?;
+        let argv: Vec<String> = serde_json::from_str::<serde_json::Value>(&text)
+            .ok()
+            .and_then(|v| serde_json::from_value(v["argv"].clone()).ok())
+            .ok_or_else(|| format!("--resume {}: no \"argv\" list of strings", path.display()))?;
+        #[derive(clap::Parser)]
+        struct Cli {
+            #[command(flatten)]
+            demo: DemoArgs,
+        }
+        let parsed =
+            <Cli as clap::Parser>::try_parse_from(std::iter::once("demo".into()).chain(argv))
+                .map_err(|e| format!("--resume {}: {e}", path.display()))?;
+        let mut a = parsed.demo;
+        a.started_in = serde_json::from_str::<serde_json::Value>(&text)
+            .ok()
+            .and_then(|v| v["cwd"].as_str().map(PathBuf::from));
+        a.out = dir.clone();
+        a.resume = Some(dir);
+        a.timeout = self.timeout.or(a.timeout);
+        a.no_netns |= self.no_netns;
+        Ok(a)
+    }
+
+    /// What OUT/command.json keeps: every argument after `demo`, and the
+    /// folder they were given in.
+    pub fn command_json() -> serde_json::Value {
+        let all: Vec<String> = std::env::args().collect();
+        let at = all
+            .iter()
+            .position(|s| s == "demo")
+            .map_or(all.len(), |i| i + 1);
+        let cwd = std::env::current_dir().unwrap_or_default();
+        serde_json::json!({"argv": all[at..], "cwd": cwd})
     }
 
     /// A prior of real survey files rather than the simulated flight.

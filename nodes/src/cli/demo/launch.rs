@@ -12,6 +12,7 @@ use skyground_core::vehicle::find_start;
 use tokio::process::{Child, Command};
 
 use super::DemoArgs;
+use super::resume::Carried;
 use crate::cli::profile::Profile;
 use crate::runtime::RuntimeError;
 
@@ -21,6 +22,8 @@ pub(super) struct Proc {
     args: Vec<String>,
     pub child: Child,
     pub restarts: u32,
+    /// Starts made by earlier runs of a resumed mission (the recorder's bag splits).
+    earlier: u32,
 }
 
 fn spawn(name: &str, exe: &Path, args: &[String], out: &Path) -> Result<Child, RuntimeError> {
@@ -44,40 +47,72 @@ fn start(
     exe: &Path,
     args: &[String],
     out: &Path,
+    fresh: bool,
 ) -> Result<Proc, RuntimeError> {
-    let _ = std::fs::remove_file(out.join(format!("{name}.log")));
+    // A resumed mission's logs follow those of its earlier runs.
+    if fresh {
+        let _ = std::fs::remove_file(out.join(format!("{name}.log")));
+    }
     Ok(Proc {
         name,
         args: args.to_vec(),
         child: spawn(name, exe, args, out)?,
         restarts: 0,
+        earlier: 0,
     })
 }
 
-/// Starts the recorder, then every node of the mission; `detector` holds
+/// Starts the recorder, then every node of the mission: `detector` holds
 /// completeness_detector's parameters, `aerial` is the prior the cloud
-/// publisher sends, `driver` the vehicle (sim or bridge).
+/// publisher sends, `driver` the vehicle (sim or bridge). A resumed mission
+/// (`carried` from its earlier runs) goes on recording into the next bag
+/// split, its vehicle starts where it was, and the first detection waits for
+/// the merge the explorer kept.
 pub(super) fn start_all(
     a: &DemoArgs,
     exe: &Path,
-    detector: Vec<String>,
-    aerial: &Path,
-    driver: (&'static str, Vec<String>),
+    (mut detector, aerial, mut driver): (Vec<String>, &Path, (&'static str, Vec<String>)),
+    carried: &Carried,
 ) -> Result<Vec<Proc>, RuntimeError> {
-    let mut procs = vec![start("recorder", exe, &record_args(a), &a.out)?];
+    let earlier = if a.resume.is_some() {
+        let first = a.out.join("mission.mcap");
+        (0..)
+            .take_while(|&n| bag_split(&first, n).is_file())
+            .count() as u32
+    } else {
+        0
+    };
+    let record = record_args(a);
+    let fresh = a.resume.is_none();
+    let mut recorder = start(
+        "recorder",
+        exe,
+        &args_for_start(&record, earlier),
+        &a.out,
+        fresh,
+    )?;
+    (recorder.args, recorder.earlier) = (record, earlier);
+    let mut procs = vec![recorder];
+    if a.resume.is_some() {
+        detector.push("wait_resampled:=true".into());
+        if let (Some(p), "vehicle_sim") = (carried.position, driver.0) {
+            driver.1.retain(|s| !s.starts_with("start:="));
+            driver.1.push(format!("start:=[{}, {}]", p[0], p[1]));
+        }
+    }
     for (name, params) in [
         ("scene_classifier", vec![]),
         ("completeness_detector", detector),
         ("target_generator", vec![]),
         ("global_planner", planner_params(a)),
-        ("local_explorer", graph_params(a)),
+        ("local_explorer", explorer_params(a)),
         driver,
         (
             "cloud_publisher",
             vec![format!("file:={}", aerial.display())],
         ),
     ] {
-        procs.push(start(name, exe, &node_args(name, &params), &a.out)?);
+        procs.push(start(name, exe, &node_args(name, &params), &a.out, fresh)?);
     }
     Ok(procs)
 }
@@ -86,12 +121,24 @@ pub(super) fn start_all(
 /// launch's `respawn=True` does: nodes take their state from latched topics.
 /// A node whose DDS start-up deadlocked exits with
 /// [`EXIT_STUCK`](crate::runtime::creation_watch::EXIT_STUCK) for this.
-pub(super) fn respawn(procs: &mut [Proc], exe: &Path, out: &Path) -> Result<(), RuntimeError> {
+/// A vehicle_sim started again starts `at` the vehicle's last place.
+pub(super) fn respawn(
+    procs: &mut [Proc],
+    exe: &Path,
+    out: &Path,
+    at: Option<[f32; 3]>,
+) -> Result<(), RuntimeError> {
     for p in procs.iter_mut() {
         if let Ok(Some(status)) = p.child.try_wait() {
             eprintln!("  {} exited ({status}); starting it again", p.name);
             p.restarts += 1;
-            p.child = spawn(p.name, exe, &args_for_start(&p.args, p.restarts), out)?;
+            if let (Some(q), "vehicle_sim") = (at, p.name) {
+                for arg in p.args.iter_mut().filter(|s| s.starts_with("start:=")) {
+                    *arg = format!("start:=[{}, {}]", q[0], q[1]);
+                }
+            }
+            let args = args_for_start(&p.args, p.earlier + p.restarts);
+            p.child = spawn(p.name, exe, &args, out)?;
         }
     }
     Ok(())
@@ -147,6 +194,42 @@ pub(super) fn bag_bytes(first: &Path) -> u64 {
         .sum()
 }
 
+/// Messages and bytes per topic over the bag and its splits (a split that
+/// cannot be read is left out and named on the console).
+pub(super) fn bag_topics(
+    first: &Path,
+) -> std::collections::BTreeMap<String, crate::bag::TopicSize> {
+    let mut all = std::collections::BTreeMap::<String, crate::bag::TopicSize>::new();
+    for n in 0.. {
+        let split = bag_split(first, n);
+        if !split.is_file() {
+            break;
+        }
+        match crate::bag::topic_sizes(&split) {
+            Ok(sizes) => {
+                for (topic, s) in sizes {
+                    let t = all.entry(topic).or_default();
+                    t.messages += s.messages;
+                    t.bytes += s.bytes;
+                }
+            }
+            Err(e) => eprintln!("  bag sizes: {e}"),
+        }
+    }
+    all
+}
+
+/// Removes a former run's merge store.
+pub(super) fn remove_merge(dir: &Path) -> Result<(), RuntimeError> {
+    match std::fs::remove_dir_all(dir) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(RuntimeError::Node(format!(
+            "{}: cannot remove the former merge: {e}",
+            dir.display()
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Removes a former run's bag and its splits (their sizes are summed at the end).
 pub(super) fn remove_bag(first: &Path) {
     for n in 0.. {
@@ -185,6 +268,14 @@ fn graph_params(a: &DemoArgs) -> Vec<String> {
     } else {
         Vec::new()
     }
+}
+
+/// local_explorer's parameters: the graph's, the merge's voxel and store.
+fn explorer_params(a: &DemoArgs) -> Vec<String> {
+    let mut v = graph_params(a);
+    v.push(format!("resample_voxel_m:={}", a.merge_voxel));
+    v.push(format!("merge_store:={}", a.merge_store().display()));
+    v
 }
 
 /// global_planner's parameters from the demo's arguments.

@@ -11,6 +11,7 @@ mod args;
 mod console;
 mod launch;
 mod report;
+mod resume;
 mod watch;
 
 pub use args::{DemoArgs, FieldArgs};
@@ -34,12 +35,14 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut prof = Profile::new("prior");
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
-    launch::remove_bag(&a.out.join("mission.mcap"));
+    let carried = start_or_resume(&a)?;
     eprintln!(
         "skyground demo: scene {}, output {}",
         a.scene(),
         a.out.display()
     );
+    skyground_core::explore::VoxelMerge::new(a.merge_voxel)
+        .map_err(|e| err(format!("--merge-voxel: {e}")))?;
     // A footprints file that cannot be read stops the demo before the scene is.
     let given = a
         .footprints
@@ -66,7 +69,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut before = MeasureSoFar::new(&prior.gt, prior.tau);
     before.add(&prior.scene, &prior.gt, &prior.cloud);
     let models_before = models_in_background(&a, &prior);
-    let aerial = a.out.join("aerial.las");
+    let aerial = a.cloud_file("aerial");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
     eprintln!(
@@ -92,18 +95,26 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         let real = a.real_prior().then_some(&prior.cloud);
         launch::sim_driver(&prior.scene, &scene_spec, a.time_factor, real)?
     };
-    let mut procs = launch::start_all(&a, &exe, detector, &aerial, driver)?;
+    let mut procs = launch::start_all(&a, &exe, (detector, &aerial, driver), &carried)?;
     prof.stage("start-up, classification, detection, first route");
     eprintln!(
         "  started {} processes: {}",
         procs.len(),
         procs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
     );
-    let outcome =
-        watch::follow(rt, (&a, &prior, &before), (&mut procs, &exe), &mut prof, t0).await?;
+    let mut outcome = watch::follow(
+        rt,
+        (&a, &prior, &before, carried),
+        (&mut procs, &exe),
+        &mut prof,
+        t0,
+    )
+    .await?;
     eprintln!("  {}; stopping the nodes", outcome.why);
     prof.stage("stopping the nodes");
     launch::stop_all(&mut procs, &mut prof).await;
+    // The explorer wrote its last batch as it stopped.
+    let merge = report::take_store(&a.merge_store(), &prior, &mut outcome)?;
     let (finished, why) = (outcome.finished, outcome.why.clone());
     let inputs = report::Inputs {
         a: &a,
@@ -113,6 +124,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         before: before.measured(&prior.gt),
         outcome,
         restarts: launch::restarts(&procs),
+        merge,
+        bag: launch::bag_topics(&a.out.join("mission.mcap")),
     };
     report::report(&inputs, models_before, (t0, &mut prof))?;
     if finished {
@@ -123,6 +136,33 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             a.out.display()
         )))
     }
+}
+
+/// A new mission clears what a former one left in its folder and keeps its
+/// command line; a resumed one reads what its earlier runs did.
+fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
+    let carried = if a.resume.is_some() {
+        let c = resume::read(&a.out)?;
+        eprintln!(
+            "  resuming: {} rounds done, {:.0} m driven, {:.0} robot s, last at {:?}",
+            c.rounds, c.odometer_m, c.sim_s, c.position
+        );
+        c
+    } else {
+        launch::remove_bag(&a.out.join("mission.mcap"));
+        // A new mission starts a new merge (the explorer would go on from one left here).
+        launch::remove_merge(&a.merge_store())?;
+        let _ = std::fs::remove_file(a.out.join(resume::PROGRESS_FILE));
+        let command = serde_json::to_vec_pretty(&DemoArgs::command_json())
+            .map_err(|e| RuntimeError::Node(e.to_string()))?;
+        skyground_core::file::write(&a.out.join(args::COMMAND_FILE), command)
+            .map_err(|e| RuntimeError::Node(e.to_string()))?;
+        resume::Carried::default()
+    };
+    Ok(resume::Carried {
+        runs: carried.runs + 1,
+        ..carried
+    })
 }
 
 /// The prior's LoD2 models, made on a thread of their own while the mission runs.

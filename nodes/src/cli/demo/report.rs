@@ -38,6 +38,58 @@ pub(super) struct Inputs<'a> {
     pub outcome: Outcome,
     /// Nodes started again after they exited, and how often.
     pub restarts: std::collections::BTreeMap<String, u32>,
+    /// What the merge store held when the nodes had stopped.
+    pub merge: Merge,
+    /// Messages and bytes per topic of the bag.
+    pub bag: std::collections::BTreeMap<String, crate::bag::TopicSize>,
+}
+
+/// The merge store's counts when the report is made.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub(super) struct Merge {
+    /// Points in the store (every ground point merged).
+    pub points: usize,
+    /// Scans the explorer received whose points are all in the store.
+    pub scans: usize,
+    /// Points the store held that the last /resampled_cloud had not carried
+    /// (a mission stopped mid-round): measured here.
+    pub since_last_publish: usize,
+}
+
+/// Takes in what the merge store holds beyond the last /resampled_cloud (a
+/// mission interrupted, stalled or stopped by its limit in mid-round): those
+/// points are measured into `outcome.after` and appended to its resampled
+/// cloud, so the report and resampled.laz hold every scan merged.
+pub(super) fn take_store(
+    dir: &Path,
+    prior: &Survey,
+    outcome: &mut Outcome,
+) -> Result<Merge, RuntimeError> {
+    let Some(stored) = skyground_core::explore::read_store(dir)
+        .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?
+    else {
+        return Ok(Merge::default());
+    };
+    let w = &mut outcome.watch;
+    let had = w.resampled.as_ref().map_or(0, Cloud::len);
+    let tail = stored.points.get(had..).unwrap_or(&[]).to_vec();
+    let mut new = Cloud::from_xyz(tail);
+    new.origin = prior.cloud.origin;
+    outcome.after.add(&prior.scene, &prior.gt, &new);
+    let since = new.len();
+    match w.resampled.as_mut() {
+        Some(r) => r.xyz.extend_from_slice(&new.xyz),
+        None if since > 0 => {
+            new.origin = [0.0; 3];
+            w.resampled = Some(new);
+        }
+        None => {}
+    }
+    Ok(Merge {
+        points: stored.points.len(),
+        scans: stored.scans,
+        since_last_publish: since,
+    })
 }
 
 /// The models before and after, and what changed between them.
@@ -48,7 +100,7 @@ struct Models {
     verdict: BeforeAfter,
 }
 
-/// Measures, writes report.json / report.md / overview.png, the models and resampled.las.
+/// Measures, writes report.json / report.md / overview.png, the models and resampled.laz.
 pub(super) fn report(
     r: &Inputs,
     models_before: ModelsBefore,
@@ -63,7 +115,7 @@ pub(super) fn report(
     );
     let mission = Mission {
         targets: &w.targets,
-        rounds: w.progress.rounds_driven(),
+        rounds: r.outcome.total.rounds as usize,
     };
     let city = write_completeness(
         &a.out,
@@ -107,9 +159,10 @@ fn build_models(
     prof: &mut Profile,
 ) -> Result<Models, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    prof.stage("report: resampled.las beside the LoD2 models after");
+    prof.stage("report: resampled cloud beside the LoD2 models after");
     let merged = merged_cloud(&r.prior.cloud, r.outcome.watch.resampled.as_ref());
-    let (written, ma) = after(&r.a.out, &r.prior.scene, &merged, r.prior.gt.spacing);
+    let file = r.a.cloud_file("resampled");
+    let (written, ma) = after(&file, &r.prior.scene, &merged, r.prior.gt.spacing);
     written.map_err(err)?;
     let after = ma?;
     prof.stage("report: LoD2 models before (made during the mission)");
@@ -155,10 +208,12 @@ fn summary_json(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> serde_json
         "mean_gt_dist_after": e.after.completeness.mean_gt_distance,
         "mean_cloud_to_mesh_before": e.before.mean_cloud_to_mesh,
         "mean_cloud_to_mesh_after": e.after.mean_cloud_to_mesh,
-        "path_length_m": w.odometer,
-        "sim_time_s": w.sim_s,
+        // Over every run of a resumed mission (`runs`).
+        "path_length_m": r.outcome.total.odometer_m,
+        "sim_time_s": r.outcome.total.sim_s,
         "wall_time_s": wall,
-        "rounds": w.progress.rounds_driven(),
+        "rounds": r.outcome.total.rounds,
+        "runs": r.outcome.total.runs,
         "detected_completeness_by_round": w.progress.detected,
         "targets_reached": w.progress.totals.reached,
         "targets_given_up": w.progress.totals.given_up,
@@ -168,6 +223,8 @@ fn summary_json(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> serde_json
         "last_route": {"greedy_m": f64::from(w.progress.last.greedy_m), "tsp_m": f64::from(w.progress.last.tsp_m)},
         "ground_points_added": ground_points(w),
         "bag_bytes": super::launch::bag_bytes(&a.out.join("mission.mcap")),
+        "merge": r.merge,
+        "bag_topics": r.bag,
         "restarts": r.restarts,
         "buildings": e.buildings,
         "model_dist_before": m.before.distance.mean,
@@ -201,9 +258,10 @@ fn mission_markdown(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> String
     let t = &w.progress.totals;
     md.push_str(&format!(
         "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / given up (blocked) / left off (seen on the way) / unreachable | {} / {} / {} / {} |\n| set-downs (the robot carried to another piece of ground) | {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {} |\n",
-        a.prior.describe(), w.progress.rounds_driven(), t.reached, t.given_up, t.seen, t.unreachable, t.set_downs, w.odometer,
-        if a.field.field { "robot (odometry stamps)" } else { "simulated" }, w.sim_s, ground_points(w)
+        a.prior.describe(), r.outcome.total.rounds, t.reached, t.given_up, t.seen, t.unreachable, t.set_downs, r.outcome.total.odometer_m,
+        if a.field.field { "robot (odometry stamps)" } else { "simulated" }, r.outcome.total.sim_s, ground_points(w)
     ));
+    md.push_str(&merge_markdown(r));
     if a.field.field {
         md.push_str(&format!(
             "\nField mode: a robot, not vehicle_sim, drove. Coverage counts its scans against the building surfaces of {}; the figures hold only where the robot drove in that scene.\n",
@@ -222,9 +280,30 @@ fn mission_markdown(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> String
     md
 }
 
+/// The merge store and the bag, per topic.
+fn merge_markdown(r: &Inputs) -> String {
+    let g = &r.merge;
+    let mut md = format!(
+        "\n## What was kept\n\nRuns of this mission: {} (`--resume DIR` goes on from `command.json`, `progress.json` and `merge/`). Merged scans on disk (`merge/`, a LAZ batch at a time): {} points from {} scans; {} of those points arrived after the last /resampled_cloud and were measured here. Clouds: `{}`, `{}`.\n\n| bag topic | messages | MB (serialized) |\n|---|---:|---:|\n",
+        r.outcome.total.runs,
+        g.points,
+        g.scans,
+        g.since_last_publish,
+        r.a.cloud_file("aerial").display(),
+        r.a.cloud_file("resampled").display()
+    );
+    for (topic, s) in &r.bag {
+        md.push_str(&format!(
+            "| {topic} | {} | {:.1} |\n",
+            s.messages,
+            s.bytes as f64 / 1e6
+        ));
+    }
+    md
+}
+
 /// The mission's outcome in two lines.
 fn print_summary(r: &Inputs, e: &Evaluation, wall: f64, city: &Path) {
-    let w = &r.outcome.watch;
     let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.2} %", v * 100.0));
     eprintln!(
         "\nskyground demo: {} in {wall:.1} s — coverage {} → {}, mean GT distance {:.3} → {:.3} m, {} rounds, {:.0} m driven; report {}",
@@ -237,8 +316,8 @@ fn print_summary(r: &Inputs, e: &Evaluation, wall: f64, city: &Path) {
         pct(e.after.completeness.overall.ratio),
         e.before.completeness.mean_gt_distance.unwrap_or(f64::NAN),
         e.after.completeness.mean_gt_distance.unwrap_or(f64::NAN),
-        w.progress.rounds_driven(),
-        w.odometer,
+        r.outcome.total.rounds,
+        r.outcome.total.odometer_m,
         r.a.out.join("report.json").display()
     );
     eprintln!(

@@ -9,16 +9,18 @@ use futures::StreamExt;
 use skyground_core::cloud::Cloud;
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::mission::progress::{Progress, StopRule};
+use skyground_core::mission::watchdog::{ClockVerdict, Watchdog};
 use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, VehicleStatus, Wire};
 use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::nav_msgs::Odometry;
+use skyground_msgs::nav_msgs::{Odometry, Path as RosPath};
 use skyground_msgs::visualization_msgs::{Marker, MarkerArray};
 
 use super::DemoArgs;
 use super::console::Console;
 use super::launch::{Proc, respawn};
+use super::resume::Carried;
 use crate::cli::aerial::Survey;
 use crate::cli::detections::Detections;
 use crate::cli::profile::Profile;
@@ -52,6 +54,8 @@ pub(super) struct Outcome {
     /// The stop rule ended the mission (not a limit, a signal or a fault).
     pub finished: bool,
     pub why: String,
+    /// The mission over all its runs (this one and any it resumed).
+    pub total: Carried,
 }
 
 /// The mission as the topics show it, and what is printed of it.
@@ -65,13 +69,25 @@ struct Follower<'a> {
     w: Watch,
     console: Console,
     t0: Instant,
+    /// What earlier runs of a resumed mission did.
+    carried: Carried,
+    /// The robot's clock watched (a stalled vehicle_sim is restarted).
+    dog: Watchdog,
+    /// The last /state_estimation stamp, and the robot time before a
+    /// restarted vehicle_sim's clock began again at 0.
+    last_stamp: f64,
+    clock_offset: f64,
+    /// The leg the vehicle drives (as the planner or explorer sent it), and
+    /// when to hand it to a restarted vehicle_sim.
+    leg: Option<RosPath>,
+    resend_at: Vec<Instant>,
 }
 
 /// Follows the mission until the stop rule, the time limit, a signal or (in
 /// field mode) a robot that never shows; nodes that exit are started again.
 pub(super) async fn follow(
     rt: &mut NodeRuntime,
-    (a, prior, before): (&DemoArgs, &Survey, &MeasureSoFar),
+    (a, prior, before, carried): (&DemoArgs, &Survey, &MeasureSoFar, Carried),
     (procs, exe): (&mut [Proc], &Path),
     prof: &mut Profile,
     t0: Instant,
@@ -84,7 +100,12 @@ pub(super) async fn follow(
     let vstatus = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
     let regions = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
     let contours = rt.subscription::<MarkerArray>("/detection_markers", qos::latched(1))?;
-    let odom = rt.subscription::<Odometry>("/state_estimation", qos::reliable(10))?;
+    let odom = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
+    // The leg being driven, kept to hand to a restarted vehicle_sim.
+    let legs = rt.subscription::<RosPath>("/local_path", qos::reliable(10))?;
+    let leg_pub = rt.publisher::<RosPath>("/local_path", qos::reliable(10))?;
+    let l_s = legs.async_stream();
+    futures::pin_mut!(l_s);
     let (c_s, p_s, v_s, r_s, o_s, m_s) = (
         completeness.async_stream(),
         planner.async_stream(),
@@ -95,11 +116,13 @@ pub(super) async fn follow(
     );
     futures::pin_mut!(c_s, p_s, v_s, r_s, o_s, m_s);
     let mut f = Follower::new(a, prior, before, t0);
+    f.carried = carried;
     let mut tick = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let rule = StopRule {
         min_round_gain: a.min_round_gain,
-        max_rounds: a.max_rounds,
+        // A resumed mission drives the rounds its earlier runs left.
+        max_rounds: a.max_rounds.saturating_sub(carried.rounds).max(1),
     };
     let robot_deadline =
         tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
@@ -126,13 +149,25 @@ pub(super) async fn follow(
                 f.w.odometer = s.odometer_m;
             },
             Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
-            _ = respawn_tick.tick() => if !rt.shutdown.requested() { respawn(procs, exe, &a.out)? },
+            Some(Ok((leg, _))) = l_s.next() => f.leg = Some(leg),
+            _ = respawn_tick.tick() => if !rt.shutdown.requested() {
+                respawn(procs, exe, &a.out, f.w.route.last().copied())?;
+                if let Some(leg) = f.leg_due() {
+                    f.console.say("  handing the leg it was driving to the restarted vehicle_sim");
+                    let _ = leg_pub.async_publish(leg).await;
+                }
+            },
             _ = tick.tick() => {
                 for p in procs.iter() {
                     prof.sample(p.name, p.child.id());
                 }
                 prof.sample("demo", Some(std::process::id()));
                 f.state();
+                f.keep_progress();
+                if let Some(stalled) = f.watch_clock(procs) {
+                    why = stalled;
+                    break false;
+                }
             }
         }
         // The closed loop: detection after each driven round says whether
@@ -143,7 +178,9 @@ pub(super) async fn follow(
         }
     };
     f.console.finish();
+    f.keep_progress();
     Ok(Outcome {
+        total: f.total(),
         watch: f.w,
         after: f.after,
         finished,
@@ -168,6 +205,58 @@ impl<'a> Follower<'a> {
             w: Watch::default(),
             console: Console::new(),
             t0,
+            carried: Carried::default(),
+            dog: Watchdog::new(STALL_S, STALL_RESTARTS),
+            last_stamp: 0.0,
+            clock_offset: 0.0,
+            leg: None,
+            resend_at: Vec::new(),
+        }
+    }
+
+    /// The leg to send again now to a vehicle_sim that started again.
+    fn leg_due(&mut self) -> Option<RosPath> {
+        let now = Instant::now();
+        let due = self.resend_at.iter().any(|t| *t <= now);
+        self.resend_at.retain(|t| *t > now);
+        due.then(|| self.leg.clone()).flatten()
+    }
+
+    /// The watchdog's verdict at a tick: a stalled vehicle_sim is killed (the
+    /// respawn starts it again where it was); `Some(why)` ends the mission.
+    fn watch_clock(&mut self, procs: &mut [Proc]) -> Option<String> {
+        if self.a.field.field {
+            // A real robot is not ours to restart; the time limit follows it.
+            return None;
+        }
+        match self.dog.check(self.t0.elapsed().as_secs_f64()) {
+            ClockVerdict::Fine => None,
+            ClockVerdict::Restart { robot_s, for_s } => {
+                self.console.say(&format!(
+                    "  vehicle_sim stalled: robot time stood at {robot_s:.1} s for {for_s:.0} wall s; restarting it where the vehicle was"
+                ));
+                if let Some(p) = procs.iter_mut().find(|p| p.name == "vehicle_sim") {
+                    let _ = p.child.start_kill();
+                }
+                None
+            }
+            ClockVerdict::GiveUp { restarts } => Some(format!(
+                "vehicle_sim stalled: {restarts} restarts did not move the robot's clock"
+            )),
+        }
+    }
+
+    /// The mission over all its runs so far.
+    fn total(&self) -> Carried {
+        let rounds = u32::try_from(self.w.progress.rounds_driven()).unwrap_or(u32::MAX);
+        let at = self.w.route.last().copied();
+        self.carried.plus(self.w.odometer, self.w.sim_s, rounds, at)
+    }
+
+    /// progress.json, for `--resume` (a failed write is said, the mission goes on).
+    fn keep_progress(&mut self) {
+        if let Err(e) = super::resume::write(&self.a.out, &self.total()) {
+            self.console.say(&format!("  progress.json: {e}"));
         }
     }
 
@@ -275,6 +364,8 @@ impl<'a> Follower<'a> {
             ));
         }
         self.state();
+        // A round's end is in progress.json before anything can kill the mission.
+        self.keep_progress();
     }
 
     fn odometry(&mut self, o: &Odometry) {
@@ -289,7 +380,20 @@ impl<'a> Follower<'a> {
         // A real robot stamps with its clock; the mission's time starts at
         // its first pose (vehicle_sim's clock starts at 0 itself).
         let first = *self.w.first_stamp.get_or_insert(t);
-        self.w.sim_s = if field { t - first } else { t };
+        if !field && t + 1.0 < self.last_stamp {
+            // vehicle_sim started again (its clock at 0): it gets the leg it
+            // was driving once its reader has matched.
+            self.clock_offset += self.last_stamp;
+            let now = Instant::now();
+            self.resend_at = [2, 5, 10].map(|s| now + Duration::from_secs(s)).to_vec();
+        }
+        self.last_stamp = t;
+        self.w.sim_s = if field {
+            t - first
+        } else {
+            self.clock_offset + t
+        };
+        self.dog.robot_time(t, self.t0.elapsed().as_secs_f64());
         if let Some(p) = odom_position(o)
             && self
                 .w
@@ -385,6 +489,12 @@ struct TimeLimit {
     printed_round: u32,
     routes: usize,
 }
+
+/// Wall seconds the robot's clock may stand before vehicle_sim is restarted
+/// (issue 50: named within 30 s).
+const STALL_S: f64 = 30.0;
+/// Restarts in a row without the clock moving before the mission stops.
+const STALL_RESTARTS: u32 = 3;
 
 /// Wall seconds until the first route is known (prior, classification,
 /// detection, targets, graph).

@@ -1,0 +1,98 @@
+//! Resuming: what a mission did so far, kept in its folder
+//! (`progress.json`, beside `command.json` and the merge store), so that
+//! `demo --resume DIR` goes on from it.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::runtime::RuntimeError;
+
+/// The file in a mission's folder that holds its progress.
+pub const PROGRESS_FILE: &str = "progress.json";
+
+/// What a mission had done when its progress was last written: counted
+/// over every run of it (the first and each resume).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub(super) struct Carried {
+    /// Metres driven.
+    pub odometer_m: f64,
+    /// Robot (simulated) seconds.
+    pub sim_s: f64,
+    /// Rounds whose route was driven to its end.
+    pub rounds: u32,
+    /// The vehicle's last place, in the map frame.
+    pub position: Option<[f32; 3]>,
+    /// Runs of the mission so far (1: never resumed).
+    pub runs: u32,
+}
+
+impl Carried {
+    /// This run's figures added to what earlier runs carried.
+    pub fn plus(
+        &self,
+        odometer_m: f64,
+        sim_s: f64,
+        rounds: u32,
+        position: Option<[f32; 3]>,
+    ) -> Carried {
+        Carried {
+            odometer_m: self.odometer_m + odometer_m,
+            sim_s: self.sim_s + sim_s,
+            rounds: self.rounds + rounds,
+            position: position.or(self.position),
+            runs: self.runs,
+        }
+    }
+}
+
+/// What earlier runs of the mission in `dir` carried; an error names the file.
+pub(super) fn read(dir: &Path) -> Result<Carried, RuntimeError> {
+    let path = dir.join(PROGRESS_FILE);
+    let err = |e: String| RuntimeError::Node(format!("--resume {}: {e}", path.display()));
+    if !path.exists() {
+        // Killed before the first progress was written: nothing driven yet.
+        return Ok(Carried::default());
+    }
+    let bytes = skyground_core::file::read(&path).map_err(|e| err(e.to_string()))?;
+    serde_json::from_slice(&bytes).map_err(|e| err(e.to_string()))
+}
+
+/// Writes the progress atomically (a kill leaves the last whole one).
+pub(super) fn write(dir: &Path, c: &Carried) -> Result<(), String> {
+    let json = serde_json::to_vec_pretty(c).map_err(|e| e.to_string())?;
+    skyground_core::file::write(&dir.join(PROGRESS_FILE), json).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn progress_round_trips_and_adds_runs() {
+        let d = std::env::temp_dir().join(format!("skyground-progress-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        assert_eq!(read(&d).unwrap(), Carried::default());
+        let first = Carried {
+            runs: 1,
+            ..Carried::default()
+        }
+        .plus(100.0, 50.0, 1, Some([1.0, 2.0, 0.0]));
+        write(&d, &first).unwrap();
+        let back = read(&d).unwrap();
+        assert_eq!(back, first);
+        let second = back.plus(20.0, 5.0, 0, None);
+        assert_eq!(
+            (second.odometer_m, second.sim_s, second.rounds),
+            (120.0, 55.0, 1)
+        );
+        assert_eq!(
+            second.position,
+            Some([1.0, 2.0, 0.0]),
+            "the last known place stays"
+        );
+        std::fs::write(d.join(PROGRESS_FILE), b"[1]").unwrap();
+        assert!(read(&d).unwrap_err().to_string().contains(PROGRESS_FILE));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+}
