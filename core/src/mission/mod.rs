@@ -10,7 +10,8 @@
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
 //! - `explorer`: when a region starts and ends, when scans count;
 //! - `detector`: when detection re-runs on the merged cloud;
-//! - `progress`: what a launcher follows of the rounds, and when the loop ends.
+//! - `progress`: what a launcher follows of the rounds, and when the loop ends;
+//! - `waiting`: when a planner that lacks an input says so, and what DDS matched.
 
 pub mod detector;
 pub mod explorer;
@@ -20,6 +21,7 @@ pub mod inspect;
 pub mod planner;
 pub mod progress;
 pub mod protocol;
+pub mod waiting;
 
 pub use georef::Georeference;
 pub use inspect::{CloudStatus, CloudSummary, LabelCount};

@@ -69,23 +69,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let aerial = a.out.join("aerial.las");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
-    eprintln!(
-        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
-        if a.real_prior() {
-            "real prior"
-        } else {
-            "airborne prior (simulated)"
-        },
-        prior.cloud.len(),
-        before
-            .measured(&prior.gt)
-            .completeness
-            .overall
-            .ratio
-            .unwrap_or(0.0)
-            * 100.0,
-        t0.elapsed().as_secs_f64()
-    );
+    say_prior(&a, &prior, &before, t0);
     let driver = if a.field.field {
         launch::field_driver()
     } else {
@@ -123,6 +107,27 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             a.out.display()
         )))
     }
+}
+
+/// The prior's line: which prior, its points and building completeness.
+fn say_prior(a: &DemoArgs, prior: &Survey, before: &MeasureSoFar, t0: Instant) {
+    eprintln!(
+        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
+        if a.real_prior() {
+            "real prior"
+        } else {
+            "airborne prior (simulated)"
+        },
+        prior.cloud.len(),
+        before
+            .measured(&prior.gt)
+            .completeness
+            .overall
+            .ratio
+            .unwrap_or(0.0)
+            * 100.0,
+        t0.elapsed().as_secs_f64()
+    );
 }
 
 /// The prior's LoD2 models, made on a thread of their own while the mission runs.

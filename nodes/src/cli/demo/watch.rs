@@ -128,10 +128,7 @@ pub(super) async fn follow(
             Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
             _ = respawn_tick.tick() => if !rt.shutdown.requested() { respawn(procs, exe, &a.out)? },
             _ = tick.tick() => {
-                for p in procs.iter() {
-                    prof.sample(p.name, p.child.id());
-                }
-                prof.sample("demo", Some(std::process::id()));
+                sample(procs, prof);
                 f.state();
             }
         }
@@ -149,6 +146,14 @@ pub(super) async fn follow(
         finished,
         why,
     })
+}
+
+/// Every process's resources, the demo's own too, for the profile.
+fn sample(procs: &[Proc], prof: &mut Profile) {
+    for p in procs {
+        prof.sample(p.name, p.child.id());
+    }
+    prof.sample("demo", Some(std::process::id()));
 }
 
 impl<'a> Follower<'a> {
