@@ -3,6 +3,7 @@
 //! failure, so both are read from its pose. Legs (the planners' paths) go out
 //! pose by pose; arrival is the last pose within tolerance; a robot that gets
 //! no closer to its way-point for a while is blocked (unreachable or stuck).
+//! [`Readers`] says when nothing listens for the way-points.
 
 use serde::{Deserialize, Serialize};
 
@@ -184,6 +185,52 @@ impl Follower {
     }
 }
 
+/// A line for robot_bridge's log, and how loud.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Note {
+    /// Worth knowing.
+    Info(String),
+    /// Something is wrong.
+    Warn(String),
+}
+
+/// Who listens on /way_point: a robot whose driver never subscribes gets no
+/// orders and stalls, which the log should say rather than leave to guess.
+#[derive(Debug, Clone, Default)]
+pub struct Readers {
+    matched: usize,
+    /// Ticks in a row with a way-point waiting and no reader.
+    unheard: u32,
+}
+
+impl Readers {
+    /// Resend ticks between repeated warnings (20 s at the shipped 2 s).
+    pub const WARN_EVERY: u32 = 10;
+
+    /// At a resend tick, with `matched` subscribers on /way_point and a
+    /// way-point `waiting` or none: what the log should say, if anything (a
+    /// change of match once, no reader again every [`Self::WARN_EVERY`] ticks).
+    pub fn on_tick(&mut self, matched: usize, waiting: bool) -> Option<Note> {
+        let was = std::mem::replace(&mut self.matched, matched);
+        if matched > 0 {
+            self.unheard = 0;
+            return (matched != was)
+                .then(|| Note::Info(format!("/way_point: {matched} subscriber(s) matched")));
+        }
+        if !waiting {
+            return None;
+        }
+        self.unheard += 1;
+        (self.unheard % Self::WARN_EVERY == 1).then(|| {
+            Note::Warn(
+                "a way-point is waiting but nothing subscribes to /way_point \
+                 (geometry_msgs/PointStamped, reliable): is the robot's driver listening there?"
+                    .to_owned(),
+            )
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -277,5 +324,32 @@ mod tests {
             }]
         );
         assert!(f.set_leg(vec![]).is_empty());
+    }
+    #[test]
+    fn a_waypoint_nobody_hears_is_warned_of_and_a_match_is_said_once() {
+        let mut r = Readers::default();
+        assert!(
+            r.on_tick(0, false).is_none(),
+            "no way-point: nothing to say"
+        );
+        let first = r.on_tick(0, true);
+        assert!(matches!(first, Some(Note::Warn(ref l)) if l.contains("nothing subscribes")));
+        let repeats = (0..Readers::WARN_EVERY)
+            .filter(|_| r.on_tick(0, true).is_some())
+            .count();
+        assert_eq!(
+            repeats,
+            1,
+            "warned again once every {} ticks",
+            Readers::WARN_EVERY
+        );
+        assert!(
+            matches!(r.on_tick(1, true), Some(Note::Info(ref l)) if l.contains("1 subscriber"))
+        );
+        assert!(r.on_tick(1, true).is_none(), "said once");
+        assert!(
+            matches!(r.on_tick(0, true), Some(Note::Warn(_))),
+            "lost again: warned at once"
+        );
     }
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use geo::{BoundingRect, Coord, MapCoordsInPlace};
 use serde_json::Value;
 
-use crate::crs::{Crs, JsonCrs, SourceFrame, geojson_crs};
+use crate::crs::{Crs, JsonCrs, SourceFrame, epsg_from_reference, geojson_crs};
 use crate::file;
 use crate::scene::cityjson::{city_files, read_city_model};
 
@@ -238,6 +238,30 @@ pub fn load_footprints_in(path: &Path, frame: &SourceFrame) -> Result<Loaded, Fo
     read_footprints(&path.display().to_string(), &ReadOptions::default())?.in_frame(frame)
 }
 
+/// Footprints as a node's params give them (completeness_detector's
+/// `footprints`, `footprint_id`, `crs`, `origin`, as the demo passes them):
+/// `spec` read ([`read_footprints`]; each one's id from the field
+/// `id_field`, blank: the usual ones) and moved into the frame whose origin
+/// is `origin` (coordinates not given are 0) in the CRS `crs` (`EPSG:N`;
+/// blank: none known). The error says why, without the file's name.
+pub fn load_given(spec: &str, id_field: &str, crs: &str, origin: &[f64]) -> Result<Loaded, String> {
+    let crs = match crs.trim() {
+        "" => None,
+        c => Some(
+            epsg_from_reference(c)
+                .ok_or_else(|| format!("crs `{c}` names no EPSG code (EPSG:N expected)"))
+                .and_then(|code| Crs::from_epsg(code).map_err(|e| e.to_string()))?,
+        ),
+    };
+    let origin = [0, 1, 2].map(|k| origin.get(k).copied().unwrap_or(0.0));
+    let options = ReadOptions {
+        id_field: Some(id_field.trim().to_string()).filter(|f| !f.is_empty()),
+    };
+    read_footprints(spec, &options)
+        .and_then(|s| s.in_frame(&SourceFrame::new(origin, crs)))
+        .map_err(|e| e.to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -314,6 +338,21 @@ mod tests {
         let e = read.in_frame(&rd).expect_err("degrees over metres");
         assert!(matches!(e, FootprintError::LongitudeLatitude { .. }), "{e}");
         assert!(e.to_string().contains("EPSG:28992"), "{e}");
+    }
+
+    #[test]
+    fn given_footprints_take_the_params_crs_and_origin() {
+        let path = write("given.geojson", None);
+        let spec = path.display().to_string();
+        let origin = [990.0 * FOOT_M, 1990.0 * FOOT_M];
+        let got = load_given(&spec, " ", "EPSG:2994", &origin);
+        let refused = load_given(&spec, "", "feet", &origin);
+        let _ = std::fs::remove_file(&path);
+        let r = got.expect("reads").footprints[0].polygon.bounding_rect();
+        let min = r.expect("a polygon").min();
+        assert!((min.x - 10.0 * FOOT_M).abs() < 1e-6 && (min.y - 10.0 * FOOT_M).abs() < 1e-6);
+        let e = refused.expect_err("no EPSG code");
+        assert_eq!(e, "crs `feet` names no EPSG code (EPSG:N expected)");
     }
 
     #[test]

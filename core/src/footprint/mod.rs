@@ -6,7 +6,8 @@
 //!   [`parse_fgb`] or [`parse_obj_footprints`]; each footprint keeps its own
 //!   id ([`ReadOptions`], `ids`); bad polygons are skipped and listed in
 //!   [`Loaded::skipped`], `polygon` makes the rest valid. [`resolve_source`]
-//!   turns `--footprints model` into the scene's own files.
+//!   turns `--footprints model` into the scene's own files; [`load_given`]
+//!   reads them as a node's params name them.
 //! - [`footprints_of_scene`] (`scene`): the true footprints of a scene.
 //! - [`split`] (`split`): a building id per point.
 //! - [`derive`] (`derive`, `raster`, `trace`, `inset`): footprints from building points when none are given.
@@ -39,8 +40,8 @@ pub use flatgeobuf::parse_fgb;
 pub use geojson::{parse_geojson, parse_geojson_with};
 pub use ids::{ID_FIELDS, ReadOptions};
 pub use load::{
-    MODEL_KEYWORD, SourceFootprints, load_footprints, load_footprints_in, read_footprints,
-    resolve_source,
+    MODEL_KEYWORD, SourceFootprints, load_footprints, load_footprints_in, load_given,
+    read_footprints, resolve_source,
 };
 pub use obj::parse_obj_footprints;
 pub use params::{DeriveParams, SplitParams};

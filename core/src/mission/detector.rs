@@ -3,6 +3,9 @@
 //! cloud. The route's end (on /planner_status) and the merged cloud (on
 //! /resampled_cloud) come from two publishers, so either can arrive first;
 //! the gate runs detection when it holds both, in whichever order.
+//! [`Detector`] holds the newest of each cloud for the detection it lets run.
+
+use crate::cloud::Cloud;
 
 /// What the detector has just received.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,6 +90,69 @@ impl DetectorGate {
     }
 }
 
+/// The detector's inputs between detections: the newest aerial cloud (with
+/// what came with it: the node keeps its message header) and the newest
+/// merged cloud, the gate over them, and the round of the next detection.
+#[derive(Debug, Clone)]
+pub struct Detector<H> {
+    gate: DetectorGate,
+    aerial: Option<(Cloud, H)>,
+    merged: Option<Cloud>,
+    round: u32,
+}
+
+impl<H> Detector<H> {
+    /// A detector holding nothing; `follows_planner` as [`DetectorGate::new`].
+    pub fn new(follows_planner: bool) -> Self {
+        Self {
+            gate: DetectorGate::new(follows_planner),
+            aerial: None,
+            merged: None,
+            round: 0,
+        }
+    }
+
+    /// A detector for a resumed mission (see [`DetectorGate::resuming`]).
+    pub fn resuming(mut self) -> Self {
+        self.gate = self.gate.resuming();
+        self
+    }
+
+    /// A classified aerial cloud and what came with it; true when detection runs now.
+    pub fn aerial(&mut self, cloud: Cloud, with: H) -> bool {
+        self.aerial = Some((cloud, with));
+        self.gate.handle(DetectorEvent::Aerial)
+    }
+
+    /// A merged cloud from the explorer; true when detection runs now.
+    pub fn merged(&mut self, cloud: Cloud) -> bool {
+        self.merged = Some(cloud);
+        self.gate.handle(DetectorEvent::Resampled)
+    }
+
+    /// The planner's route of `round` is done; true when detection runs now.
+    pub fn route_done(&mut self, round: u32) -> bool {
+        self.gate.handle(DetectorEvent::RouteDone(round))
+    }
+
+    /// What a detection runs on: the aerial cloud, what came with it and the
+    /// merged cloud, if any; `None` before the aerial cloud.
+    pub fn inputs(&self) -> Option<(&Cloud, &H, Option<&Cloud>)> {
+        let (cloud, with) = self.aerial.as_ref()?;
+        Some((cloud, with, self.merged.as_ref()))
+    }
+
+    /// The round of the next detection (0: the aerial cloud's).
+    pub fn round(&self) -> u32 {
+        self.round
+    }
+
+    /// A detection was published: the next one is of the next round.
+    pub fn detected(&mut self) {
+        self.round += 1;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::DetectorEvent::{Aerial, Resampled, RouteDone};
@@ -165,6 +231,27 @@ mod tests {
     fn an_older_round_from_a_restarted_planner_is_ignored() {
         let events = [Aerial, RouteDone(1), Resampled, RouteDone(0), Resampled];
         assert_eq!(gate(true, &events), [true, false, true, false, false]);
+    }
+
+    #[test]
+    fn the_detector_holds_the_newest_clouds_and_counts_rounds() {
+        let cloud = |x: f32| Cloud::from_xyz(vec![[x, 0.0, 0.0]]);
+        let mut d = Detector::new(true);
+        assert!(
+            !d.route_done(0) && d.inputs().is_none(),
+            "nothing before the aerial cloud"
+        );
+        assert!(d.aerial(cloud(0.0), "aerial header"));
+        let (aerial, with, merged) = d.inputs().expect("held");
+        assert_eq!((aerial.xyz[0][0], *with), (0.0, "aerial header"));
+        assert!(merged.is_none());
+        d.detected();
+        assert!(d.merged(cloud(1.0)), "route 0 done and its cloud in");
+        d.detected();
+        assert!(!d.route_done(1), "route 1 done, its cloud not yet in");
+        assert!(d.merged(cloud(2.0)));
+        assert_eq!(d.inputs().and_then(|i| i.2).map(|m| m.xyz[0][0]), Some(2.0));
+        assert_eq!(d.round(), 2);
     }
 
     #[test]

@@ -11,7 +11,8 @@
 //! - `explorer`: when a region starts and ends, when scans count;
 //! - `detector`: when detection re-runs on the merged cloud;
 //! - `progress`: what a launcher follows of the rounds, and when the loop ends;
-//! - `watchdog`: the robot's clock watched, a stalled vehicle restarted.
+//! - `watchdog`: the robot's clock watched, a stalled vehicle restarted;
+//! - `waiting`: when a planner that lacks an input says so, and what DDS matched.
 
 pub mod detector;
 pub mod explorer;
@@ -21,6 +22,7 @@ pub mod inspect;
 pub mod planner;
 pub mod progress;
 pub mod protocol;
+pub mod waiting;
 pub mod watchdog;
 
 pub use georef::Georeference;

@@ -6,6 +6,7 @@
 
 use std::str::FromStr;
 
+use crate::follow::Follower;
 use crate::missing::Strategy;
 use crate::route::Visited;
 use crate::vehicle::{Step, VehicleState};
@@ -488,6 +489,20 @@ impl VehicleStatus {
             at: [state.position[0], state.position[1]],
             odometer_m: f64::from(state.odometer),
         })
+    }
+
+    /// What a followed robot says (field mode's robot_bridge), worded as a
+    /// simulated vehicle's: `event` about `goal`, at the robot's last known
+    /// position (the goal before any), with the follower's odometer.
+    pub fn from_follower(name: &str, event: VehicleEvent, goal: [f32; 3], f: &Follower) -> Self {
+        let at = f.position().unwrap_or(goal);
+        VehicleStatus {
+            name: name.into(),
+            event,
+            goal: [goal[0], goal[1]],
+            at: [at[0], at[1]],
+            odometer_m: f.odometer,
+        }
     }
 
     /// Whether it is about the pose `goal` (xy within 1 mm).

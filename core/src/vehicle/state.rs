@@ -73,6 +73,22 @@ impl Vehicle {
         })
     }
 
+    /// The vehicle carried to `to` (plan) and set down there, as a field
+    /// team does: facing as it did, its odometer as it was (carried: no
+    /// driving), no goal. Off the terrain it stays where it is, and the
+    /// error is the step to report, as a blocked goal (the planner waits
+    /// for the robot there).
+    pub fn set_down(&self, caster: &Caster, to: [f32; 2]) -> Result<Self, Step> {
+        let Some(mut v) = Self::new(self.config, caster, to[0], to[1], self.state.yaw) else {
+            return Err(Step::Blocked {
+                goal: to,
+                reason: "cannot set down here: off the terrain".into(),
+            });
+        };
+        v.state.odometer = self.state.odometer;
+        Ok(v)
+    }
+
     /// Replaces the goals by one way-point.
     pub fn set_goal(&mut self, goal: [f32; 2]) {
         self.goals.clear();
@@ -245,6 +261,19 @@ mod tests {
     /// Whether the one step reported is a block whose reason says `why`.
     fn blocked(steps: &[Step], why: &str) -> bool {
         matches!(steps, [Step::Blocked { reason, .. }] if reason.contains(why))
+    }
+
+    #[test]
+    fn set_down_keeps_heading_and_odometer_and_refuses_off_the_terrain() {
+        let (v, _) = drive(&scene(), [0.0, 0.0], [5.0, 0.0], 20.0);
+        let c = Caster::new(&scene()).unwrap();
+        let moved = v.set_down(&c, [-10.0, -10.0]).expect("on the terrain");
+        assert_eq!(moved.state.position[..2], [-10.0, -10.0]);
+        assert_eq!(moved.state.yaw, v.state.yaw);
+        assert_eq!(moved.state.odometer, v.state.odometer);
+        assert!(v.state.odometer > 4.0 && moved.goal().is_none());
+        let refused = v.set_down(&c, [500.0, 0.0]).expect_err("off the terrain");
+        assert!(blocked(&[refused], "cannot set down here: off the terrain"));
     }
 
     #[test]

@@ -17,7 +17,7 @@ use skyground_core::prior::{same_crs, with_buffer};
 
 use super::err;
 
-use crate::node::scene_classifier::load_model_file;
+use crate::runtime::model::load_model_file;
 use crate::runtime::{RuntimeError, params::ParamSet};
 
 /// Neighbours whose majority the producer's labels are checked against.
@@ -103,7 +103,7 @@ struct NodeParams {
 fn csf_params(file: Option<&std::path::Path>) -> Result<CsfParams, RuntimeError> {
     let mut params = ParamSet::default();
     params.merge_yaml(
-        crate::node::scene_classifier::SPEC.default_params,
+        crate::runtime::specs::SCENE_CLASSIFIER.default_params,
         "scene_classifier",
         "config/scene_classifier.yaml",
     )?;

@@ -21,7 +21,7 @@ use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
 use super::err;
 use crate::convert::detection::strategy_name;
-use crate::node::scene_classifier::load_model_file;
+use crate::runtime::model::load_model_file;
 use crate::runtime::{RuntimeError, params::ParamSet};
 
 /// Options of `skyground detect`.
@@ -124,16 +124,16 @@ pub fn run(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
 }
 
 fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
-    use crate::node::{completeness_detector, target_generator};
+    use crate::runtime::specs::{COMPLETENESS_DETECTOR, TARGET_GENERATOR};
     let pd: SceneParams = section(
         "completeness_detector",
-        completeness_detector::SPEC.default_params,
+        COMPLETENESS_DETECTOR.default_params,
         a.params_file.as_deref(),
         &["detect", "split", "derive"],
     )?;
     let pg: GeneratorParams = section(
         "target_generator",
-        target_generator::SPEC.default_params,
+        TARGET_GENERATOR.default_params,
         a.params_file.as_deref(),
         &["targets"],
     )?;

@@ -127,7 +127,7 @@ pub struct FootprintsArgs {
 /// Derives footprints from a cloud as the detector does, writes them, and
 /// scores them against `--truth`.
 pub fn run(a: &FootprintsArgs) -> Result<serde_json::Value, RuntimeError> {
-    use crate::node::completeness_detector::SPEC;
+    use crate::runtime::specs::COMPLETENESS_DETECTOR as SPEC;
     let truth_arg = FootprintsArg {
         footprints: a.truth.clone(),
         footprint_id: None,

@@ -83,7 +83,7 @@ pub fn run(a: &PlanArgs) -> Result<serde_json::Value, RuntimeError> {
     let p: PlannerParams = section_over(
         "global_planner",
         (
-            crate::node::global_planner::SPEC.default_params,
+            crate::runtime::specs::GLOBAL_PLANNER.default_params,
             Some(("skyground plan", FIELD_GRAPH)),
         ),
         a.params_file.as_deref(),

@@ -5,4 +5,5 @@ pub mod detection;
 pub mod diagnostics;
 pub mod markers;
 pub mod path;
+pub mod targets;
 pub mod tf;

@@ -1,7 +1,7 @@
-//! nav_msgs/Path and odometry helpers.
+//! nav_msgs/Path, odometry and geometry_msgs/PointStamped helpers.
 
 use skyground_core::vehicle::VehicleState;
-use skyground_msgs::geometry_msgs::PoseStamped;
+use skyground_msgs::geometry_msgs::{Point, PointStamped, PoseStamped};
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::std_msgs::Header;
 use tokio::sync::mpsc;
@@ -82,6 +82,30 @@ pub fn read_paths(
     Ok(())
 }
 
+/// A PointStamped at `at` (a way-point, a set-down spot).
+pub fn point_stamped(header: Header, at: [f32; 3]) -> PointStamped {
+    let [x, y, z] = at.map(f64::from);
+    PointStamped {
+        header,
+        point: Point { x, y, z },
+    }
+}
+
+/// Reads PointStamped messages on `topic` into a channel of `depth`, as
+/// their plan positions, in order.
+pub fn read_spots(
+    rt: &mut NodeRuntime,
+    topic: &str,
+    qos: ros2_client::QosProfile,
+    depth: usize,
+) -> Result<mpsc::Receiver<[f32; 2]>, RuntimeError> {
+    let (tx, rx) = mpsc::channel(depth);
+    forward(rt, topic, qos, tx, |m: &PointStamped| {
+        [m.point.x as f32, m.point.y as f32]
+    })?;
+    Ok(rx)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,5 +116,16 @@ mod tests {
         let p = path(&Header::default(), &pts);
         assert_eq!(p.poses[1].pose.orientation.w, 1.0);
         assert_eq!(path_points(&p), pts);
+    }
+
+    #[test]
+    fn a_point_stamped_keeps_its_header() {
+        let h = Header {
+            frame_id: "map".into(),
+            ..Header::default()
+        };
+        let m = point_stamped(h, [1.5, -2.0, 3.25]);
+        assert_eq!(m.header.frame_id, "map");
+        assert_eq!([m.point.x, m.point.y, m.point.z], [1.5, -2.0, 3.25]);
     }
 }

@@ -1,5 +1,6 @@
 //! Poses ↔ the tf tree (`tf2_msgs/TFMessage` on `/tf` and `/tf_static`).
 
+use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::geometry_msgs::{Quaternion, Transform, TransformStamped, Vector3};
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::tf2_msgs::TFMessage;
@@ -43,6 +44,17 @@ pub fn tf_message(t: TransformStamped) -> TFMessage {
     }
 }
 
+/// The static edge `body` → `sensor`, `height` metres above the body
+/// frame's origin (stamped 0), as a `/tf_static` message.
+pub fn sensor_mount(body: &str, sensor: &str, height: f32) -> TFMessage {
+    let header = Header {
+        stamp: Time::from_secs(0.0),
+        frame_id: body.to_string(),
+    };
+    let above = [0.0, 0.0, f64::from(height)];
+    tf_message(transform(&header, sensor, above, 0.0))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -68,5 +80,20 @@ mod tests {
         assert_eq!(t.child_frame_id, "base_link");
         assert_eq!(t.transform.translation.y, 2.0);
         assert!((quaternion_yaw(&t.transform.rotation) - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_sensor_mount_is_one_static_edge_above_the_body() {
+        let m = sensor_mount("base_link", "sensor", 0.75);
+        let [t] = m.transforms.as_slice() else {
+            panic!("one transform: {m:?}");
+        };
+        assert_eq!(
+            (t.header.frame_id.as_str(), t.child_frame_id.as_str()),
+            ("base_link", "sensor")
+        );
+        assert_eq!((t.header.stamp.sec, t.header.stamp.nanosec), (0, 0));
+        assert_eq!(t.transform.translation.z, 0.75);
+        assert_eq!(t.transform.rotation.w, 1.0);
     }
 }

@@ -19,7 +19,7 @@ struct Params {
     max_clouds: u64,
 }
 
-crate::node_spec!("cloud_inspector", live: ["max_clouds"]);
+pub use crate::runtime::specs::CLOUD_INSPECTOR as SPEC;
 
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

@@ -32,7 +32,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-crate::node_spec!("cloud_publisher");
+pub use crate::runtime::specs::CLOUD_PUBLISHER as SPEC;
 
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

@@ -6,12 +6,10 @@ use std::sync::Arc;
 
 use futures::StreamExt;
 use serde::Deserialize;
-use skyground_core::cloud::Cloud;
-use skyground_core::crs::{Crs, SourceFrame, epsg_from_reference};
-use skyground_core::footprint::{Footprint, ReadOptions, read_footprints};
+use skyground_core::footprint::{Footprint, load_given};
 use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::mission::PlannerStatus;
-use skyground_core::mission::detector::{DetectorEvent, DetectorGate};
+use skyground_core::mission::detector::Detector;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
@@ -39,7 +37,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-crate::node_spec!("completeness_detector");
+pub use crate::runtime::specs::COMPLETENESS_DETECTOR as SPEC;
 
 #[derive(Clone)]
 struct Setup {
@@ -70,9 +68,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         None => futures::future::Either::Right(futures::stream::pending()),
     };
     futures::pin_mut!(planner_s);
-    let mut gate = DetectorGate::new(planner_sub.is_some());
+    let mut det = Detector::<Header>::new(planner_sub.is_some());
     if p.wait_resampled {
-        gate = gate.resuming();
+        det = det.resuming();
     }
     let missing_pub = CloudPublisher::new(rt, "/missing_points", qos::latched(1), p.transport)?;
     let status_pub = rt.publisher::<DiagnosticArray>("/completeness", qos::latched(1))?;
@@ -82,55 +80,40 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         scene: p.scene,
     });
     rt.log.info(&format!("waiting for {}", p.input_topic));
-    let mut aerial: Option<(Cloud, Header)> = None;
-    let mut resampled: Option<Cloud> = None;
-    let mut round = 0u32;
     loop {
-        let events: Vec<DetectorEvent> = tokio::select! {
+        let due = tokio::select! {
             r = aerial_sub.next() => match r {
-                Some(Received::Cloud { msg, decoded }) => {
-                    let cloud = decoded.cloud;
-                    if cloud.label.is_none() {
-                        rt.log.error(&format!("cloud on {} has no `label` field: run scene_classifier first", p.input_topic));
-                        vec![]
-                    } else {
-                        aerial = Some((cloud, msg.header));
-                        vec![DetectorEvent::Aerial]
-                    }
+                Some(Received::Cloud { decoded, .. }) if decoded.cloud.label.is_none() => {
+                    rt.log.error(&format!("cloud on {} has no `label` field: run scene_classifier first", p.input_topic));
+                    false
                 }
+                Some(Received::Cloud { msg, decoded }) => det.aerial(decoded.cloud, msg.header),
                 Some(Received::Bad(reason)) => {
                     rt.log.error(&format!("rejected cloud on {}: {reason}", p.input_topic));
-                    vec![]
+                    false
                 }
                 None => break,
             },
             r = async { match resampled_sub.as_mut() { Some(s) => s.next().await, None => std::future::pending().await } } => match r {
-                Some(Received::Cloud { decoded, .. }) => {
-                    resampled = Some(decoded.cloud);
-                    vec![DetectorEvent::Resampled]
-                }
+                Some(Received::Cloud { decoded, .. }) => det.merged(decoded.cloud),
                 Some(Received::Bad(reason)) => {
                     rt.log.error(&format!("rejected cloud on {}: {reason}", p.resampled_topic));
-                    vec![]
+                    false
                 }
                 None => break,
             },
+            // Every route end goes through the gate, so none is lost to an earlier `any`.
             Some(m) = planner_s.next() => statuses(&rt.log, m, PlannerStatus::from_wire)
                 .into_iter()
                 .filter(|s| s.phase == "done")
-                .map(|s| DetectorEvent::RouteDone(s.round))
-                .collect(),
+                .fold(false, |due, s| det.route_done(s.round) | due),
             _ = rt.shutdown.wait() => break,
         };
-        // Every event goes through the gate, so none is lost to an earlier `any`.
-        let due = events
-            .into_iter()
-            .fold(false, |due, e| gate.handle(e) | due);
-        let Some((cloud, header)) = aerial.as_ref().filter(|_| due) else {
+        let Some((cloud, header, merged)) = det.inputs().filter(|_| due) else {
             continue;
         };
-        let t0 = std::time::Instant::now();
-        let (s, c, extra) = (setup.clone(), cloud.clone(), resampled.clone());
+        let (round, t0) = (det.round(), std::time::Instant::now());
+        let (s, c, extra) = (setup.clone(), cloud.clone(), merged.cloned());
         let result = tokio::task::spawn_blocking(move || {
             let f = s.footprints.as_deref();
             detect_scene(&c, extra.as_ref(), f, &s.scene)
@@ -168,7 +151,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             rt.log
                 .warn(&format!("cannot publish /detection_markers: {e}"));
         }
-        round += 1;
+        det.detected();
     }
     Ok(())
 }
@@ -179,23 +162,8 @@ fn given_footprints(rt: &NodeRuntime, p: &Params) -> Result<Option<Vec<Footprint
     if p.footprints.trim().is_empty() {
         return Ok(None);
     }
-    let fail =
-        |e: &dyn std::fmt::Display| RuntimeError::Node(format!("footprints {}: {e}", p.footprints));
-    let crs = match p.crs.trim() {
-        "" => None,
-        c => Some(
-            epsg_from_reference(c)
-                .ok_or_else(|| fail(&format!("crs `{c}` names no EPSG code (EPSG:N expected)")))
-                .and_then(|code| Crs::from_epsg(code).map_err(|e| fail(&e)))?,
-        ),
-    };
-    let origin = [0, 1, 2].map(|k| p.origin.get(k).copied().unwrap_or(0.0));
-    let options = ReadOptions {
-        id_field: Some(p.footprint_id.trim().to_string()).filter(|f| !f.is_empty()),
-    };
-    let loaded = read_footprints(&p.footprints, &options)
-        .and_then(|s| s.in_frame(&SourceFrame::new(origin, crs)))
-        .map_err(|e| fail(&e))?;
+    let loaded = load_given(&p.footprints, &p.footprint_id, &p.crs, &p.origin)
+        .map_err(|e| RuntimeError::Node(format!("footprints {}: {e}", p.footprints)))?;
     for s in &loaded.skipped {
         rt.log.warn(&format!("footprints {}: {s}", p.footprints));
     }

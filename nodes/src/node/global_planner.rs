@@ -7,29 +7,31 @@
 //! /planner_status, so a restarted planner goes on and the explorer's graph
 //! drops the same spots. When targets remain beyond the piece of ground the
 //! robot stands on, the spot to carry it to goes out on the latched /set_down.
-//! The executive is `skyground_core::mission::planner`.
+//! The executive is `skyground_core::mission::planner`; what the planner
+//! says while it lacks an input is `mission::waiting`.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::graph::GraphParams;
 use skyground_core::mission::planner::{Planner, PlannerCommand, PlannerConfig, PlannerEvent};
+use skyground_core::mission::waiting::{WaitingReminder, publishers_said};
 use skyground_core::mission::{ExplorerStatus, PlannerStatus, VehicleStatus};
 use skyground_core::route::RouteParams;
-use skyground_core::targets::{TargetParams, TargetPoint};
-use skyground_msgs::builtin_interfaces::Time;
+use skyground_core::targets::TargetParams;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::geometry_msgs::{Point, PointStamped};
+use skyground_msgs::geometry_msgs::PointStamped;
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::detection::missing_from_message;
 use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::{received_regions, regions_to_markers};
-use crate::convert::path::{odom_position, path};
+use crate::convert::path::{odom_position, path, point_stamped};
+use crate::convert::targets::{stamp_key, target_points};
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
-use crate::transport::{CloudSubscription, TransportConfig, next_cloud_of, with_buildings};
+use crate::transport::{CloudSubscription, TransportConfig, next_cloud_of};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -48,15 +50,10 @@ struct Params {
     transport: TransportConfig,
 }
 
-crate::node_spec!("global_planner");
+pub use crate::runtime::specs::GLOBAL_PLANNER as SPEC;
 
 /// How often a planner that lacks an input says which.
 const WAITING_SAID_EVERY: Duration = Duration::from_secs(30);
-
-/// The target generator stamps both halves of a target set alike.
-fn stamp_key(t: Time) -> u64 {
-    (u64::from(t.sec as u32) << 32) | u64::from(t.nanosec)
-}
 
 struct Outputs {
     global: ros2_client::Publisher<Path>,
@@ -104,9 +101,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let own_s = own_status_sub.async_stream();
     futures::pin_mut!(regions_s, odom_s, vstatus_s, estatus_s, own_s);
     let mut tick = tokio::time::interval(Duration::from_millis(500));
-    // A latched input that never arrives (a publisher down, a sample lost
-    // to discovery) would otherwise leave the planner silent for good.
-    let (mut lacking_since, mut said) = (std::time::Instant::now(), Duration::ZERO);
+    // A latched input that never arrives would otherwise leave the planner silent for good.
+    let mut reminder = WaitingReminder::new(WAITING_SAID_EVERY, Instant::now());
     let mut planner = Planner::new(PlannerConfig {
         graph: p.graph,
         route: p.route,
@@ -125,11 +121,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 None => break,
             },
             r = target_sub.next_cloud(&rt.log) => match r {
-                Some(c) => c.map(|(msg, d)| {
-                    let (xyz, ids) = with_buildings(d.cloud);
-                    let points = xyz.into_iter().zip(ids).map(|(xyz, building)| TargetPoint { xyz, building }).collect();
-                    PlannerEvent::Points { points, stamp: stamp_key(msg.header.stamp) }
-                }).into_iter().collect(),
+                Some(c) => c.map(|(msg, d)| PlannerEvent::Points { points: target_points(d.cloud), stamp: stamp_key(msg.header.stamp) })
+                    .into_iter().collect(),
                 None => break,
             },
             r = next_cloud_of(missing_sub.as_mut(), &rt.log), if skip_seen => match r {
@@ -150,46 +143,23 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 perform(rt, &out, c).await;
             }
         }
-        match planner.waiting_for() {
-            Some(what) if lacking_since.elapsed() >= said + WAITING_SAID_EVERY => {
-                let s = lacking_since.elapsed().as_secs();
-                let node = rt.node();
-                let matched = [
-                    ("/classified_cloud", cloud_sub.publisher_count(node)),
-                    ("/target_points", target_sub.publisher_count(node)),
-                    ("/target_regions", regions_sub.get_publisher_count(node)),
-                    ("/state_estimation", odom_sub.get_publisher_count(node)),
-                ];
-                rt.log.warn(&format!(
-                    "no route after {s} s: still waiting for {what}{}",
-                    publishers_said(&what, &matched)
-                ));
-                said += WAITING_SAID_EVERY;
-            }
-            Some(_) => {}
-            None => (lacking_since, said) = (std::time::Instant::now(), Duration::ZERO),
+        let what = planner.waiting_for();
+        let due = reminder.check(what.is_some(), Instant::now());
+        if let (Some(s), Some(what)) = (due, what) {
+            let node = rt.node();
+            let matched = [
+                ("/classified_cloud", cloud_sub.publisher_count(node)),
+                ("/target_points", target_sub.publisher_count(node)),
+                ("/target_regions", regions_sub.get_publisher_count(node)),
+                ("/state_estimation", odom_sub.get_publisher_count(node)),
+            ];
+            rt.log.warn(&format!(
+                "no route after {s} s: still waiting for {what}{}",
+                publishers_said(&what, &matched)
+            ));
         }
     }
     Ok(())
-}
-
-/// How many publishers DDS matched to each input named in `what`: none
-/// means discovery never joined the two (another domain, a node down, a
-/// type or QoS that does not match); some means they are joined and silent.
-fn publishers_said(what: &str, matched: &[(&str, usize)]) -> String {
-    let said: Vec<String> = matched
-        .iter()
-        .filter(|(topic, _)| what.split(", ").any(|w| w == *topic))
-        .map(|(topic, n)| match n {
-            0 => format!("{topic}: no publisher matched"),
-            n => format!("{topic}: {n} publisher(s) matched, nothing received"),
-        })
-        .collect();
-    if said.is_empty() {
-        String::new()
-    } else {
-        format!(" ({})", said.join("; "))
-    }
 }
 
 async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
@@ -204,14 +174,11 @@ async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
             let markers = regions_to_markers(&h, r.as_slice());
             out.region.async_publish(markers).await.is_ok()
         }
-        PlannerCommand::SetDown(at) => {
-            let [x, y, z] = at.map(f64::from);
-            let msg = PointStamped {
-                header: h,
-                point: Point { x, y, z },
-            };
-            out.set_down.async_publish(msg).await.is_ok()
-        }
+        PlannerCommand::SetDown(at) => out
+            .set_down
+            .async_publish(point_stamped(h, at))
+            .await
+            .is_ok(),
         PlannerCommand::Status(s) => out
             .status
             .async_publish(array(h, s.to_wire()))
@@ -221,27 +188,5 @@ async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
     if !sent {
         rt.log
             .warn("a publish failed (DDS write error); the next tick sends the status again");
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_wait_says_which_inputs_have_a_publisher() {
-        let matched = [("/classified_cloud", 1), ("/state_estimation", 0)];
-        assert_eq!(
-            publishers_said("/classified_cloud, /state_estimation", &matched),
-            " (/classified_cloud: 1 publisher(s) matched, nothing received; /state_estimation: no publisher matched)"
-        );
-        assert_eq!(
-            publishers_said("/state_estimation", &matched),
-            " (/state_estimation: no publisher matched)"
-        );
-        assert_eq!(
-            publishers_said("the other half of a target set", &matched),
-            ""
-        );
     }
 }

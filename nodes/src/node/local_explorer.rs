@@ -54,7 +54,7 @@ struct Params {
     transport: TransportConfig,
 }
 
-crate::node_spec!("local_explorer");
+pub use crate::runtime::specs::LOCAL_EXPLORER as SPEC;
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

@@ -1,13 +1,12 @@
 //! scene_classifier: /aerial_cloud → ground by CSF, vegetation vs building by
 //! the Random Forest → /classified_cloud (label field, latched). docs/design.md step 1.
 
-use std::path::Path;
-
 use serde::Deserialize;
-use skyground_core::classify::{Model, SceneClassifier};
+use skyground_core::classify::SceneClassifier;
 use skyground_core::ground::CsfParams;
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 
+use crate::runtime::model::load_model;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
 
@@ -22,25 +21,7 @@ struct Params {
     max_clouds: u64,
 }
 
-crate::node_spec!("scene_classifier");
-
-/// The model shipped with skyground (`skyground train` makes it).
-pub const DEFAULT_MODEL: &[u8] = include_bytes!("../../../config/classifier_model.json.gz");
-
-/// The model at `path`, or the shipped one for an empty path.
-pub fn load_model(path: &str) -> Result<Model, RuntimeError> {
-    load_model_file((!path.is_empty()).then(|| Path::new(path)))
-}
-
-/// The model file `path` (a command's `--model`), or the shipped one.
-pub fn load_model_file(path: Option<&Path>) -> Result<Model, RuntimeError> {
-    let model = match path {
-        None => Model::from_slice(DEFAULT_MODEL),
-        Some(p) => Model::load(p),
-    };
-    let name = path.map(|p| p.display().to_string()).unwrap_or_default();
-    model.map_err(|e| RuntimeError::Node(format!("classifier model {name:?}: {e}")))
-}
+pub use crate::runtime::specs::SCENE_CLASSIFIER as SPEC;
 
 /// Runs the node until it is done or asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

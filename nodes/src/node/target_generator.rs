@@ -37,7 +37,7 @@ struct Params {
 /// Per-building plans, detection round and the stamp they came with.
 type Strategies = (BTreeMap<u32, BuildingPlan>, u32, Header);
 
-crate::node_spec!("target_generator");
+pub use crate::runtime::specs::TARGET_GENERATOR as SPEC;
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {

@@ -17,7 +17,6 @@ use skyground_core::vehicle::{
 };
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::geometry_msgs::PointStamped;
 use skyground_msgs::nav_msgs::Odometry;
 use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::rosgraph_msgs::Clock;
@@ -27,9 +26,9 @@ use skyground_msgs::tf2_msgs::TFMessage;
 use tokio::sync::mpsc;
 
 use crate::convert::diagnostics::array;
-use crate::convert::path::{odometry, read_paths};
-use crate::convert::tf::{tf_message, transform};
-use crate::runtime::{NodeRuntime, RuntimeError, forward, publish_watched, qos};
+use crate::convert::path::{odometry, read_paths, read_spots};
+use crate::convert::tf::{sensor_mount, tf_message, transform};
+use crate::runtime::{NodeRuntime, RuntimeError, publish_logged, qos};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -55,21 +54,7 @@ struct Params {
     lidar: LidarConfig,
 }
 
-crate::node_spec!("vehicle_sim");
-
-/// The plan positions of the PointStamped messages on `topic`, in order.
-fn spots(
-    rt: &mut NodeRuntime,
-    topic: &str,
-    qos: ros2_client::QosProfile,
-    depth: usize,
-) -> Result<mpsc::Receiver<[f32; 2]>, RuntimeError> {
-    let (tx, rx) = mpsc::channel(depth);
-    forward(rt, topic, qos, tx, |m: &PointStamped| {
-        [m.point.x as f32, m.point.y as f32]
-    })?;
-    Ok(rx)
-}
+pub use crate::runtime::specs::VEHICLE_SIM as SPEC;
 
 /// Runs the node until it is asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
@@ -106,23 +91,14 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     // As tf2's broadcasters: /tf reliable and volatile, /tf_static latched.
     let tf_pub = rt.publisher::<TFMessage>("/tf", qos::tf())?;
     let tf_static_pub = rt.publisher::<TFMessage>("/tf_static", qos::latched(1))?;
-    let body = Header {
-        stamp: Time::from_secs(0.0),
-        frame_id: p.child_frame_id.clone(),
-    };
-    let mount = [0.0, 0.0, f64::from(p.vehicle.sensor_height)];
-    let sensor_mount = transform(&body, &p.sensor_frame_id, mount, 0.0);
-    let r = publish_watched(
-        &rt.log,
-        "/tf_static",
-        tf_static_pub.async_publish(tf_message(sensor_mount)),
-    )
-    .await;
-    rt.log.sent("/tf_static", r);
+    let height = p.vehicle.sensor_height;
+    let mount = sensor_mount(&p.child_frame_id, &p.sensor_frame_id, height);
+    let sent = tf_static_pub.async_publish(mount);
+    publish_logged(&rt.log, "/tf_static", sent).await;
     let (tx, mut paths) = mpsc::channel::<Vec<[f32; 3]>>(16);
     read_paths(rt, &p.path_topics, &tx)?;
-    let mut goals = spots(rt, "/way_point", qos::reliable(10), 16)?;
-    let mut carries = spots(rt, "/set_down", qos::latched(1), 4)?;
+    let mut goals = read_spots(rt, "/way_point", qos::reliable(10), 16)?;
+    let mut carries = read_spots(rt, "/set_down", qos::latched(1), 4)?;
     let mut odom_due = Every::new(p.odom_rate_hz);
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);
@@ -139,23 +115,21 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         let mut refused = Vec::new();
         while let Ok(to) = carries.try_recv() {
             // Carried: no driving, so the odometer and the clock do not move.
-            let Some(mut v) = Vehicle::new(p.vehicle, &caster, to[0], to[1], vehicle.state.yaw)
-            else {
-                let at = format!("({:.1}, {:.1})", to[0], to[1]);
-                rt.log
-                    .warn(&format!("cannot set down at {at}: off the terrain"));
-                // The planner waits for the robot there: tell it, as a blocked goal.
-                refused.push(Step::Blocked {
-                    goal: to,
-                    reason: "cannot set down here: off the terrain".into(),
-                });
-                continue;
-            };
-            v.state.odometer = vehicle.state.odometer;
-            vehicle = v;
-            odom_due = Every::new(p.odom_rate_hz);
-            rt.log
-                .info(&format!("set down at ({:.1}, {:.1})", to[0], to[1]));
+            match vehicle.set_down(&caster, to) {
+                Ok(v) => {
+                    vehicle = v;
+                    odom_due = Every::new(p.odom_rate_hz);
+                    rt.log
+                        .info(&format!("set down at ({:.1}, {:.1})", to[0], to[1]));
+                }
+                Err(blocked) => {
+                    let at = format!("({:.1}, {:.1})", to[0], to[1]);
+                    rt.log
+                        .warn(&format!("cannot set down at {at}: off the terrain"));
+                    // The planner waits for the robot there: tell it, as a blocked goal.
+                    refused.push(blocked);
+                }
+            }
         }
         while let Ok(pts) = paths.try_recv() {
             rt.log.info(&format!("path of {} pose(s)", pts.len()));
@@ -175,25 +149,21 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         for done in refused.iter().chain([&step]) {
             if let Some(s) = VehicleStatus::from_step("vehicle_sim", done, &vehicle.state) {
                 let sent = status_pub.async_publish(array(h.clone(), s.to_wire()));
-                let r = publish_watched(&rt.log, "/vehicle_status", sent).await;
-                rt.log.sent("/vehicle_status", r);
+                publish_logged(&rt.log, "/vehicle_status", sent).await;
             }
         }
         if clock_due.due(sim) {
             let sent = clock_pub.async_publish(Clock {
                 clock: Time::from_secs(sim),
             });
-            let r = publish_watched(&rt.log, "/clock", sent).await;
-            rt.log.sent("/clock", r);
+            publish_logged(&rt.log, "/clock", sent).await;
         }
         if odom_due.due(sim) {
             let at = vehicle.state.position.map(f64::from);
             let pose = transform(&h, &p.child_frame_id, at, vehicle.state.yaw);
             let o = odometry(h.clone(), &p.child_frame_id, &vehicle.state);
-            let r = publish_watched(&rt.log, "/state_estimation", odom_pub.async_publish(o)).await;
-            rt.log.sent("/state_estimation", r);
-            let r = publish_watched(&rt.log, "/tf", tf_pub.async_publish(tf_message(pose))).await;
-            rt.log.sent("/tf", r);
+            publish_logged(&rt.log, "/state_estimation", odom_pub.async_publish(o)).await;
+            publish_logged(&rt.log, "/tf", tf_pub.async_publish(tf_message(pose))).await;
         }
         let sensor = vehicle.sensor_position();
         if scan_due.due(sim, sensor) {
@@ -204,11 +174,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             let msg = encode(&cloud, h, &EncodeOptions::default());
             if p.throttle_every > 0 && scans.is_multiple_of(p.throttle_every) {
                 let sent = throttle_pub.async_publish(msg.clone());
-                let r = publish_watched(&rt.log, "/registered_scan_throttle", sent).await;
-                rt.log.sent("/registered_scan_throttle", r);
+                publish_logged(&rt.log, "/registered_scan_throttle", sent).await;
             }
-            let r = publish_watched(&rt.log, "/registered_scan", scan_pub.async_publish(msg)).await;
-            rt.log.sent("/registered_scan", r);
+            publish_logged(&rt.log, "/registered_scan", scan_pub.async_publish(msg)).await;
             scans += 1;
         }
         if pause > 0.0 {

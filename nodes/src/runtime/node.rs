@@ -76,25 +76,6 @@ pub struct NodeSpec {
     pub live: &'static [&'static str],
 }
 
-/// `pub const SPEC`: the [`NodeSpec`] of node `$name`, whose defaults are
-/// `config/$name.yaml`, with its live parameters.
-#[macro_export]
-macro_rules! node_spec {
-    ($name:literal $(, live: [$($live:literal),* $(,)?])?) => {
-        /// Name and default params.
-        pub const SPEC: $crate::runtime::NodeSpec = $crate::runtime::NodeSpec {
-            name: $name,
-            default_params: include_str!(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../config/",
-                $name,
-                ".yaml"
-            )),
-            live: &[$($($live),*)?],
-        };
-    };
-}
-
 /// A started node. Drop order matters to RustDDS: use [`NodeRuntime::stop`].
 pub struct NodeRuntime {
     /// Node name (after `-r __node:=`).

@@ -39,6 +39,17 @@ pub async fn publish_watched<F: Future>(log: &super::Logger, topic: &str, fut: F
     .await
 }
 
+/// [`publish_watched`], then [`super::Logger::sent`]: a publish that fails
+/// is logged too; true when it was sent.
+pub async fn publish_logged<E, F>(log: &super::Logger, topic: &str, fut: F) -> bool
+where
+    E: std::fmt::Debug,
+    F: Future<Output = Result<(), E>>,
+{
+    let r = publish_watched(log, topic, fut).await;
+    log.sent(topic, r)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

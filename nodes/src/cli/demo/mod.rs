@@ -35,7 +35,6 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let mut prof = Profile::new("prior");
     std::fs::create_dir_all(&a.out).map_err(|e| err(format!("{}: {e}", a.out.display())))?;
     let exe = std::env::current_exe().map_err(|e| err(e.to_string()))?;
-    let carried = start_or_resume(&a)?;
     eprintln!(
         "skyground demo: scene {}, output {}",
         a.scene(),
@@ -63,6 +62,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             prior.scene.origin,
         )
         .map_err(|e| err(format!("footprints: {e}")))?;
+    // Only a mission that can start clears (or takes up) what its folder holds.
+    let carried = start_or_resume(&a)?;
     // The prior's measurement and models are ready before the mission ends;
     // the merged cloud is measured as its points arrive (report: only the
     // last round's points are left to measure).
@@ -72,23 +73,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let aerial = a.cloud_file("aerial");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
-    eprintln!(
-        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
-        if a.real_prior() {
-            "real prior"
-        } else {
-            "airborne prior (simulated)"
-        },
-        prior.cloud.len(),
-        before
-            .measured(&prior.gt)
-            .completeness
-            .overall
-            .ratio
-            .unwrap_or(0.0)
-            * 100.0,
-        t0.elapsed().as_secs_f64()
-    );
+    say_prior(&a, &prior, &before, t0);
     let driver = if a.field.field {
         launch::field_driver()
     } else {
@@ -102,7 +87,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         procs.len(),
         procs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
     );
-    let mut outcome = watch::follow(
+    let outcome = watch::follow(
         rt,
         (&a, &prior, &before, carried),
         (&mut procs, &exe),
@@ -110,28 +95,48 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         t0,
     )
     .await?;
+    let mission = (&prior, before, crop.as_ref(), model_crs);
+    stop_and_report(
+        &a,
+        mission,
+        (&mut procs, outcome),
+        models_before,
+        (t0, &mut prof),
+    )
+    .await
+}
+
+/// Stops the nodes, takes in the merge store and reports; an error when the
+/// mission did not finish (the report is written all the same).
+async fn stop_and_report(
+    a: &DemoArgs,
+    (prior, before, crop, model_crs): (&Survey, MeasureSoFar, Option<&Cropped>, Option<Crs>),
+    (procs, mut outcome): (&mut [launch::Proc], watch::Outcome),
+    models_before: report::ModelsBefore,
+    (t0, prof): (Instant, &mut Profile),
+) -> Result<(), RuntimeError> {
     eprintln!("  {}; stopping the nodes", outcome.why);
     prof.stage("stopping the nodes");
-    launch::stop_all(&mut procs, &mut prof).await;
+    launch::stop_all(procs, prof).await;
     // The explorer wrote its last batch as it stopped.
-    let merge = report::take_store(&a.merge_store(), &prior, &mut outcome)?;
+    let merge = report::take_store(&a.merge_store(), prior, &mut outcome)?;
     let (finished, why) = (outcome.finished, outcome.why.clone());
     let inputs = report::Inputs {
-        a: &a,
-        prior: &prior,
-        crop: crop.as_ref(),
+        a,
+        prior,
+        crop,
         model_crs,
         before: before.measured(&prior.gt),
         outcome,
-        restarts: launch::restarts(&procs),
+        restarts: launch::restarts(procs),
         merge,
         bag: launch::bag_topics(&a.out.join("mission.mcap")),
     };
-    report::report(&inputs, models_before, (t0, &mut prof))?;
+    report::report(&inputs, models_before, (t0, prof))?;
     if finished {
         Ok(())
     } else {
-        Err(err(format!(
+        Err(RuntimeError::Node(format!(
             "the mission did not finish ({why}): see the logs in {}",
             a.out.display()
         )))
@@ -163,6 +168,27 @@ fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
         runs: carried.runs + 1,
         ..carried
     })
+}
+
+/// The prior's line: which prior, its points and building completeness.
+fn say_prior(a: &DemoArgs, prior: &Survey, before: &MeasureSoFar, t0: Instant) {
+    eprintln!(
+        "  {}: {} points, building completeness {:.2} % ({:.1} s)",
+        if a.real_prior() {
+            "real prior"
+        } else {
+            "airborne prior (simulated)"
+        },
+        prior.cloud.len(),
+        before
+            .measured(&prior.gt)
+            .completeness
+            .overall
+            .ratio
+            .unwrap_or(0.0)
+            * 100.0,
+        t0.elapsed().as_secs_f64()
+    );
 }
 
 /// The prior's LoD2 models, made on a thread of their own while the mission runs.

@@ -119,11 +119,7 @@ pub(super) async fn follow(
     f.carried = carried;
     let mut tick = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
-    let rule = StopRule {
-        min_round_gain: a.min_round_gain,
-        // A resumed mission drives the rounds its earlier runs left.
-        max_rounds: a.max_rounds.saturating_sub(carried.rounds).max(1),
-    };
+    let rule = stop_rule(a, &carried);
     let robot_deadline =
         tokio::time::Instant::now() + Duration::from_secs_f64(a.field.robot_timeout);
     let mut why = String::from("interrupted");
@@ -150,24 +146,10 @@ pub(super) async fn follow(
             },
             Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
             Some(Ok((leg, _))) = l_s.next() => f.leg = Some(leg),
-            _ = respawn_tick.tick() => if !rt.shutdown.requested() {
-                respawn(procs, exe, &a.out, f.w.route.last().copied())?;
-                if let Some(leg) = f.leg_due() {
-                    f.console.say("  handing the leg it was driving to the restarted vehicle_sim");
-                    let _ = leg_pub.async_publish(leg).await;
-                }
-            },
-            _ = tick.tick() => {
-                for p in procs.iter() {
-                    prof.sample(p.name, p.child.id());
-                }
-                prof.sample("demo", Some(std::process::id()));
-                f.state();
-                f.keep_progress();
-                if let Some(stalled) = f.watch_clock(procs) {
-                    why = stalled;
-                    break false;
-                }
+            _ = respawn_tick.tick() => if !rt.shutdown.requested() { f.respawn(procs, exe, &leg_pub).await? },
+            _ = tick.tick() => if let Some(stalled) = f.tick(procs, prof) {
+                why = stalled;
+                break false;
             }
         }
         // The closed loop: detection after each driven round says whether
@@ -177,15 +159,23 @@ pub(super) async fn follow(
             break true;
         }
     };
-    f.console.finish();
-    f.keep_progress();
-    Ok(Outcome {
-        total: f.total(),
-        watch: f.w,
-        after: f.after,
-        finished,
-        why,
-    })
+    Ok(f.outcome(finished, why))
+}
+
+/// The loop's stop rule; a resumed mission drives the rounds its earlier runs left.
+fn stop_rule(a: &DemoArgs, carried: &Carried) -> StopRule {
+    StopRule {
+        min_round_gain: a.min_round_gain,
+        max_rounds: a.max_rounds.saturating_sub(carried.rounds).max(1),
+    }
+}
+
+/// Every process's resources, the demo's own too, for the profile.
+fn sample(procs: &[Proc], prof: &mut Profile) {
+    for p in procs {
+        prof.sample(p.name, p.child.id());
+    }
+    prof.sample("demo", Some(std::process::id()));
 }
 
 impl<'a> Follower<'a> {
@@ -211,6 +201,45 @@ impl<'a> Follower<'a> {
             clock_offset: 0.0,
             leg: None,
             resend_at: Vec::new(),
+        }
+    }
+
+    /// Every 500 ms: nodes that exited started again (vehicle_sim where the
+    /// vehicle was), and a restarted vehicle_sim handed its leg.
+    async fn respawn(
+        &mut self,
+        procs: &mut [Proc],
+        exe: &Path,
+        leg_pub: &ros2_client::Publisher<RosPath>,
+    ) -> Result<(), RuntimeError> {
+        respawn(procs, exe, &self.a.out, self.w.route.last().copied())?;
+        if let Some(leg) = self.leg_due() {
+            self.console
+                .say("  handing the leg it was driving to the restarted vehicle_sim");
+            let _ = leg_pub.async_publish(leg).await;
+        }
+        Ok(())
+    }
+
+    /// Every 5 s: the profile, the progress line and file, the watchdog
+    /// (`Some(why)` ends the mission).
+    fn tick(&mut self, procs: &mut [Proc], prof: &mut Profile) -> Option<String> {
+        sample(procs, prof);
+        self.state();
+        self.keep_progress();
+        self.watch_clock(procs)
+    }
+
+    /// How the watch ended.
+    fn outcome(mut self, finished: bool, why: String) -> Outcome {
+        self.console.finish();
+        self.keep_progress();
+        Outcome {
+            total: self.total(),
+            watch: self.w,
+            after: self.after,
+            finished,
+            why,
         }
     }
 
