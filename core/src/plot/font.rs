@@ -1,5 +1,6 @@
-//! A 5 × 7 pixel bitmap font: enough letters for legends and scale bars
-//! without a font file (lower case is drawn as upper case).
+//! A 5 × 7 pixel bitmap font: enough letters for legends, scale bars and
+//! ids without a font file. Lower case has glyphs of its own (without
+//! descenders) so that a unit "m" does not read as "M".
 
 /// Glyph width and height in font pixels.
 pub const GLYPH_W: i64 = 5;
@@ -8,7 +9,33 @@ pub const GLYPH_H: i64 = 7;
 
 /// Rows of a glyph, top first; bit 4 is the leftmost column.
 pub fn glyph(c: char) -> [u8; 7] {
-    match c.to_ascii_uppercase() {
+    match c {
+        'a' => [0, 0, 14, 1, 15, 17, 15],
+        'b' => [16, 16, 22, 25, 17, 17, 30],
+        'c' => [0, 0, 14, 16, 16, 17, 14],
+        'd' => [1, 1, 13, 19, 17, 17, 15],
+        'e' => [0, 0, 14, 17, 31, 16, 14],
+        'f' => [6, 9, 8, 28, 8, 8, 8],
+        'g' => [0, 15, 17, 15, 1, 17, 14],
+        'h' => [16, 16, 22, 25, 17, 17, 17],
+        'i' => [4, 0, 12, 4, 4, 4, 14],
+        'j' => [2, 0, 6, 2, 2, 18, 12],
+        'k' => [16, 16, 18, 20, 24, 20, 18],
+        'l' => [12, 4, 4, 4, 4, 4, 14],
+        'm' => [0, 0, 26, 21, 21, 17, 17],
+        'n' => [0, 0, 22, 25, 17, 17, 17],
+        'o' => [0, 0, 14, 17, 17, 17, 14],
+        'p' => [0, 30, 17, 17, 30, 16, 16],
+        'q' => [0, 15, 17, 17, 15, 1, 1],
+        'r' => [0, 0, 22, 25, 16, 16, 16],
+        's' => [0, 0, 15, 16, 14, 1, 30],
+        't' => [8, 8, 28, 8, 8, 9, 6],
+        'u' => [0, 0, 17, 17, 17, 19, 13],
+        'v' => [0, 0, 17, 17, 17, 10, 4],
+        'w' => [0, 0, 17, 17, 21, 21, 10],
+        'x' => [0, 0, 17, 10, 4, 10, 17],
+        'y' => [0, 17, 17, 17, 15, 1, 14],
+        'z' => [0, 0, 31, 2, 4, 8, 31],
         'A' => [14, 17, 17, 31, 17, 17, 17],
         'B' => [30, 17, 17, 30, 17, 17, 30],
         'C' => [14, 17, 16, 16, 16, 17, 14],
@@ -58,13 +85,52 @@ pub fn glyph(c: char) -> [u8; 7] {
         '>' => [8, 4, 2, 1, 2, 4, 8],
         '=' => [0, 0, 31, 0, 31, 0, 0],
         '²' => [12, 2, 4, 8, 14, 0, 0],
+        '≥' => [8, 4, 2, 4, 8, 0, 31],
+        '|' => [4, 4, 4, 4, 4, 4, 4],
+        '_' => [0, 0, 0, 0, 0, 0, 31],
+        '#' => [10, 10, 31, 10, 31, 10, 10],
+        '[' => [14, 8, 8, 8, 8, 8, 14],
+        ']' => [14, 2, 2, 2, 2, 2, 14],
+        '{' => [6, 4, 4, 8, 4, 4, 6],
+        '}' => [12, 4, 4, 2, 4, 4, 12],
+        '\'' => [4, 4, 8, 0, 0, 0, 0],
+        '"' => [10, 10, 0, 0, 0, 0, 0],
+        '!' => [4, 4, 4, 4, 4, 0, 4],
+        '?' => [14, 17, 1, 2, 4, 0, 4],
+        '*' => [0, 4, 21, 14, 21, 4, 0],
+        '&' => [12, 18, 20, 8, 21, 18, 13],
+        ';' => [0, 12, 12, 0, 12, 4, 8],
+        '@' => [14, 17, 1, 13, 21, 21, 14],
         ' ' => [0; 7],
-        _ => [31, 17, 17, 17, 17, 17, 31],
+        _ => MISSING_GLYPH,
     }
 }
+
+/// The glyph drawn for characters the font lacks (an empty box).
+pub const MISSING_GLYPH: [u8; 7] = [31, 17, 17, 17, 17, 17, 31];
 
 /// Width in pixels of `text` drawn at `scale` (one blank column between glyphs).
 pub fn text_width(text: &str, scale: i64) -> i64 {
     let n = text.chars().count() as i64;
     (n * (GLYPH_W + 1) - 1).max(0) * scale
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn letters_and_digits_have_glyphs_and_cases_differ() {
+        for c in ('a'..='z')
+            .chain('A'..='Z')
+            .chain('0'..='9')
+            .chain("._|#".chars())
+        {
+            assert_ne!(glyph(c), MISSING_GLYPH, "{c:?}");
+        }
+        for (l, u) in ('a'..='z').zip('A'..='Z') {
+            assert_ne!(glyph(l), glyph(u), "{l:?}");
+        }
+        assert_eq!(glyph('é'), MISSING_GLYPH);
+    }
 }

@@ -52,6 +52,12 @@ impl LegendLayout {
     }
 }
 
+/// Font pixel size for a map of `w` × `h` pixels (text stays readable on
+/// large ones).
+pub(super) fn text_scale_for(w: u32, h: u32) -> i64 {
+    i64::from((w.min(h) / 400).clamp(1, 4))
+}
+
 /// A 1, 2 or 5 × 10^k at most `v` (v > 0).
 pub fn nice_length(v: f64) -> f64 {
     let p = 10f64.powf(v.log10().floor());
@@ -71,10 +77,10 @@ fn format_length(v: f64) -> String {
 }
 
 impl Canvas {
-    /// Font pixel size for this picture (text stays readable on large ones).
-    fn text_scale(&self) -> i64 {
+    /// Font pixel size for this picture.
+    pub(super) fn text_scale(&self) -> i64 {
         let (w, h) = self.map_size();
-        i64::from((w.min(h) / 400).clamp(1, 4))
+        text_scale_for(w, h)
     }
 
     /// A filled pixel rectangle.

@@ -211,14 +211,21 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
                 skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = a.units.read(b)?;
             let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
-            let pictured = write_picture(&a.out.join("models.png"), &scene, &mb, &ma, 3)?;
+            let pictured = write_picture(
+                &a.out.join("models.png"),
+                &scene,
+                &mb,
+                &ma,
+                3,
+                &cloud.frame().unit(),
+            )?;
             let verdict = skyground_core::reconstruct::compare(
                 &mb,
                 &ma,
                 skyground_core::reconstruct::PRIOR_OFF_M,
             );
             let md = format!(
-                "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?}, before left, after right, coloured by distance to the truth 0 → 0.5 m.\n\n{}\n{}",
+                "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?} (rows, each labelled with its id), before left, after right, coloured by distance to the truth 0 → 0.5 m; each column's head gives its mean distance; scale bar in the input's unit; north up.\n\n{}\n{}",
                 b.display(),
                 a.input.display(),
                 table(&mb, Some(&ma)),
@@ -316,14 +323,26 @@ pub fn models_of(
     Ok(evaluate_against(scene, &rec, spacing))
 }
 
+/// A picture's row label: the scene's name for the building (its CityObject
+/// or OBJ object id) and the id report.json lists it under.
+fn view_id(f: &skyground_core::footprint::Footprint) -> String {
+    if f.name.is_empty() {
+        format!("id {}", f.id)
+    } else {
+        format!("{} (id {})", f.name, f.id)
+    }
+}
+
 /// Writes `models.png`: the `n` buildings whose models improved most,
-/// before and after, coloured by distance to the truth (0 → 0.5 m).
+/// before and after, coloured by distance to the truth (0 → 0.5 m), each
+/// row labelled with its building's id; the scale bar in `unit`.
 pub fn write_picture(
     path: &Path,
     scene: &Scene,
     before: &ModelEvaluation,
     after: &ModelEvaluation,
     n: usize,
+    unit: &skyground_core::crs::LinearUnit,
 ) -> Result<Vec<u32>, RuntimeError> {
     let outlines = skyground_core::footprint::footprints_of_scene(scene);
     let mut gains: Vec<(f64, u32)> = before
@@ -341,14 +360,16 @@ pub fn write_picture(
         .filter_map(|id| {
             let b = before.buildings.iter().find(|b| b.building == *id)?;
             let a = after.buildings.iter().find(|a| a.building == *id)?;
+            let f = outlines.iter().find(|f| f.id == *id)?;
             Some(skyground_core::plot::ModelView {
+                id: view_id(f),
                 before: b.samples.clone(),
                 after: a.samples.clone(),
-                outline: outlines.iter().find(|f| f.id == *id)?.polygon.clone(),
+                outline: f.polygon.clone(),
             })
         })
         .collect();
-    skyground_core::plot::models_picture(&views, 0.5, 1800)
+    skyground_core::plot::models_picture(&views, 0.5, 1800, unit)
         .and_then(|c| c.save(path))
         .map_err(err)?;
     Ok(chosen)

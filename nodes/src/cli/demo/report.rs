@@ -175,6 +175,7 @@ fn build_models(
         &before,
         &after,
         3,
+        &r.prior.cloud.frame().unit(),
     )?;
     let verdict = skyground_core::reconstruct::compare(&before, &after, PRIOR_OFF_M);
     Ok(Models {
@@ -269,7 +270,7 @@ fn mission_markdown(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> String
         ));
     }
     md.push_str(&format!(
-        "\n## Building models (LoD2) before and after\n\nMean symmetric surface distance to the true buildings (m), RMSE, 95th percentile, roof error (true roof → model roof), footprint IoU; `models_before.city.json`, `models_after.city.json`. `models.png`: buildings {:?} (rows), before left, after right, model surface coloured by distance to the truth, 0 m blue → 0.5 m red (colour bar ticks 0, 0.25, 0.5 m); scale bar 10 m; north up.\n\n{}",
+        "\n## Building models (LoD2) before and after\n\nMean symmetric surface distance to the true buildings (m), RMSE, 95th percentile, roof error (true roof → model roof), footprint IoU; `models_before.city.json`, `models_after.city.json`. `models.png`: buildings {:?} (rows, each labelled with its id), before left, after right, model surface coloured by distance to the truth, 0 m blue → 0.5 m red (colour bar ticks 0, 0.25, 0.5 m); each column's head gives its mean distance; scale bar in the input's unit; north up.\n\n{}",
         m.pictured,
         models::table(&m.before, Some(&m.after))
     ));
