@@ -284,6 +284,18 @@ def laz_points(path):
         return f.header.point_count
 
 
+def kill_everyone(proc):
+    """SIGKILL for the demo (started in a session of its own) and every process below it."""
+    everyone = descendants(proc.pid)
+    os.killpg(proc.pid, signal.SIGKILL)
+    for pid in everyone:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    proc.wait(timeout=30)
+
+
 def stored_batches(out):
     """The merge store's state and the points its batches hold (read by laspy)."""
     state = json.loads((out / "merge" / "state.json").read_text())
@@ -338,14 +350,7 @@ def test_a_killed_mission_leaves_a_whole_merge_store(tmp_path, env):
         assert wait_for_log(out / "merge" / "state.json", '"scans"', proc, 120)
         time.sleep(12)
     finally:
-        everyone = descendants(proc.pid)
-        os.killpg(proc.pid, signal.SIGKILL)
-        for pid in everyone:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        proc.wait(timeout=30)
+        kill_everyone(proc)
     state, held = stored_batches(out)
     assert len(held) >= 1 and held == state["batches"] and state["scans"] > 0, (state, held)
 
@@ -365,14 +370,7 @@ def test_a_killed_mission_resumed_ends_as_an_uninterrupted_one(tmp_path, env, sm
         assert wait_for_log(out / "global_planner.log", "round 2: route over", proc, 300)
         time.sleep(2)
     finally:
-        everyone = descendants(proc.pid)
-        os.killpg(proc.pid, signal.SIGKILL)
-        for pid in everyone:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        proc.wait(timeout=30)
+        kill_everyone(proc)
     state, _ = stored_batches(out)
     kept = json.loads((out / "progress.json").read_text())
     assert kept["odometer_m"] > 0 and kept["runs"] == 1 and kept["rounds"] == 1, kept

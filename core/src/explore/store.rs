@@ -71,9 +71,12 @@ const FORMAT: &str = "skyground-merge-1";
 /// The merged points read back, and how many scans they hold.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Stored {
-    /// Points in the map frame, in the order they were merged.
+    /// Points in the map frame, in the order they were merged (after the
+    /// ones the reader already had, see [`read_store`]).
     pub points: Vec<[f32; 3]>,
-    /// Scans whose points are all in `points`.
+    /// Points the store holds in all.
+    pub total: usize,
+    /// Scans whose points are all in the store.
     pub scans: usize,
 }
 
@@ -105,7 +108,7 @@ impl MergeStore {
                 scans: 0,
             },
         };
-        let stored = read_batches(dir, &state)?;
+        let stored = read_batches(dir, &state, 0)?;
         Ok((
             MergeStore {
                 dir: dir.into(),
@@ -123,8 +126,7 @@ impl MergeStore {
         }
         let mut next = self.state.clone();
         if !new.is_empty() {
-            let mut c = Cloud::from_xyz(new.to_vec());
-            c.label = Some(vec![class::BUILDING; c.len()]);
+            let c = batch_cloud(new.to_vec());
             write_cloud(&batch_path(&self.dir, next.batches.len()), &c)?;
             next.batches.push(new.len());
         }
@@ -204,12 +206,21 @@ impl KeptMerge {
     }
 }
 
-/// What the store in `dir` holds, or `None` when there is none.
-pub fn read_store(dir: &Path) -> Result<Option<Stored>, StoreError> {
+/// What the store in `dir` holds after its first `skip` points (a reader
+/// that has those already; batches wholly before them are not read), or
+/// `None` when there is none.
+pub fn read_store(dir: &Path, skip: usize) -> Result<Option<Stored>, StoreError> {
     match read_state(dir)? {
-        Some(s) => read_batches(dir, &s).map(Some),
+        Some(s) => read_batches(dir, &s, skip).map(Some),
         None => Ok(None),
     }
+}
+
+/// A batch as written: merged points are building points.
+fn batch_cloud(points: Vec<[f32; 3]>) -> Cloud {
+    let mut c = Cloud::from_xyz(points);
+    c.label = Some(vec![class::BUILDING; c.len()]);
+    c
 }
 
 fn batch_path(dir: &Path, n: usize) -> PathBuf {
@@ -232,9 +243,17 @@ fn read_state(dir: &Path) -> Result<Option<State>, StoreError> {
     Ok(Some(s))
 }
 
-fn read_batches(dir: &Path, s: &State) -> Result<Stored, StoreError> {
-    let mut points = Vec::with_capacity(s.batches.iter().sum());
+fn read_batches(dir: &Path, s: &State, skip: usize) -> Result<Stored, StoreError> {
+    let total = s.batches.iter().sum();
+    let mut points = Vec::with_capacity(total - skip.min(total));
+    let mut start = 0;
     for (n, &expected) in s.batches.iter().enumerate() {
+        let end = start + expected;
+        let first = skip.saturating_sub(start);
+        start = end;
+        if first >= expected {
+            continue;
+        }
         let path = batch_path(dir, n);
         let c = read_cloud(&path)?;
         if c.len() != expected {
@@ -245,7 +264,7 @@ fn read_batches(dir: &Path, s: &State) -> Result<Stored, StoreError> {
             });
         }
         let o = c.origin;
-        points.extend(c.xyz.iter().map(|p| {
+        points.extend(c.xyz[first..].iter().map(|p| {
             // Batches are written in the map frame; a reader that moved the
             // origin for precision is undone here.
             std::array::from_fn(|k| (f64::from(p[k]) + o[k]) as f32)
@@ -253,6 +272,7 @@ fn read_batches(dir: &Path, s: &State) -> Result<Stored, StoreError> {
     }
     Ok(Stored {
         points,
+        total,
         scans: s.scans,
     })
 }
@@ -276,7 +296,7 @@ mod tests {
         s.append(&[], 4).unwrap();
         s.append(&[[-7.25, 8.5, 0.125]], 6).unwrap();
         assert_eq!((s.points(), s.scans()), (3, 6));
-        let back = read_store(&d).unwrap().unwrap();
+        let back = read_store(&d, 0).unwrap().unwrap();
         assert_eq!(back.scans, 6);
         let want = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [-7.25, 8.5, 0.125]];
         assert_eq!(back.points.len(), 3);
@@ -289,7 +309,32 @@ mod tests {
         let (mut s2, again) = MergeStore::open(&d, 0.05).unwrap();
         assert_eq!(again, back);
         s2.append(&[[0.0; 3]], 7).unwrap();
-        assert_eq!(read_store(&d).unwrap().unwrap().points.len(), 4);
+        assert_eq!(read_store(&d, 0).unwrap().unwrap().points.len(), 4);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_reader_that_has_the_first_points_gets_the_rest() {
+        let d = tmp("skip");
+        let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
+        s.append(&[[1.0; 3], [2.0; 3]], 2).unwrap();
+        s.append(&[[3.0; 3]], 3).unwrap();
+        for (skip, want) in [(0, 3), (1, 2), (2, 1), (3, 0), (9, 0)] {
+            let back = read_store(&d, skip).unwrap().unwrap();
+            assert_eq!(
+                (back.points.len(), back.total, back.scans),
+                (want, 3, 3),
+                "skip {skip}"
+            );
+        }
+        let tail = read_store(&d, 1).unwrap().unwrap().points;
+        assert!(
+            (tail[0][0] - 2.0).abs() < 2e-3 && (tail[1][0] - 3.0).abs() < 2e-3,
+            "{tail:?}"
+        );
+        // A batch wholly skipped is not read: a damaged one there goes unnoticed.
+        std::fs::write(batch_path(&d, 0), b"not a LAZ").unwrap();
+        assert_eq!(read_store(&d, 2).unwrap().unwrap().points.len(), 1);
         std::fs::remove_dir_all(&d).unwrap();
     }
 
@@ -314,7 +359,7 @@ mod tests {
             1,
             "only the new point"
         );
-        assert_eq!(read_store(&d).unwrap().unwrap().points.len(), 4);
+        assert_eq!(read_store(&d, 0).unwrap().unwrap().points.len(), 4);
         std::fs::remove_dir_all(&d).unwrap();
     }
 
@@ -324,15 +369,13 @@ mod tests {
         let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
         s.append(&[[1.0; 3]], 1).unwrap();
         // As if killed between writing batch 1 and the state naming it.
-        let mut c = Cloud::from_xyz(vec![[2.0; 3]; 5]);
-        c.label = Some(vec![class::BUILDING; 5]);
-        write_cloud(&batch_path(&d, 1), &c).unwrap();
-        let back = read_store(&d).unwrap().unwrap();
+        write_cloud(&batch_path(&d, 1), &batch_cloud(vec![[2.0; 3]; 5])).unwrap();
+        let back = read_store(&d, 0).unwrap().unwrap();
         assert_eq!((back.points.len(), back.scans), (1, 1));
         // The next append overwrites the torn batch.
         let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
         s.append(&[[3.0; 3], [4.0; 3]], 2).unwrap();
-        assert_eq!(read_store(&d).unwrap().unwrap().points.len(), 3);
+        assert_eq!(read_store(&d, 0).unwrap().unwrap().points.len(), 3);
         std::fs::remove_dir_all(&d).unwrap();
     }
 
@@ -343,15 +386,13 @@ mod tests {
         s.append(&[[1.0; 3], [2.0; 3]], 1).unwrap();
         let e = MergeStore::open(&d, 0.02).unwrap_err().to_string();
         assert!(e.contains("0.05") && e.contains("0.02"), "{e}");
-        let mut c = Cloud::from_xyz(vec![[2.0; 3]]);
-        c.label = Some(vec![class::BUILDING]);
-        write_cloud(&batch_path(&d, 0), &c).unwrap();
-        let e = read_store(&d).unwrap_err().to_string();
+        write_cloud(&batch_path(&d, 0), &batch_cloud(vec![[2.0; 3]])).unwrap();
+        let e = read_store(&d, 0).unwrap_err().to_string();
         assert!(e.contains("1 points where the state says 2"), "{e}");
         std::fs::write(d.join(STATE_FILE), b"{\"format\": 3}").unwrap();
-        let e = read_store(&d).unwrap_err().to_string();
+        let e = read_store(&d, 0).unwrap_err().to_string();
         assert!(e.contains("not a merge store state"), "{e}");
-        assert!(read_store(&d.join("none")).unwrap().is_none());
+        assert!(read_store(&d.join("none"), 0).unwrap().is_none());
         std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -70,9 +70,6 @@ pub struct DemoArgs {
     pub started_in: Option<PathBuf>,
 }
 
-/// The file in a mission's folder that holds its command line.
-pub const COMMAND_FILE: &str = "command.json";
-
 /// Field mode: every node but vehicle_sim, and a robot of the CMU
 /// exploration environment's interface on the network.
 #[derive(Debug, Clone, clap::Args)]
@@ -116,46 +113,22 @@ impl DemoArgs {
         };
         let dir = std::fs::canonicalize(&given)
             .map_err(|e| format!("--resume {}: {e}", given.display()))?;
-        let path = dir.join(COMMAND_FILE);
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            format!(
-                "--resume {}: {e} (not a demo's output folder?)",
-                path.display()
-            )
-        })?;
-        let argv: Vec<String> = serde_json::from_str::<serde_json::Value>(&text)
-            .ok()
-            .and_then(|v| serde_json::from_value(v["argv"].clone()).ok())
-            .ok_or_else(|| format!("--resume {}: no \"argv\" list of strings", path.display()))?;
+        let command = super::resume::Command::read(&dir)?;
         #[derive(clap::Parser)]
         struct Cli {
             #[command(flatten)]
             demo: DemoArgs,
         }
-        let parsed =
-            <Cli as clap::Parser>::try_parse_from(std::iter::once("demo".into()).chain(argv))
-                .map_err(|e| format!("--resume {}: {e}", path.display()))?;
+        let argv = std::iter::once("demo".to_string()).chain(command.argv);
+        let parsed = <Cli as clap::Parser>::try_parse_from(argv)
+            .map_err(|e| format!("--resume {}: {e}", dir.display()))?;
         let mut a = parsed.demo;
-        a.started_in = serde_json::from_str::<serde_json::Value>(&text)
-            .ok()
-            .and_then(|v| v["cwd"].as_str().map(PathBuf::from));
+        a.started_in = command.cwd;
         a.out = dir.clone();
         a.resume = Some(dir);
         a.timeout = self.timeout.or(a.timeout);
         a.no_netns |= self.no_netns;
         Ok(a)
-    }
-
-    /// What OUT/command.json keeps: every argument after `demo`, and the
-    /// folder they were given in.
-    pub fn command_json() -> serde_json::Value {
-        let all: Vec<String> = std::env::args().collect();
-        let at = all
-            .iter()
-            .position(|s| s == "demo")
-            .map_or(all.len(), |i| i + 1);
-        let cwd = std::env::current_dir().unwrap_or_default();
-        serde_json::json!({"argv": all[at..], "cwd": cwd})
     }
 
     /// A prior of real survey files rather than the simulated flight.

@@ -74,16 +74,14 @@ pub(super) fn start_all(
     (mut detector, aerial, mut driver): (Vec<String>, &Path, (&'static str, Vec<String>)),
     carried: &Carried,
 ) -> Result<Vec<Proc>, RuntimeError> {
-    let earlier = if a.resume.is_some() {
-        let first = a.out.join("mission.mcap");
-        (0..)
-            .take_while(|&n| bag_split(&first, n).is_file())
-            .count() as u32
-    } else {
+    let fresh = a.resume.is_none();
+    // A resumed mission's recorder writes the split after its earlier runs' last.
+    let earlier = if fresh {
         0
+    } else {
+        bag_splits(&a.out.join("mission.mcap")).count() as u32
     };
     let record = record_args(a);
-    let fresh = a.resume.is_none();
     let mut recorder = start(
         "recorder",
         exe,
@@ -93,11 +91,10 @@ pub(super) fn start_all(
     )?;
     (recorder.args, recorder.earlier) = (record, earlier);
     let mut procs = vec![recorder];
-    if a.resume.is_some() {
+    if !fresh {
         detector.push("wait_resampled:=true".into());
         if let (Some(p), "vehicle_sim") = (carried.position, driver.0) {
-            driver.1.retain(|s| !s.starts_with("start:="));
-            driver.1.push(format!("start:=[{}, {}]", p[0], p[1]));
+            start_at(&mut driver.1, p);
         }
     }
     for (name, params) in [
@@ -133,9 +130,7 @@ pub(super) fn respawn(
             eprintln!("  {} exited ({status}); starting it again", p.name);
             p.restarts += 1;
             if let (Some(q), "vehicle_sim") = (at, p.name) {
-                for arg in p.args.iter_mut().filter(|s| s.starts_with("start:=")) {
-                    *arg = format!("start:=[{}, {}]", q[0], q[1]);
-                }
+                start_at(&mut p.args, q);
             }
             let args = args_for_start(&p.args, p.earlier + p.restarts);
             p.child = spawn(p.name, exe, &args, out)?;
@@ -186,12 +181,26 @@ fn bag_split(first: &Path, n: u32) -> PathBuf {
     first.with_file_name(format!("{stem}_{n}.mcap"))
 }
 
+/// The bag's splits on disk, in order (`first`, `…_1.mcap`, … up to the first missing).
+fn bag_splits(first: &Path) -> impl Iterator<Item = PathBuf> + '_ {
+    (0..)
+        .map(|n| bag_split(first, n))
+        .take_while(|p| p.is_file())
+}
+
 /// The bag's size: all its splits.
 pub(super) fn bag_bytes(first: &Path) -> u64 {
-    (0..)
-        .map_while(|n| std::fs::metadata(bag_split(first, n)).ok())
+    bag_splits(first)
+        .filter_map(|p| std::fs::metadata(p).ok())
         .map(|m| m.len())
         .sum()
+}
+
+/// vehicle_sim's `start` parameter (which sim_driver always sets) moved to `q`.
+fn start_at(args: &mut [String], q: [f32; 3]) {
+    for arg in args.iter_mut().filter(|s| s.starts_with("start:=")) {
+        *arg = format!("start:=[{}, {}]", q[0], q[1]);
+    }
 }
 
 /// Messages and bytes per topic over the bag and its splits (a split that
@@ -200,11 +209,7 @@ pub(super) fn bag_topics(
     first: &Path,
 ) -> std::collections::BTreeMap<String, crate::bag::TopicSize> {
     let mut all = std::collections::BTreeMap::<String, crate::bag::TopicSize>::new();
-    for n in 0.. {
-        let split = bag_split(first, n);
-        if !split.is_file() {
-            break;
-        }
+    for split in bag_splits(first) {
         match crate::bag::topic_sizes(&split) {
             Ok(sizes) => {
                 for (topic, s) in sizes {

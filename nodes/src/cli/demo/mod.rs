@@ -158,10 +158,9 @@ fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
         // A new mission starts a new merge (the explorer would go on from one left here).
         launch::remove_merge(&a.merge_store())?;
         let _ = std::fs::remove_file(a.out.join(resume::PROGRESS_FILE));
-        let command = serde_json::to_vec_pretty(&DemoArgs::command_json())
-            .map_err(|e| RuntimeError::Node(e.to_string()))?;
-        skyground_core::file::write(&a.out.join(args::COMMAND_FILE), command)
-            .map_err(|e| RuntimeError::Node(e.to_string()))?;
+        resume::Command::now()
+            .write(&a.out)
+            .map_err(RuntimeError::Node)?;
         resume::Carried::default()
     };
     Ok(resume::Carried {

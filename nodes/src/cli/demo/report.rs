@@ -65,28 +65,26 @@ pub(super) fn take_store(
     prior: &Survey,
     outcome: &mut Outcome,
 ) -> Result<Merge, RuntimeError> {
-    let Some(stored) = skyground_core::explore::read_store(dir)
+    let w = &mut outcome.watch;
+    let had = w.resampled.as_ref().map_or(0, Cloud::len);
+    // The store appends in the order the explorer published: `had` is its prefix.
+    let Some(stored) = skyground_core::explore::read_store(dir, had)
         .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?
     else {
         return Ok(Merge::default());
     };
-    let w = &mut outcome.watch;
-    let had = w.resampled.as_ref().map_or(0, Cloud::len);
-    let tail = stored.points.get(had..).unwrap_or(&[]).to_vec();
-    let mut new = Cloud::from_xyz(tail);
-    new.origin = prior.cloud.origin;
-    outcome.after.add(&prior.scene, &prior.gt, &new);
-    let since = new.len();
-    match w.resampled.as_mut() {
-        Some(r) => r.xyz.extend_from_slice(&new.xyz),
-        None if since > 0 => {
-            new.origin = [0.0; 3];
-            w.resampled = Some(new);
-        }
-        None => {}
+    let since = stored.points.len();
+    if since > 0 {
+        let mut new = Cloud::from_xyz(stored.points);
+        new.origin = prior.cloud.origin;
+        outcome.after.add(&prior.scene, &prior.gt, &new);
+        let r = w
+            .resampled
+            .get_or_insert_with(|| Cloud::from_xyz(Vec::new()));
+        r.xyz.extend_from_slice(&new.xyz);
     }
     Ok(Merge {
-        points: stored.points.len(),
+        points: stored.total,
         scans: stored.scans,
         since_last_publish: since,
     })

@@ -1,8 +1,8 @@
-//! Resuming: what a mission did so far, kept in its folder
-//! (`progress.json`, beside `command.json` and the merge store), so that
+//! Resuming: what a mission is and did so far, kept in its folder
+//! (`command.json`, `progress.json`, beside the merge store), so that
 //! `demo --resume DIR` goes on from it.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
@@ -10,6 +10,46 @@ use crate::runtime::RuntimeError;
 
 /// The file in a mission's folder that holds its progress.
 pub const PROGRESS_FILE: &str = "progress.json";
+
+/// The file in a mission's folder that holds its command line.
+pub const COMMAND_FILE: &str = "command.json";
+
+/// A mission's command line: every argument after `demo`, and the folder
+/// they were given in (their relative paths' base).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub(super) struct Command {
+    pub argv: Vec<String>,
+    pub cwd: Option<PathBuf>,
+}
+
+impl Command {
+    /// This process's command line.
+    pub fn now() -> Command {
+        let all: Vec<String> = std::env::args().collect();
+        let at = all
+            .iter()
+            .position(|s| s == "demo")
+            .map_or(all.len(), |i| i + 1);
+        Command {
+            argv: all[at..].to_vec(),
+            cwd: std::env::current_dir().ok(),
+        }
+    }
+
+    /// The command line kept in `dir`; an error names the file.
+    pub fn read(dir: &Path) -> Result<Command, String> {
+        let path = dir.join(COMMAND_FILE);
+        let bytes = skyground_core::file::read(&path)
+            .map_err(|e| format!("--resume {e} (not a demo's output folder?)"))?;
+        serde_json::from_slice(&bytes).map_err(|e| format!("--resume {}: {e}", path.display()))
+    }
+
+    /// Writes it into `dir`, atomically.
+    pub fn write(&self, dir: &Path) -> Result<(), String> {
+        let json = serde_json::to_vec_pretty(self).map_err(|e| e.to_string())?;
+        skyground_core::file::write(&dir.join(COMMAND_FILE), json).map_err(|e| e.to_string())
+    }
+}
 
 /// What a mission had done when its progress was last written: counted
 /// over every run of it (the first and each resume).

@@ -115,8 +115,7 @@ pub(super) async fn follow(
         contours.async_stream(),
     );
     futures::pin_mut!(c_s, p_s, v_s, r_s, o_s, m_s);
-    let mut f = Follower::new(a, prior, before, t0);
-    f.carried = carried;
+    let mut f = Follower::new(a, prior, before, t0, carried);
     let mut tick = tokio::time::interval(Duration::from_secs(5));
     let mut respawn_tick = tokio::time::interval(Duration::from_millis(500));
     let rule = stop_rule(a, &carried);
@@ -179,7 +178,13 @@ fn sample(procs: &[Proc], prof: &mut Profile) {
 }
 
 impl<'a> Follower<'a> {
-    fn new(a: &'a DemoArgs, prior: &'a Survey, before: &'a MeasureSoFar, t0: Instant) -> Self {
+    fn new(
+        a: &'a DemoArgs,
+        prior: &'a Survey,
+        before: &'a MeasureSoFar,
+        t0: Instant,
+        carried: Carried,
+    ) -> Self {
         Self {
             a,
             prior,
@@ -195,7 +200,7 @@ impl<'a> Follower<'a> {
             w: Watch::default(),
             console: Console::new(),
             t0,
-            carried: Carried::default(),
+            carried,
             dog: Watchdog::new(STALL_S, STALL_RESTARTS),
             last_stamp: 0.0,
             clock_offset: 0.0,
@@ -391,10 +396,10 @@ impl<'a> Follower<'a> {
                 "  route of round {} done: {} points, {} regions (of them {} given up, blocked); {} left off (seen on the way); {} unreachable; {} set-downs",
                 f.round, f.done.0, f.done.1, f.given_up, f.seen, f.unreachable, f.set_downs
             ));
+            // A round's end is in progress.json before anything can kill the mission.
+            self.keep_progress();
         }
         self.state();
-        // A round's end is in progress.json before anything can kill the mission.
-        self.keep_progress();
     }
 
     fn odometry(&mut self, o: &Odometry) {
