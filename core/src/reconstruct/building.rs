@@ -33,6 +33,33 @@ pub struct Model {
     pub points: usize,
     /// Boundary segments fitted to wall points or to the outline.
     pub walls: WallFit,
+    /// The model's level of detail.
+    pub lod: Lod,
+    /// Why the model fell back to LoD 1.2 (`None` for LoD 2.2).
+    pub fallback: Option<Skip>,
+    /// Its fit to its points and footprint, and its validity.
+    pub quality: super::quality::ModelQuality,
+}
+
+/// The level of detail a model was made at (CityJSON `lod`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Lod {
+    /// Roof planes, walls where the parts' heights differ (3DBAG's LoD 2.2).
+    #[serde(rename = "2.2")]
+    Lod22,
+    /// The footprint extruded to one roof height (3DBAG's LoD 1.2).
+    #[serde(rename = "1.2")]
+    Lod12,
+}
+
+impl Lod {
+    /// The CityJSON `lod` string.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Lod::Lod22 => "2.2",
+            Lod::Lod12 => "1.2",
+        }
+    }
 }
 
 /// What one building's reconstruction is given besides its points.
@@ -148,6 +175,46 @@ pub(crate) fn reconstruct_building(
         planes: region_plane.len(),
         points: xyz.len(),
         walls: fit,
+        lod: Lod::Lod22,
+        fallback: None,
+        quality: Default::default(),
+    })
+}
+
+/// Fewest points a LoD 1.2 fallback takes its roof height from.
+const FALLBACK_MIN_POINTS: usize = 3;
+
+/// The LoD 1.2 model of a building whose LoD 2.2 failed for `why`, when
+/// its footprint holds enough points to give it a height.
+pub(crate) fn fallback_building(
+    xyz: &[[f32; 3]],
+    inp: &Inputs,
+    why: Skip,
+) -> Result<Model, Skip> {
+    if xyz.is_empty() {
+        return Err(Skip::NoPoints);
+    }
+    if xyz.len() < FALLBACK_MIN_POINTS || why == Skip::EmptyFootprint {
+        return Err(why);
+    }
+    let (base, top) = super::prism::prism_heights(xyz, inp.footprint, inp.ground).ok_or(why)?;
+    let shell = super::prism::prism(inp.footprint, base, top);
+    if shell.faces.is_empty() {
+        return Err(Skip::EmptyFootprint);
+    }
+    Ok(Model {
+        id: inp.id,
+        name: inp.name.to_string(),
+        shell,
+        outline: inp.footprint.clone(),
+        base,
+        open_base: false,
+        planes: 0,
+        points: xyz.len(),
+        walls: WallFit::default(),
+        lod: Lod::Lod12,
+        fallback: Some(why),
+        quality: Default::default(),
     })
 }
 

@@ -103,10 +103,16 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
                     "walls_on_points": m.walls.on_wall_points,
                     "walls_on_outline": m.walls.on_outline,
                     "open_ground_floor": m.open_base,
+                    "skyground_lod": m.lod.as_str(),
+                    "skyground_fallback_reason": m.fallback,
+                    "skyground_rmse_m": m.quality.rmse_m,
+                    "skyground_footprint_iou": m.quality.footprint_iou,
+                    "skyground_val3dity_codes": m.quality.val3dity,
+                    "skyground_points": m.points,
                 },
                 "geometry": [{
                     "type": "Solid",
-                    "lod": "2.2",
+                    "lod": m.lod.as_str(),
                     "boundaries": [surfaces],
                     "semantics": {
                         "surfaces": [

@@ -26,6 +26,8 @@ pub enum ReconstructError {
 /// Why one building got no model (the others still do).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum Skip {
+    /// No point of the cloud lies in its footprint (outside the survey).
+    NoPoints,
     /// Fewer points than a plane needs.
     TooFewPoints,
     /// No roof plane was found in its points.

@@ -10,6 +10,7 @@
 //! - `walls`: boundary segments between parts of different height move
 //!   onto the wall points along them; without wall points they keep the
 //!   footprint's line, so a wall the cloud missed stays approximate;
+//! - `prism`: the LoD 1.2 fallback where no roof plane is found;
 //! - `solid`: roof faces, vertical faces and the base as one closed shell
 //!   ([`Shell::check`] counts edge uses);
 //! - [`cityjson`], [`obj`]: writers; [`evaluate`]: distances to the truth;
@@ -24,6 +25,8 @@ pub(crate) mod normals;
 pub mod obj;
 mod params;
 mod partition;
+mod prism;
+pub mod quality;
 pub(crate) mod planes;
 mod solid;
 mod walls;
@@ -31,12 +34,13 @@ mod walls;
 #[cfg(test)]
 mod tests;
 
-pub use building::Model;
+pub use building::{Lod, Model};
 pub use compare::{BeforeAfter, PRIOR_OFF_M, compare};
 pub use error::{ReconstructError, Skip};
 pub use evaluate::{DistanceStats, ModelEvaluation, ModelScore, evaluate_models};
 pub use params::ReconstructParams;
 pub use planes::RoofPlane;
+pub use quality::ModelQuality;
 pub use solid::{ModelFace, Shell, SolidCheck, SurfaceType};
 pub use walls::WallFit;
 
@@ -133,7 +137,11 @@ pub fn reconstruct_cloud(
                 given: footprints.is_some(),
                 ground: terrain.as_ref(),
             };
-            building::reconstruct_building(pts, &inp, params).map_err(|s| (f.id, s))
+            let mut m = building::reconstruct_building(pts, &inp, params)
+                .or_else(|why| building::fallback_building(pts, &inp, why))
+                .map_err(|s| (f.id, s))?;
+            m.quality = quality::assess(&m, pts, &f.polygon);
+            Ok(m)
         })
         .collect();
     for r in results {
@@ -143,6 +151,25 @@ pub fn reconstruct_cloud(
         }
     }
     Ok(out)
+}
+
+/// The val3dity codes `shell` fails.
+pub fn validity_codes(shell: &Shell) -> Vec<u16> {
+    let c = shell.check();
+    let mut out = Vec::new();
+    if c.degenerate_faces > 0 {
+        out.push(101);
+    }
+    if c.boundary_edges > 0 {
+        out.push(302);
+    }
+    if c.non_manifold_edges > 0 {
+        out.push(303);
+    }
+    if c.misoriented_edges > 0 {
+        out.push(307);
+    }
+    out
 }
 
 /// One point per voxel of `edge` m: the one nearest the voxel's centre

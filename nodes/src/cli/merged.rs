@@ -38,12 +38,18 @@ pub fn merged_cloud(prior: &Cloud, resampled: Option<&Cloud>) -> Cloud {
 pub type AfterResult = (Result<(), String>, Result<ModelEvaluation, RuntimeError>);
 
 /// The merged cloud written to `file` (LAS or LAZ by its extension) while
-/// `models_after.*` are made beside it.
-pub fn after(file: &Path, scene: &Scene, merged: &Cloud, spacing: f32) -> AfterResult {
+/// `models_after.*` are made beside it (per footprint when given, in the cloud's frame).
+pub fn after(
+    file: &Path,
+    scene: &Scene,
+    merged: &Cloud,
+    spacing: f32,
+    footprints: Option<&[skyground_core::footprint::Footprint]>,
+) -> AfterResult {
     let out = file.parent().unwrap_or(Path::new("."));
     std::thread::scope(|s| {
         let las = s.spawn(|| write_cloud(file, merged));
-        let models = super::reconstruct::models_of(out, "models_after", scene, merged, spacing);
+        let models = super::reconstruct::models_of(out, "models_after", scene, merged, spacing, footprints);
         let las = las
             .join()
             .map_err(|_| format!("writing {} panicked", file.display()))

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::Cloud;
+use skyground_core::footprint::Footprint;
 use skyground_core::cloud::extent::check_plan_extent;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
@@ -20,9 +21,10 @@ use crate::runtime::RuntimeError;
 /// Options of `skyground reconstruct`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ReconstructArgs {
-    /// The cloud (LAS/LAZ/PLY); building points are class 6 (all points when unlabelled).
-    #[arg(long = "in")]
-    pub input: PathBuf,
+    /// The cloud (LAS/LAZ/PLY); building points are class 6 (all points when
+    /// unlabelled). Tiles of one survey: repeat `--in` or join them by commas.
+    #[arg(long = "in", required = true, value_delimiter = ',')]
+    pub input: Vec<PathBuf>,
     #[command(flatten)]
     pub footprints: super::footprints::FootprintsArg,
     /// Output folder: models.city.json, models.obj, reconstruct.json.
@@ -40,9 +42,39 @@ pub struct ReconstructArgs {
     /// Spacing of the surface samples for the accuracy measures, m.
     #[arg(long, default_value_t = 0.25)]
     pub gt_spacing: f32,
+    /// Reconstruction parameters as JSON (any of `ReconstructParams`' fields;
+    /// the rest keep their defaults).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Reads `--params`: a JSON object of reconstruction parameters.
+fn read_params(path: Option<&Path>) -> Result<ReconstructParams, RuntimeError> {
+    let Some(p) = path else {
+        return Ok(ReconstructParams::default());
+    };
+    let text = std::fs::read_to_string(p).map_err(|e| err(format!("--params {}: {e}", p.display())))?;
+    let params: ReconstructParams = serde_json::from_str(&text)
+        .map_err(|e| err(format!("--params {}: {e}", p.display())))?;
+    params
+        .validate()
+        .map_err(|e| err(format!("--params {}: {e}", p.display())))?;
+    Ok(params)
+}
+
+/// `k / n`, `None` for nothing counted.
+fn share(k: usize, n: usize) -> Option<f64> {
+    (n > 0).then(|| k as f64 / n as f64)
+}
+
+/// The median of `v`, `None` when empty.
+fn median(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let mut v: Vec<f64> = v.collect();
+    v.sort_by(f64::total_cmp);
+    (!v.is_empty()).then(|| v[v.len() / 2])
 }
 
 fn metres(v: Option<f64>) -> String {
@@ -53,11 +85,12 @@ fn metres(v: Option<f64>) -> String {
 /// in its CRS and unit.
 pub fn reconstruct_and_write(
     cloud: &Cloud,
-    footprints: Option<&[skyground_core::footprint::Footprint]>,
+    footprints: Option<&[Footprint]>,
     dir: &Path,
     name: &str,
+    params: &ReconstructParams,
 ) -> Result<Reconstruction, RuntimeError> {
-    let rec = reconstruct_cloud(cloud, footprints, &ReconstructParams::default()).map_err(err)?;
+    let rec = reconstruct_cloud(cloud, footprints, params).map_err(err)?;
     std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
     cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec).map_err(err)?;
     obj::write_obj(&dir.join(format!("{name}.obj")), &rec).map_err(err)?;
@@ -165,7 +198,7 @@ pub fn evaluate_against(scene: &Scene, rec: &Reconstruction, spacing: f32) -> Mo
 
 /// Runs the reconstruction; an error names the input.
 pub fn run(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
-    reconstruct_file(a).map_err(|e| super::about(std::slice::from_ref(&a.input), e))
+    reconstruct_file(a).map_err(|e| super::about(&a.input, e))
 }
 
 fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeError> {
@@ -175,8 +208,9 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             a.gt_spacing
         )));
     }
+    let params = read_params(a.params.as_deref())?;
     let given = a.footprints.read(a.gt.as_deref())?;
-    let cloud = a.units.read(&a.input)?;
+    let cloud = a.units.read_tiles(&a.input)?;
     check_plan_extent(&cloud).map_err(err)?;
     if let Some(c) = cloud.crs.as_ref().filter(|c| c.epsg.is_none()) {
         // CityJSON names a CRS by an authority's URL; a WKT alone has none.
@@ -191,7 +225,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
         .map(|r| super::footprints::in_frame(r, &cloud.frame()))
         .transpose()?;
     let t0 = std::time::Instant::now();
-    let rec = reconstruct_and_write(&cloud, footprints.as_deref(), &a.out, "models")?;
+    let rec = reconstruct_and_write(&cloud, footprints.as_deref(), &a.out, "models", &params)?;
     let seconds = t0.elapsed().as_secs_f64();
     let pts = building_points(&cloud, cloud.origin);
     let fit = points_to_models(&rec, &pts);
@@ -210,7 +244,8 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             let scene =
                 skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = a.units.read(b)?;
-            let (mb, ma) = before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing)?;
+            let (mb, ma) =
+                before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing, footprints.as_deref())?;
             let pictured = write_picture(
                 &a.out.join("models.png"),
                 &scene,
@@ -227,7 +262,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             let md = format!(
                 "# LoD2 models before ({}) and after ({})\n\n`models.png`: buildings {pictured:?} (rows, each labelled with its id), before left, after right, coloured by distance to the truth 0 → 0.5 m; each column's head gives its mean distance; scale bar in the input's unit; north up.\n\n{}\n{}",
                 b.display(),
-                a.input.display(),
+                super::units::describe(&a.input),
                 table(&mb, Some(&ma)),
                 verdict_md(&verdict)
             );
@@ -255,19 +290,25 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
                 "id": m.id, "name": m.name, "faces": m.shell.faces.len(),
                 "vertices": m.shell.vertices.len(), "roof_planes": m.planes,
                 "points": m.points, "base": frame.to_source([0.0, 0.0, m.base])[2], "open_ground_floor": m.open_base,
-                "walls": m.walls, "check": c, "watertight": c.watertight(), "valid": c.valid(),
+                "walls": m.walls, "check": c, "watertight": c.watertight(),
+                "valid": m.quality.val3dity.is_empty(), "val3dity": m.quality.val3dity,
+                "lod": m.lod, "fallback_reason": m.fallback,
+                "rmse_m": m.quality.rmse_m, "footprint_iou": m.quality.footprint_iou,
             })
         })
         .collect();
     let value = serde_json::json!({
-        "input": a.input,
+        "input": super::units::describe(&a.input),
         "crs": super::info::crs_json(cloud.crs.as_ref()),
         "footprints": a.footprints.footprints,
         "models_written": a.out.join("models.city.json"),
         "models": rec.models.len(),
         "skipped": rec.skipped.iter().map(|(id, why)| serde_json::json!({"id": id, "why": why})).collect::<Vec<_>>(),
         "all_watertight": checks.iter().all(|c| c.watertight()),
-        "all_valid": checks.iter().all(|c| c.valid()),
+        "all_valid": rec.models.iter().all(|m| m.quality.val3dity.is_empty()),
+        "valid_share": share(rec.models.iter().filter(|m| m.quality.val3dity.is_empty()).count(), rec.models.len()),
+        "lod12_fallbacks": rec.models.iter().filter(|m| m.fallback.is_some()).count(),
+        "rmse_median_m": median(rec.models.iter().filter_map(|m| m.quality.rmse_m)),
         "points_to_model_mean": fit,
         "building_points": pts.len(),
         "points_on_models": fit_points,
@@ -303,10 +344,11 @@ pub fn before_after(
     prior: &Cloud,
     merged: &Cloud,
     spacing: f32,
+    footprints: Option<&[Footprint]>,
 ) -> Result<(ModelEvaluation, ModelEvaluation), RuntimeError> {
     Ok((
-        models_of(dir, "models_before", scene, prior, spacing)?,
-        models_of(dir, "models_after", scene, merged, spacing)?,
+        models_of(dir, "models_before", scene, prior, spacing, footprints)?,
+        models_of(dir, "models_after", scene, merged, spacing, footprints)?,
     ))
 }
 
@@ -318,8 +360,9 @@ pub fn models_of(
     scene: &Scene,
     cloud: &Cloud,
     spacing: f32,
+    footprints: Option<&[Footprint]>,
 ) -> Result<ModelEvaluation, RuntimeError> {
-    let rec = reconstruct_and_write(cloud, None, dir, name)?;
+    let rec = reconstruct_and_write(cloud, footprints, dir, name, &ReconstructParams::default())?;
     Ok(evaluate_against(scene, &rec, spacing))
 }
 

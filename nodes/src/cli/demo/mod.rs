@@ -20,6 +20,7 @@ use std::time::Instant;
 
 use skyground_core::cloud::write_cloud;
 use skyground_core::crs::Crs;
+use skyground_core::footprint::Footprint;
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::prior::unlabelled;
 use skyground_core::scene::{Cropped, Scene, load_scene_and_crs};
@@ -69,7 +70,12 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     // last round's points are left to measure).
     let mut before = MeasureSoFar::new(&prior.gt, prior.tau);
     before.add(&prior.scene, &prior.gt, &prior.cloud);
-    let models_before = models_in_background(&a, &prior);
+    // Given footprints shape the models too: one per footprint, its id kept.
+    let footprints = given
+        .as_ref()
+        .map(|r| crate::cli::footprints::in_frame(r, &prior.cloud.frame()))
+        .transpose()?;
+    let models_before = models_in_background(&a, &prior, footprints.clone());
     let aerial = a.cloud_file("aerial");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
@@ -95,7 +101,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         t0,
     )
     .await?;
-    let mission = (&prior, before, crop.as_ref(), model_crs);
+    let mission = (&prior, before, crop.as_ref(), model_crs, footprints.as_deref());
     stop_and_report(
         &a,
         mission,
@@ -106,11 +112,21 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     .await
 }
 
+/// The mission's survey, what was measured before it, its crop, the city
+/// model's CRS and the given footprints (in the prior's frame).
+type Mission<'a> = (
+    &'a Survey,
+    MeasureSoFar,
+    Option<&'a Cropped>,
+    Option<Crs>,
+    Option<&'a [Footprint]>,
+);
+
 /// Stops the nodes, takes in the merge store and reports; an error when the
 /// mission did not finish (the report is written all the same).
 async fn stop_and_report(
     a: &DemoArgs,
-    (prior, before, crop, model_crs): (&Survey, MeasureSoFar, Option<&Cropped>, Option<Crs>),
+    (prior, before, crop, model_crs, footprints): Mission<'_>,
     (procs, mut outcome): (&mut [launch::Proc], watch::Outcome),
     models_before: report::ModelsBefore,
     (t0, prof): (Instant, &mut Profile),
@@ -126,6 +142,7 @@ async fn stop_and_report(
         prior,
         crop,
         model_crs,
+        footprints,
         before: before.measured(&prior.gt),
         outcome,
         restarts: launch::restarts(procs),
@@ -191,7 +208,11 @@ fn say_prior(a: &DemoArgs, prior: &Survey, before: &MeasureSoFar, t0: Instant) {
 }
 
 /// The prior's LoD2 models, made on a thread of their own while the mission runs.
-fn models_in_background(a: &DemoArgs, prior: &Survey) -> report::ModelsBefore {
+fn models_in_background(
+    a: &DemoArgs,
+    prior: &Survey,
+    footprints: Option<Vec<Footprint>>,
+) -> report::ModelsBefore {
     let (dir, scene, cloud, spacing) = (
         a.out.clone(),
         prior.scene.clone(),
@@ -199,7 +220,14 @@ fn models_in_background(a: &DemoArgs, prior: &Survey) -> report::ModelsBefore {
         prior.gt.spacing,
     );
     std::thread::spawn(move || {
-        crate::cli::reconstruct::models_of(&dir, "models_before", &scene, &cloud, spacing)
+        crate::cli::reconstruct::models_of(
+            &dir,
+            "models_before",
+            &scene,
+            &cloud,
+            spacing,
+            footprints.as_deref(),
+        )
     })
 }
 

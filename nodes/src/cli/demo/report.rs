@@ -34,6 +34,8 @@ pub(super) struct Inputs<'a> {
     /// The crop the mission ran on, and the city model's CRS (also for a crop).
     pub crop: Option<&'a Cropped>,
     pub model_crs: Option<Crs>,
+    /// Given footprints in the prior's frame: the models are made per footprint.
+    pub footprints: Option<&'a [Footprint]>,
     pub before: Measured,
     pub outcome: Outcome,
     /// Nodes started again after they exited, and how often.
@@ -160,7 +162,13 @@ fn build_models(
     prof.stage("report: resampled cloud beside the LoD2 models after");
     let merged = merged_cloud(&r.prior.cloud, r.outcome.watch.resampled.as_ref());
     let file = r.a.cloud_file("resampled");
-    let (written, ma) = after(&file, &r.prior.scene, &merged, r.prior.gt.spacing);
+    let (written, ma) = after(
+        &file,
+        &r.prior.scene,
+        &merged,
+        r.prior.gt.spacing,
+        r.footprints,
+    );
     written.map_err(err)?;
     let after = ma?;
     prof.stage("report: LoD2 models before (made during the mission)");
