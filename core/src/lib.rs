@@ -4,7 +4,8 @@
 //! `lidar` hold the inputs and the simulated world; then `ground` (CSF),
 //! `features`, `forest` and `classify` (step 1), `footprint` (2), `slice`,
 //! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),
-//! `explore` (7), `vehicle` (8) and `metrics` (9).
+//! `explore` (7), `vehicle` (8) and `metrics` (9); `validity` checks a
+//! CityJSON Solid as val3dity does (ISO 19107, its error codes).
 
 pub mod classify;
 pub mod cloud;
@@ -34,4 +35,5 @@ pub mod scene;
 pub mod skeleton;
 pub mod slice;
 pub mod targets;
+pub mod validity;
 pub mod vehicle;
