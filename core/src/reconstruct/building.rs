@@ -164,7 +164,8 @@ pub(crate) fn reconstruct_building(
     };
     snap_ridges(&mut part, &plane_of, 1.5 * cell);
     split_crossings(&mut part, &height);
-    let shell = build_shell(&part, &height);
+    let mut shell = build_shell(&part, &height);
+    shell.split_warped_roofs(WARP_TOL_M);
     Ok(Model {
         id: inp.id,
         name: inp.name.to_string(),
@@ -181,16 +182,16 @@ pub(crate) fn reconstruct_building(
     })
 }
 
+/// A roof face farther than this from planar is split into triangles
+/// (half val3dity's 1 cm planarity tolerance, leaving room for the writers' 1 mm rounding).
+const WARP_TOL_M: f64 = 0.005;
+
 /// Fewest points a LoD 1.2 fallback takes its roof height from.
 const FALLBACK_MIN_POINTS: usize = 3;
 
 /// The LoD 1.2 model of a building whose LoD 2.2 failed for `why`, when
 /// its footprint holds enough points to give it a height.
-pub(crate) fn fallback_building(
-    xyz: &[[f32; 3]],
-    inp: &Inputs,
-    why: Skip,
-) -> Result<Model, Skip> {
+pub(crate) fn fallback_building(xyz: &[[f32; 3]], inp: &Inputs, why: Skip) -> Result<Model, Skip> {
     if xyz.is_empty() {
         return Err(Skip::NoPoints);
     }

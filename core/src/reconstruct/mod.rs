@@ -25,9 +25,9 @@ pub(crate) mod normals;
 pub mod obj;
 mod params;
 mod partition;
+pub(crate) mod planes;
 mod prism;
 pub mod quality;
-pub(crate) mod planes;
 mod solid;
 mod walls;
 
@@ -153,23 +153,32 @@ pub fn reconstruct_cloud(
     Ok(out)
 }
 
-/// The val3dity codes `shell` fails.
+/// The val3dity codes `shell` fails (ISO 19107 checks of [`crate::validity`],
+/// val3dity's tolerances), each once, in order.
 pub fn validity_codes(shell: &Shell) -> Vec<u16> {
-    let c = shell.check();
-    let mut out = Vec::new();
-    if c.degenerate_faces > 0 {
-        out.push(101);
-    }
-    if c.boundary_edges > 0 {
-        out.push(302);
-    }
-    if c.non_manifold_edges > 0 {
-        out.push(303);
-    }
-    if c.misoriented_edges > 0 {
-        out.push(307);
-    }
-    out
+    let solid = crate::validity::Solid {
+        vertices: shell.vertices.clone(),
+        shells: vec![
+            shell
+                .faces
+                .iter()
+                .map(|f| {
+                    f.rings
+                        .iter()
+                        .map(|r| r.iter().map(|&v| v as usize).collect())
+                        .collect()
+                })
+                .collect(),
+        ],
+    };
+    let mut codes: Vec<u16> =
+        crate::validity::check_solid(&solid, &crate::validity::Tolerances::default())
+            .into_iter()
+            .map(|f| f.code)
+            .collect();
+    codes.sort_unstable();
+    codes.dedup();
+    codes
 }
 
 /// One point per voxel of `edge` m: the one nearest the voxel's centre

@@ -111,7 +111,8 @@ mod tests {
 
     #[test]
     fn a_prism_with_a_courtyard_is_closed_and_faces_outward() {
-        let outer = polygon![(x: 0.0, y: 0.0), (x: 10.0, y: 0.0), (x: 10.0, y: 8.0), (x: 0.0, y: 8.0)];
+        let outer =
+            polygon![(x: 0.0, y: 0.0), (x: 10.0, y: 0.0), (x: 10.0, y: 8.0), (x: 0.0, y: 8.0)];
         let hole = polygon![(x: 3.0, y: 3.0), (x: 6.0, y: 3.0), (x: 6.0, y: 5.0), (x: 3.0, y: 5.0)];
         let fp = MultiPolygon(vec![Polygon::new(
             outer.exterior().clone(),
@@ -136,7 +137,9 @@ mod tests {
 
     #[test]
     fn heights_take_the_seventieth_percentile_and_keep_a_storey() {
-        let fp = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 4.0, y: 0.0), (x: 4.0, y: 4.0)]]);
+        let fp = MultiPolygon(vec![
+            polygon![(x: 0.0, y: 0.0), (x: 4.0, y: 0.0), (x: 4.0, y: 4.0)],
+        ]);
         let pts: Vec<[f32; 3]> = (0..10).map(|k| [1.0, 1.0, k as f32]).collect();
         assert_eq!(prism_heights(&pts, &fp, None), Some((0.0, 7.0)));
         let flat = [[1.0f32, 1.0, 2.0]];

@@ -11,8 +11,10 @@ use geo::{Coord, LineString, MultiPolygon, Polygon};
 
 use super::partition::Partition;
 
-/// Two heights at one 2D vertex closer than this (m) are one vertex.
-const LEVEL_EPS: f64 = 0.02;
+/// Two heights at one 2D vertex closer than this (m) are one vertex; under
+/// val3dity's 1 cm planarity tolerance, so a roof face moved onto a merged
+/// level stays planar.
+const LEVEL_EPS: f64 = 0.008;
 
 /// What a face of a model is (CityJSON semantic surface).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
@@ -105,6 +107,51 @@ impl Shell {
             }
         }
         out
+    }
+
+    /// Replaces each roof face farther than `tol` m from planar (a plane
+    /// clamped to the building's height range at some corners) by its
+    /// triangles, so every face is planar as ISO 19107 asks; the boundary
+    /// edges stay, so the shell stays closed.
+    pub(crate) fn split_warped_roofs(&mut self, tol: f64) {
+        let mut out = Vec::with_capacity(self.faces.len());
+        for f in std::mem::take(&mut self.faces) {
+            let rings: Vec<Vec<[f64; 3]>> = f
+                .rings
+                .iter()
+                .map(|r| r.iter().map(|&v| self.vertices[v as usize]).collect())
+                .collect();
+            let flat: Vec<[f64; 3]> = rings.iter().flatten().copied().collect();
+            let warped = f.kind == SurfaceType::RoofSurface
+                && crate::scene::polygon::newell_normal(&flat).is_some_and(|n| {
+                    let c = flat
+                        .iter()
+                        .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
+                    let c = c.map(|v| v / flat.len() as f64);
+                    flat.iter().any(|p| {
+                        ((p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2]).abs()
+                            > tol
+                    })
+                });
+            if !warped {
+                out.push(f);
+                continue;
+            }
+            let ids: Vec<u32> = f.rings.iter().flatten().copied().collect();
+            let refs: Vec<&[[f64; 3]]> = rings.iter().map(|r| r.as_slice()).collect();
+            let tris = crate::scene::polygon::triangulate_3d(&refs);
+            if tris.is_empty() {
+                out.push(f);
+                continue;
+            }
+            for t in tris {
+                out.push(ModelFace {
+                    kind: f.kind,
+                    rings: vec![t.iter().map(|&i| ids[i]).collect()],
+                });
+            }
+        }
+        self.faces = out;
     }
 
     /// The faces as triangles with their kind.

@@ -49,7 +49,8 @@ pub fn after(
     let out = file.parent().unwrap_or(Path::new("."));
     std::thread::scope(|s| {
         let las = s.spawn(|| write_cloud(file, merged));
-        let models = super::reconstruct::models_of(out, "models_after", scene, merged, spacing, footprints);
+        let models =
+            super::reconstruct::models_of(out, "models_after", scene, merged, spacing, footprints);
         let las = las
             .join()
             .map_err(|_| format!("writing {} panicked", file.display()))

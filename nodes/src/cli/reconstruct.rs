@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::Cloud;
-use skyground_core::footprint::Footprint;
 use skyground_core::cloud::extent::check_plan_extent;
+use skyground_core::footprint::Footprint;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
@@ -56,9 +56,10 @@ fn read_params(path: Option<&Path>) -> Result<ReconstructParams, RuntimeError> {
     let Some(p) = path else {
         return Ok(ReconstructParams::default());
     };
-    let text = std::fs::read_to_string(p).map_err(|e| err(format!("--params {}: {e}", p.display())))?;
-    let params: ReconstructParams = serde_json::from_str(&text)
-        .map_err(|e| err(format!("--params {}: {e}", p.display())))?;
+    let text =
+        std::fs::read_to_string(p).map_err(|e| err(format!("--params {}: {e}", p.display())))?;
+    let params: ReconstructParams =
+        serde_json::from_str(&text).map_err(|e| err(format!("--params {}: {e}", p.display())))?;
     params
         .validate()
         .map_err(|e| err(format!("--params {}: {e}", p.display())))?;
@@ -244,8 +245,14 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             let scene =
                 skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = a.units.read(b)?;
-            let (mb, ma) =
-                before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing, footprints.as_deref())?;
+            let (mb, ma) = before_after(
+                &a.out,
+                &scene,
+                &prior,
+                &cloud,
+                a.gt_spacing,
+                footprints.as_deref(),
+            )?;
             let pictured = write_picture(
                 &a.out.join("models.png"),
                 &scene,

@@ -101,7 +101,13 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         t0,
     )
     .await?;
-    let mission = (&prior, before, crop.as_ref(), model_crs, footprints.as_deref());
+    let mission = (
+        &prior,
+        before,
+        crop.as_ref(),
+        model_crs,
+        footprints.as_deref(),
+    );
     stop_and_report(
         &a,
         mission,
