@@ -19,7 +19,7 @@ use crate::scene::Scene;
 use crate::scene::vec3::{cross, norm, sub};
 
 /// Distances farther than this (m) count as this far (a model far off).
-const FAR: f64 = 50.0;
+pub(crate) const FAR: f64 = 50.0;
 
 /// Mean, root mean square and 95th percentile of one set of surface
 /// distances, m (`None` without distances).

@@ -8,11 +8,9 @@ use geo::{Contains, Coord, MultiPolygon};
 use serde::Serialize;
 
 use super::building::Model;
+use super::evaluate::FAR;
 use crate::footprint::iou;
 use crate::metrics::{MeshBackend, MeshDistance};
-
-/// Points farther than this from their model count as this far, m.
-const FAR: f64 = 50.0;
 
 /// What [`assess`] finds of one model.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]

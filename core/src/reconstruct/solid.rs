@@ -123,16 +123,7 @@ impl Shell {
                 .collect();
             let flat: Vec<[f64; 3]> = rings.iter().flatten().copied().collect();
             let warped = f.kind == SurfaceType::RoofSurface
-                && crate::scene::polygon::newell_normal(&flat).is_some_and(|n| {
-                    let c = flat
-                        .iter()
-                        .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
-                    let c = c.map(|v| v / flat.len() as f64);
-                    flat.iter().any(|p| {
-                        ((p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2]).abs()
-                            > tol
-                    })
-                });
+                && crate::validity::flatness(&flat).is_some_and(|d| d > tol);
             if !warped {
                 out.push(f);
                 continue;

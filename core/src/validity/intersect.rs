@@ -1,9 +1,9 @@
 //! Shell self-intersection (306): triangles of different surfaces that meet
 //! other than along the edge or at the vertex they share.
 
-use super::plane::{cross, dot, sub};
 use super::surface::Face;
 use super::tritri::{Tri, segment_meets_triangle, triangles_meet};
+use crate::scene::vec3::{cross, dot, sub};
 
 /// One surface triangle, placed.
 struct Placed {

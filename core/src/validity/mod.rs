@@ -37,6 +37,7 @@ mod tests;
 
 pub use cityjson::{from_cityjson_geometry, solids_from_cityjson_geometry};
 pub use codes::code_name;
+pub use plane::flatness;
 
 use serde::Serialize;
 

@@ -1,9 +1,10 @@
 //! Which way a shell's surfaces turn (307): against each other along shared
 //! edges, and as a whole by the sign of the enclosed volume.
 
-use super::plane::{dot, newell, sub};
+use super::plane::newell;
 use super::shell::Edges;
 use super::surface::Face;
+use crate::scene::vec3::{dot, sub};
 use std::collections::VecDeque;
 
 /// Faces turned against their neighbours: across each shared edge the two

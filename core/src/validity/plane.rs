@@ -1,6 +1,7 @@
 //! A surface's least-squares plane and the 2D frame its rings are drawn in.
 
 use crate::geom::eigen::sym3_eigen;
+use crate::scene::vec3::{cross, dot, normalize, sub};
 
 /// A plane through `origin` with unit `normal`, and unit axes `u`, `v` in it
 /// such that `u × v = normal` (counter-clockwise in (u, v) turns about the normal).
@@ -52,7 +53,7 @@ impl Plane {
         } else {
             [0.0, 0.0, 1.0]
         };
-        let u = unit(cross(normal, axis))?;
+        let u = normalize(cross(normal, axis))?;
         let v = cross(normal, u);
         Some(Self {
             origin,
@@ -91,27 +92,14 @@ pub(super) fn newell(ring: &[[f64; 3]]) -> [f64; 3] {
     n
 }
 
-/// `a − b`.
-pub(super) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// The dot product.
-pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// The cross product.
-pub(super) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// `a` scaled to length 1; `None` when it has no direction.
-pub(super) fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
-    let n = dot(a, a).sqrt();
-    (n > 0.0 && n.is_finite()).then(|| a.map(|c| c / n))
+/// The largest distance of `points` from their least-squares plane, m
+/// (`None` for fewer than 3 points): what code 203 holds against `planarity_m`.
+pub fn flatness(points: &[[f64; 3]]) -> Option<f64> {
+    let plane = Plane::fit(points, [0.0, 0.0, 1.0])?;
+    Some(
+        points
+            .iter()
+            .map(|p| plane.distance(*p).abs())
+            .fold(0.0, f64::max),
+    )
 }

@@ -5,8 +5,9 @@ use super::codes::{
     INNER_RING_OUTSIDE, INTERSECTION_RINGS, NON_PLANAR_POLYGON_DISTANCE_PLANE,
     NON_PLANAR_POLYGON_NORMALS_DEVIATION, ORIENTATION_RINGS_SAME,
 };
-use super::plane::{Plane, cross, dot, sub};
+use super::plane::Plane;
 use super::ring::segment;
+use crate::scene::vec3::{cross, dot, sub};
 use geo::{Coord, CoordinatePosition, LineIntersection, line_intersection::line_intersection};
 use geo::{LineString, Polygon, coordinate_position::CoordPos};
 

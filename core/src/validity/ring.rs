@@ -1,7 +1,7 @@
 //! The ring checks of one surface: 101, 102 and 104 (val3dity's ring level).
 
 use super::codes::{CONSECUTIVE_POINTS_SAME, RING_SELF_INTERSECTION, TOO_FEW_POINTS};
-use super::plane::sub;
+use crate::scene::vec3::sub;
 use geo::{Coord, Line, LineIntersection, line_intersection::line_intersection};
 
 /// 101 when the ring has fewer than 3 distinct vertices, else 102 when two

@@ -1,8 +1,8 @@
 //! Contact between triangles and segments in 3D, closed and with a distance
 //! tolerance: the predicates of the shell self-intersection check (306).
 
-use super::plane::{cross, dot, sub, unit};
 use crate::geom::segment;
+use crate::scene::vec3::{cross, dot, normalize, sub};
 
 /// A triangle's corners.
 pub(super) type Tri = [[f64; 3]; 3];
@@ -16,7 +16,7 @@ pub(super) fn triangles_meet(a: &Tri, b: &Tri, eps: f64) -> bool {
 
 /// Whether segment `p → q` comes within `eps` of closed triangle `t`.
 pub(super) fn segment_meets_triangle(p: [f64; 3], q: [f64; 3], t: &Tri, eps: f64) -> bool {
-    let Some(n) = unit(cross(sub(t[1], t[0]), sub(t[2], t[0]))) else {
+    let Some(n) = normalize(cross(sub(t[1], t[0]), sub(t[2], t[0]))) else {
         return false;
     };
     let dp = dot(sub(p, t[0]), n);

@@ -48,21 +48,20 @@ impl FootprintsArg {
     }
 
     /// The completeness_detector params that give it these footprints
-    /// (`read`, from [`Self::read`]) for a cloud in `crs` whose local frame
-    /// starts at `origin` (metres): what the demo passes (`footprints:=`,
-    /// `footprint_id:=`, `crs:=`, `origin:=`), after checking their CRS, so a
-    /// bad file stops the demo before any node starts.
+    /// (`loaded`: [`Self::read`]'s, already moved by [`in_frame`] into the
+    /// cloud's frame, so a bad file or CRS has stopped the demo before any
+    /// node starts) for a cloud in `crs` whose local frame starts at
+    /// `origin` (metres): `footprints:=`, `footprint_id:=`, `crs:=`, `origin:=`.
     pub fn detector_params(
         &self,
-        read: Option<&SourceFootprints>,
+        loaded: Option<&[Footprint]>,
         scene: Option<&str>,
         crs: Option<&Crs>,
         origin: [f64; 3],
     ) -> Result<Vec<String>, RuntimeError> {
-        let Some(read) = read else {
+        if loaded.is_none() {
             return Ok(Vec::new());
-        };
-        in_frame(read, &SourceFrame::new(origin, crs.cloned()))?;
+        }
         let spec = resolve_source(
             &self
                 .footprints

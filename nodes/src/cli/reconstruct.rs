@@ -56,13 +56,10 @@ fn read_params(path: Option<&Path>) -> Result<ReconstructParams, RuntimeError> {
     let Some(p) = path else {
         return Ok(ReconstructParams::default());
     };
-    let text =
-        std::fs::read_to_string(p).map_err(|e| err(format!("--params {}: {e}", p.display())))?;
-    let params: ReconstructParams =
-        serde_json::from_str(&text).map_err(|e| err(format!("--params {}: {e}", p.display())))?;
-    params
-        .validate()
-        .map_err(|e| err(format!("--params {}: {e}", p.display())))?;
+    let bad = |e: &dyn std::fmt::Display| err(format!("--params {}: {e}", p.display()));
+    let text = std::fs::read_to_string(p).map_err(|e| bad(&e))?;
+    let params: ReconstructParams = serde_json::from_str(&text).map_err(|e| bad(&e))?;
+    params.validate().map_err(|e| bad(&e))?;
     Ok(params)
 }
 

@@ -16,4 +16,4 @@ mod earcut;
 mod plane;
 
 pub use earcut::triangulate_2d;
-pub use plane::{newell_normal, triangulate_3d};
+pub use plane::triangulate_3d;

@@ -19,7 +19,7 @@ pub use args::{DemoArgs, FieldArgs};
 use std::time::Instant;
 
 use skyground_core::cloud::write_cloud;
-use skyground_core::crs::Crs;
+use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::footprint::Footprint;
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::prior::unlabelled;
@@ -53,16 +53,21 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let (full, model_crs) =
         load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
-    // Footprints in another CRS than the cloud's stop the demo here, before any node starts.
-    let detector = a
-        .footprints
-        .detector_params(
-            given.as_ref(),
-            Some(&a.scene()),
-            prior.cloud.crs.as_ref(),
-            prior.scene.origin,
-        )
+    // Footprints in another CRS than the cloud's stop the demo here, before
+    // any node starts; in the prior's frame they also shape the models (one
+    // per footprint, its id kept).
+    let frame = SourceFrame::new(prior.scene.origin, prior.cloud.crs.clone());
+    let footprints = given
+        .as_ref()
+        .map(|r| crate::cli::footprints::in_frame(r, &frame))
+        .transpose()
         .map_err(|e| err(format!("footprints: {e}")))?;
+    let detector = a.footprints.detector_params(
+        footprints.as_deref(),
+        Some(&a.scene()),
+        prior.cloud.crs.as_ref(),
+        prior.scene.origin,
+    )?;
     // Only a mission that can start clears (or takes up) what its folder holds.
     let carried = start_or_resume(&a)?;
     // The prior's measurement and models are ready before the mission ends;
@@ -70,11 +75,6 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     // last round's points are left to measure).
     let mut before = MeasureSoFar::new(&prior.gt, prior.tau);
     before.add(&prior.scene, &prior.gt, &prior.cloud);
-    // Given footprints shape the models too: one per footprint, its id kept.
-    let footprints = given
-        .as_ref()
-        .map(|r| crate::cli::footprints::in_frame(r, &prior.cloud.frame()))
-        .transpose()?;
     let models_before = models_in_background(&a, &prior, footprints.clone());
     let aerial = a.cloud_file("aerial");
     // The classifier labels the prior itself: publish it without the simulator's labels.
