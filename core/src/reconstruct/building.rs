@@ -189,13 +189,15 @@ const WARP_TOL_M: f64 = 0.005;
 /// Fewest points a LoD 1.2 fallback takes its roof height from.
 const FALLBACK_MIN_POINTS: usize = 3;
 
-/// The LoD 1.2 model of a building whose LoD 2.2 failed for `why`, when
-/// its footprint holds enough points to give it a height.
+/// The LoD 1.2 model of a given footprint whose LoD 2.2 failed for `why`,
+/// when it holds enough points to give it a height.
 pub(crate) fn fallback_building(xyz: &[[f32; 3]], inp: &Inputs, why: Skip) -> Result<Model, Skip> {
     if xyz.is_empty() {
         return Err(Skip::NoPoints);
     }
-    if xyz.len() < FALLBACK_MIN_POINTS || why == Skip::EmptyFootprint {
+    // A derived footprint without a roof plane is a fragment or clutter, not
+    // a building someone named: only given footprints fall back.
+    if !inp.given || xyz.len() < FALLBACK_MIN_POINTS || why == Skip::EmptyFootprint {
         return Err(why);
     }
     let (base, top) = super::prism::prism_heights(xyz, inp.footprint, inp.ground).ok_or(why)?;
