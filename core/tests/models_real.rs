@@ -59,8 +59,26 @@ fn every_delft_building_the_survey_covers_gets_a_valid_model_with_its_bag_id() {
         .filter(|m| !m.quality.val3dity.is_empty())
         .map(|m| (m.id, m.quality.val3dity.clone()))
         .collect();
-    eprintln!("delft: {valid} of {n} valid; failing {codes:?}");
-    assert!(valid as f64 >= 0.95 * n as f64, "{codes:?}");
+    let replaced: Vec<_> = rec
+        .models
+        .iter()
+        .filter(|m| !m.quality.rejected_val3dity.is_empty())
+        .map(|m| (m.id, m.quality.rejected_val3dity.clone()))
+        .collect();
+    eprintln!(
+        "delft: {valid} of {n} valid; failing {codes:?}; invalid LoD 2.2 replaced by LoD 1.2 {replaced:?}"
+    );
+    // Issue 48's bar; the LoD 2.2 solids alone gave 97.5 % at 4da4053.
+    assert!(valid as f64 >= 0.98 * n as f64, "{codes:?}");
+    assert!(replaced.len() <= 8, "{replaced:?}");
+    for m in rec
+        .models
+        .iter()
+        .filter(|m| !m.quality.rejected_val3dity.is_empty())
+    {
+        assert_eq!(m.fallback, Some(Skip::InvalidSolid), "building {}", m.id);
+        assert!(m.quality.val3dity.is_empty(), "building {}", m.id);
+    }
     let mut rmse: Vec<f64> = rec.models.iter().filter_map(|m| m.quality.rmse_m).collect();
     rmse.sort_by(f64::total_cmp);
     let median = rmse[rmse.len() / 2];

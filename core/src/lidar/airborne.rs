@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::caster::Caster;
 use super::intensity::{INTENSITY_FULL_SCALE, reflectance};
+use super::patches::{Patch, joined};
 use super::ray::{Hit, Ray, cross, dot, normalize};
 use crate::cloud::Cloud;
 use crate::params::{Checks, ParamError};
@@ -243,6 +244,36 @@ pub struct FlightLine {
     pub length: f32,
 }
 
+/// The areas a survey of `caster`'s scene flies over: each part whose
+/// buildings lie far from the others' on its own, at its own ground's
+/// height; a compact scene (or one without buildings) is one area, the
+/// scene's bounds.
+pub fn survey_areas(caster: &Caster, config: &AirborneConfig) -> Vec<Patch> {
+    let parts = joined(caster.patches().to_vec(), reach(config).1);
+    if parts.len() > 1 {
+        return parts;
+    }
+    caster
+        .bounds()
+        .map(|(lo, hi)| Patch {
+            lo,
+            hi,
+            ground_top: caster.ground_top(),
+        })
+        .into_iter()
+        .collect()
+}
+
+/// How far lines reach beyond the area flown, metres: across (the margin)
+/// and along it (the margin plus an oblique beam's lead).
+fn reach(config: &AirborneConfig) -> (f32, f32) {
+    let margin = config.margin_m.unwrap_or(0.5 * config.swath_width());
+    let lead = config
+        .oblique_deg
+        .map_or(0.0, |o| config.altitude_m * o.to_radians().tan().abs());
+    (margin, margin + lead)
+}
+
 /// The flight lines of a survey over a scene with bounds `(lo, hi)` whose
 /// highest ground is at `ground_top`.
 pub fn flight_lines(
@@ -254,11 +285,7 @@ pub fn flight_lines(
     let z = ground_top + config.altitude_m;
     let swath = config.swath_width();
     let spacing = config.line_spacing().max(1e-3);
-    let margin = config.margin_m.unwrap_or(0.5 * swath);
-    let run_in = margin
-        + config
-            .oblique_deg
-            .map_or(0.0, |o| config.altitude_m * o.to_radians().tan().abs());
+    let (margin, run_in) = reach(config);
     let axes: &[usize] = match config.pattern {
         FlightPattern::AlongX => &[0],
         FlightPattern::AlongY => &[1],
@@ -321,11 +348,14 @@ pub fn airborne_scan(caster: &Caster, config: &AirborneConfig) -> Result<Cloud, 
         origin: caster.origin(),
         ..Cloud::default()
     };
-    let Some((lo, hi)) = caster.bounds() else {
+    let Some((lo, _)) = caster.bounds() else {
         return Ok(cloud);
     };
     let ground_top = caster.ground_top().unwrap_or(lo[2]);
-    let lines = flight_lines(config, lo, hi, ground_top);
+    let lines: Vec<FlightLine> = survey_areas(caster, config)
+        .iter()
+        .flat_map(|p| flight_lines(config, p.lo, p.hi, p.ground_top.unwrap_or(p.lo[2])))
+        .collect();
     let scan_rate = config.scan_rate();
     let per_scan = ((config.pulse_rate_hz / scan_rate).round() as usize).max(1);
     let theta = config.scan_angle_deg.to_radians();

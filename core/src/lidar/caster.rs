@@ -5,6 +5,7 @@ use rayon::prelude::*;
 
 use super::bvh::{Bvh, PACKET};
 use super::parry_mesh::ParryMesh;
+use super::patches::{Patch, patches};
 use super::ray::{Hit, Ray, cross, normalize, sub};
 use super::triangle::PreparedRay;
 use crate::scene::{ObjectKind, Scene, SceneCheckError, SceneObject};
@@ -71,6 +72,8 @@ pub struct Caster {
     ground_top: Option<f32>,
     /// The scene's origin.
     origin: [f64; 3],
+    /// The parts of the scene far apart in plan.
+    patches: Vec<Patch>,
 }
 
 impl Caster {
@@ -91,6 +94,7 @@ impl Caster {
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
         let mut ground_top: Option<f32> = None;
+        let mut kinds = Vec::with_capacity(n);
         for (t, (tri, &obj)) in scene
             .triangles
             .iter()
@@ -110,6 +114,7 @@ impl Caster {
                     hi[k] = hi[k].max(p[k]);
                 }
             }
+            kinds.push(scene.objects[obj as usize].kind);
             if scene.objects[obj as usize].kind == ObjectKind::Ground {
                 let top = v[0][2].max(v[1][2]).max(v[2][2]);
                 ground_top = Some(ground_top.map_or(top, |g| g.max(top)));
@@ -118,6 +123,7 @@ impl Caster {
             ids.push(t as u32);
         }
         let bounds = (!tris.is_empty()).then_some((lo, hi));
+        let patches = patches(&tris, &kinds);
         let index = match backend {
             CastBackend::Bvh => Index::Bvh(Bvh::new(tris, ids)),
             CastBackend::Parry => Index::Parry(Box::new(ParryMesh::new(tris, ids))),
@@ -131,6 +137,7 @@ impl Caster {
             bounds,
             ground_top,
             origin: scene.origin,
+            patches,
         })
     }
 
@@ -155,6 +162,12 @@ impl Caster {
     /// Highest point of the scene's ground objects; `None` without ground.
     pub fn ground_top(&self) -> Option<f32> {
         self.ground_top
+    }
+
+    /// The parts of the scene whose buildings lie at least
+    /// [`PATCH_GAP_M`](super::patches::PATCH_GAP_M) apart in plan.
+    pub fn patches(&self) -> &[Patch] {
+        &self.patches
     }
 
     /// The scene's origin (its local frame in the source coordinates).

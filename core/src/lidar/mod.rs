@@ -22,6 +22,7 @@ mod bvh;
 mod caster;
 mod intensity;
 mod parry_mesh;
+pub mod patches;
 mod pose;
 mod ray;
 pub mod spinning;

@@ -108,6 +108,7 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
                     "skyground_rmse_m": m.quality.rmse_m,
                     "skyground_footprint_iou": m.quality.footprint_iou,
                     "skyground_val3dity_codes": m.quality.val3dity,
+                    "skyground_rejected_lod22_val3dity_codes": m.quality.rejected_val3dity,
                     "skyground_points": m.points,
                 },
                 "geometry": [{

@@ -34,4 +34,7 @@ pub enum Skip {
     NoRoofPlane,
     /// Its footprint covers no raster cell.
     EmptyFootprint,
+    /// Its LoD 2.2 solid failed the ISO 19107 checks (the codes are in
+    /// the model's `rejected_val3dity`).
+    InvalidSolid,
 }

@@ -90,15 +90,21 @@ pub(crate) fn prism(footprint: &MultiPolygon<f64>, base: f64, top: f64) -> Shell
 }
 
 /// A ring's vertices without the closing repeat and without consecutive repeats.
+/// Footprint vertices nearer than this, m, are merged.
+const DUP_M: f64 = 0.002;
+
 fn open_ring(ring: &LineString<f64>) -> Vec<[f64; 2]> {
     let mut out: Vec<[f64; 2]> = Vec::new();
+    // Footprint vertices this close are one corner to val3dity (code 102
+    // after the writers' 1 mm rounding): keep the first.
+    let near = |a: &[f64; 2], b: &[f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < DUP_M;
     for c in ring.coords() {
         let q = [c.x, c.y];
-        if out.last() != Some(&q) {
+        if out.last().is_none_or(|l| !near(l, &q)) {
             out.push(q);
         }
     }
-    while out.len() > 1 && out.first() == out.last() {
+    while out.len() > 1 && near(&out[0], &out[out.len() - 1]) {
         out.pop();
     }
     out

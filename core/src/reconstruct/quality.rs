@@ -21,6 +21,9 @@ pub struct ModelQuality {
     pub footprint_iou: Option<f64>,
     /// val3dity error codes of the solid (empty: valid).
     pub val3dity: Vec<u16>,
+    /// The codes of the LoD 2.2 solid this model replaced, when it is a
+    /// fallback for [`Skip::InvalidSolid`](super::Skip::InvalidSolid).
+    pub rejected_val3dity: Vec<u16>,
 }
 
 /// Measures `model` against its points `xyz` and its `footprint`.
@@ -50,5 +53,6 @@ pub fn assess(model: &Model, xyz: &[[f32; 3]], footprint: &MultiPolygon<f64>) ->
         rmse_m,
         footprint_iou: Some(iou(&model.outline, footprint)),
         val3dity: super::validity_codes(&model.shell),
+        rejected_val3dity: Vec::new(),
     }
 }

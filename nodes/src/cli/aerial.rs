@@ -7,6 +7,7 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::cloud::{Cloud, CloudIoError, write_cloud};
+use skyground_core::lidar::airborne::survey_areas;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{
     CompletenessReport, GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances,
@@ -83,8 +84,8 @@ pub fn survey_of(
 ) -> Result<Survey, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
     let p = params(params_file)?;
-    check_survey_size(&scene, &p, scene_spec)?;
     let caster = Caster::new(&scene).map_err(|e| err(format!("scene {scene_spec}: {e}")))?;
+    check_survey_size(&scene, &caster, &p, scene_spec)?;
     let t1 = Instant::now();
     let cloud = airborne_scan(&caster, &p.survey).map_err(|e| err(format!("survey: {e}")))?;
     let scan_s = t1.elapsed().as_secs_f64();
@@ -192,17 +193,24 @@ pub fn run(a: &AerialArgs) -> Result<serde_json::Value, RuntimeError> {
 const MAX_SURVEY_POINTS: f64 = 5e7;
 
 /// `Err`, before anything is allocated, when the survey of `scene` (its
-/// plan extent at the survey's nominal density) or the samples of its
+/// parts' plan areas at the survey's nominal density) or the samples of its
 /// building surfaces would hold more than [`MAX_SURVEY_POINTS`]: a
 /// kilometre-wide terrain mesh, or a model whose integer vertices lack the
 /// scale that makes them metres.
-fn check_survey_size(scene: &Scene, p: &Params, spec: &str) -> Result<(), RuntimeError> {
+fn check_survey_size(
+    scene: &Scene,
+    caster: &Caster,
+    p: &Params,
+    spec: &str,
+) -> Result<(), RuntimeError> {
     let Some((lo, hi)) = scene.bounds() else {
         return Ok(());
     };
     let size = [0, 1].map(|k| f64::from(hi[k] - lo[k]));
     let density = f64::from(p.survey.nominal_density());
-    let points = size[0] * size[1] * density;
+    // Parts far apart are flown over one by one: only their own areas count.
+    let patches = survey_areas(caster, &p.survey);
+    let points = patches.iter().map(|q| q.area()).sum::<f64>() * density;
     let building_area: f64 = (0..scene.triangles.len())
         .filter(|&t| {
             let o = scene.triangle_object.get(t).map(|&o| o as usize);
@@ -229,8 +237,14 @@ fn check_survey_size(scene: &Scene, p: &Params, spec: &str) -> Result<(), Runtim
         return Ok(());
     }
     Err(RuntimeError::Node(format!(
-        "scene {spec}: {:.0} m × {:.0} m in plan, {:.0} m² of building surface: its survey at {density:.1} pts/m² would hold ~{:.2e} points and its ground truth at {} m spacing ~{:.2e} samples, more than the {limit:.0e} one run holds in memory: crop the scene (skyground crop), lower the survey's density in a params file, or check the model's units",
-        size[0], size[1], building_area, points, p.gt_spacing_m, samples
+        "scene {spec}: {:.0} m × {:.0} m in plan ({} part(s) far apart), {:.0} m² of building surface: its survey at {density:.1} pts/m² would hold ~{:.2e} points and its ground truth at {} m spacing ~{:.2e} samples, more than the {limit:.0e} one run holds in memory: crop the scene (skyground crop), lower the survey's density in a params file, or check the model's units",
+        size[0],
+        size[1],
+        patches.len(),
+        building_area,
+        points,
+        p.gt_spacing_m,
+        samples
     )))
 }
 

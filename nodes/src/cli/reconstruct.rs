@@ -296,7 +296,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
                 "points": m.points, "base": frame.to_source([0.0, 0.0, m.base])[2], "open_ground_floor": m.open_base,
                 "walls": m.walls, "check": c, "watertight": c.watertight(),
                 "valid": m.quality.val3dity.is_empty(), "val3dity": m.quality.val3dity,
-                "lod": m.lod, "fallback_reason": m.fallback,
+                "lod": m.lod, "fallback_reason": m.fallback, "rejected_val3dity": m.quality.rejected_val3dity,
                 "rmse_m": m.quality.rmse_m, "footprint_iou": m.quality.footprint_iou,
             })
         })
@@ -312,6 +312,8 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
         "all_valid": rec.models.iter().all(|m| m.quality.val3dity.is_empty()),
         "valid_share": share(rec.models.iter().filter(|m| m.quality.val3dity.is_empty()).count(), rec.models.len()),
         "lod12_fallbacks": rec.models.iter().filter(|m| m.fallback.is_some()).count(),
+        // Of those, LoD 2.2 solids that failed the ISO 19107 checks.
+        "invalid_lod22_replaced": rec.models.iter().filter(|m| !m.quality.rejected_val3dity.is_empty()).count(),
         "rmse_median_m": median(rec.models.iter().filter_map(|m| m.quality.rmse_m)),
         "points_to_model_mean": fit,
         "building_points": pts.len(),
