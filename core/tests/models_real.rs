@@ -10,7 +10,7 @@ use skyground_core::cloud::read_cloud;
 use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::{ReadOptions, read_footprints};
 use skyground_core::prior::join_tiles;
-use skyground_core::reconstruct::{Lod, ReconstructParams, Skip, reconstruct_cloud};
+use skyground_core::reconstruct::{Lod, Model, ReconstructParams, Skip, reconstruct_cloud};
 
 mod common;
 use common::real_file;
@@ -53,18 +53,16 @@ fn every_delft_building_the_survey_covers_gets_a_valid_model_with_its_bag_id() {
         .iter()
         .filter(|m| m.quality.val3dity.is_empty())
         .count();
-    let codes: Vec<_> = rec
-        .models
-        .iter()
-        .filter(|m| !m.quality.val3dity.is_empty())
-        .map(|m| (m.id, m.quality.val3dity.clone()))
-        .collect();
-    let replaced: Vec<_> = rec
-        .models
-        .iter()
-        .filter(|m| !m.quality.rejected_val3dity.is_empty())
-        .map(|m| (m.id, m.quality.rejected_val3dity.clone()))
-        .collect();
+    // (id, codes) of the models whose `which` codes are not empty.
+    let failing = |which: fn(&Model) -> &Vec<u16>| -> Vec<(u32, Vec<u16>)> {
+        rec.models
+            .iter()
+            .filter(|m| !which(m).is_empty())
+            .map(|m| (m.id, which(m).clone()))
+            .collect()
+    };
+    let codes = failing(|m| &m.quality.val3dity);
+    let replaced = failing(|m| &m.quality.rejected_val3dity);
     eprintln!(
         "delft: {valid} of {n} valid; failing {codes:?}; invalid LoD 2.2 replaced by LoD 1.2 {replaced:?}"
     );

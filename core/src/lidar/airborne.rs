@@ -249,7 +249,7 @@ pub struct FlightLine {
 /// height; a compact scene (or one without buildings) is one area, the
 /// scene's bounds.
 pub fn survey_areas(caster: &Caster, config: &AirborneConfig) -> Vec<Patch> {
-    let parts = joined(caster.patches().to_vec(), reach(config).1);
+    let parts = joined(caster.patches(), reach(config).1);
     if parts.len() > 1 {
         return parts;
     }

@@ -72,8 +72,6 @@ pub struct Caster {
     ground_top: Option<f32>,
     /// The scene's origin.
     origin: [f64; 3],
-    /// The parts of the scene far apart in plan.
-    patches: Vec<Patch>,
 }
 
 impl Caster {
@@ -94,7 +92,6 @@ impl Caster {
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
         let mut ground_top: Option<f32> = None;
-        let mut kinds = Vec::with_capacity(n);
         for (t, (tri, &obj)) in scene
             .triangles
             .iter()
@@ -114,7 +111,6 @@ impl Caster {
                     hi[k] = hi[k].max(p[k]);
                 }
             }
-            kinds.push(scene.objects[obj as usize].kind);
             if scene.objects[obj as usize].kind == ObjectKind::Ground {
                 let top = v[0][2].max(v[1][2]).max(v[2][2]);
                 ground_top = Some(ground_top.map_or(top, |g| g.max(top)));
@@ -123,7 +119,6 @@ impl Caster {
             ids.push(t as u32);
         }
         let bounds = (!tris.is_empty()).then_some((lo, hi));
-        let patches = patches(&tris, &kinds);
         let index = match backend {
             CastBackend::Bvh => Index::Bvh(Bvh::new(tris, ids)),
             CastBackend::Parry => Index::Parry(Box::new(ParryMesh::new(tris, ids))),
@@ -137,7 +132,6 @@ impl Caster {
             bounds,
             ground_top,
             origin: scene.origin,
-            patches,
         })
     }
 
@@ -165,9 +159,18 @@ impl Caster {
     }
 
     /// The parts of the scene whose buildings lie at least
-    /// [`PATCH_GAP_M`](super::patches::PATCH_GAP_M) apart in plan.
-    pub fn patches(&self) -> &[Patch] {
-        &self.patches
+    /// [`PATCH_GAP_M`](super::patches::PATCH_GAP_M) apart in plan (computed
+    /// on each call: only an airborne survey asks).
+    pub fn patches(&self) -> Vec<Patch> {
+        let (tris, ids) = self.index.triangles();
+        let kinds: Vec<ObjectKind> = ids
+            .iter()
+            .map(|&t| {
+                let o = self.triangle_object[t as usize] as usize;
+                self.objects[o].kind
+            })
+            .collect();
+        patches(tris, &kinds)
     }
 
     /// The scene's origin (its local frame in the source coordinates).

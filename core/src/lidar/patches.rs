@@ -29,19 +29,11 @@ pub struct Patch {
 }
 
 impl Patch {
-    fn of(t: &[[f32; 3]; 3], ground: bool) -> Self {
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for p in t {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+    fn of(t: &[[f32; 3]; 3]) -> Self {
         Self {
-            lo,
-            hi,
-            ground_top: ground.then_some(hi[2]),
+            lo: std::array::from_fn(|k| t[0][k].min(t[1][k]).min(t[2][k])),
+            hi: std::array::from_fn(|k| t[0][k].max(t[1][k]).max(t[2][k])),
+            ground_top: None,
         }
     }
 
@@ -77,7 +69,7 @@ pub fn patches(tris: &[[[f32; 3]; 3]], kind: &[ObjectKind]) -> Vec<Patch> {
         .iter()
         .enumerate()
         .filter(|&(i, _)| is_building(i))
-        .map(|(_, t)| Patch::of(t, false))
+        .map(|(_, t)| Patch::of(t))
         .collect();
     let Some(all) = boxes.iter().copied().reduce(|mut a, b| {
         a.join(&b);
