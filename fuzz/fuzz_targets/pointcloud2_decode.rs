@@ -1,4 +1,4 @@
-//! Arbitrary `sensor_msgs/PointCloud2` messages → `skyground_msgs::pointcloud2::decode`.
+//! Arbitrary `sensor_msgs/PointCloud2` messages → `skyground_nodes::convert::pointcloud2::decode`.
 //!
 //! The message is built with `arbitrary`, biased so that field names, sizes
 //! and offsets are often plausible (the decoder's deep paths) while still
@@ -8,9 +8,9 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use skyground_msgs::pointcloud2::decode;
 use skyground_msgs::sensor_msgs::{PointCloud2, PointField};
 use skyground_msgs::std_msgs::Header;
+use skyground_nodes::convert::pointcloud2::decode;
 
 /// A size or offset: usually small, sometimes anything.
 #[derive(Debug, Arbitrary)]

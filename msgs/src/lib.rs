@@ -15,7 +15,6 @@ mod fixed_array;
 pub mod geometry_msgs;
 pub mod message;
 pub mod nav_msgs;
-pub mod pointcloud2;
 pub mod rcl_interfaces;
 pub mod registry;
 pub mod rosgraph_msgs;

@@ -15,9 +15,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::cloud::class::{BUILDING, VEGETATION};
 use crate::features::Echoes;
+use crate::geom::normals::{Neighbourhoods, neighbourhoods};
+use crate::geom::planes::{NO_PLANE, RoofPlane, grow_planes_with};
 use crate::reconstruct::ReconstructParams;
-use crate::reconstruct::normals::{Neighbourhoods, neighbourhoods};
-use crate::reconstruct::planes::{NO_PLANE, RoofPlane, grow_planes_with};
 
 /// The widest growing angle (°) [`RoofCheck::for_spacing`] gives a sparse
 /// cloud: the widest measured on thinned copies of real tiles, at 1 pts/m².

@@ -13,6 +13,8 @@ pub mod eigen;
 #[cfg(test)]
 pub(crate) mod fixtures;
 pub mod grid;
+pub(crate) mod normals;
+pub(crate) mod planes;
 pub mod ring;
 pub mod segment;
 pub mod soup;

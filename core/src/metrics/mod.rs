@@ -21,7 +21,6 @@ pub mod gt;
 pub mod mesh_distance;
 mod nearest;
 pub mod producer;
-pub mod quality;
 pub(crate) mod triangle_grid;
 mod winding;
 
@@ -41,4 +40,3 @@ pub use gt::{
 pub use mesh_distance::{MeshBackend, MeshDistance};
 pub use nearest::nearest_distances;
 pub use producer::{ProducerCheck, TARGET_REACH_M, producer_check};
-pub use quality::{Mission, building_attributes};

@@ -22,6 +22,7 @@ pub mod inspect;
 pub mod planner;
 pub mod progress;
 pub mod protocol;
+pub mod quality;
 pub mod waiting;
 pub mod watchdog;
 
@@ -31,3 +32,4 @@ pub use protocol::{
     BlockedSpot, BuildingStatus, ExplorerState, ExplorerStatus, Phase, PlannerStatus,
     ProtocolError, VehicleEvent, VehicleStatus, Wire,
 };
+pub use quality::{Mission, building_attributes};

@@ -3,13 +3,13 @@
 use geo::{Contains, Coord, MultiPolygon};
 
 use super::error::Skip;
-use super::normals::neighbourhoods;
 use super::params::ReconstructParams;
 use super::partition::{regions, trace};
-use super::planes::{NO_PLANE, RoofPlane, grow_planes};
 use super::solid::{Shell, build_shell, outline, split_crossings};
 use super::walls::{Support, WallFit, snap_ridges, snap_walls};
 use crate::geom::grid::GridFrame;
+use crate::geom::normals::neighbourhoods;
+use crate::geom::planes::{NO_PLANE, RoofPlane, grow_planes};
 use crate::missing::GroundGrid;
 
 /// One building's LoD2 model (local frame of the cloud it came from).

@@ -21,11 +21,9 @@ pub mod cityjson;
 mod compare;
 mod error;
 pub mod evaluate;
-pub(crate) mod normals;
 pub mod obj;
 mod params;
 mod partition;
-pub(crate) mod planes;
 mod prism;
 pub mod quality;
 mod solid;
@@ -34,12 +32,12 @@ mod walls;
 #[cfg(test)]
 mod tests;
 
+pub use crate::geom::planes::RoofPlane;
 pub use building::{Lod, Model};
 pub use compare::{BeforeAfter, PRIOR_OFF_M, compare};
 pub use error::{ReconstructError, Skip};
 pub use evaluate::{DistanceStats, ModelEvaluation, ModelScore, evaluate_models};
 pub use params::ReconstructParams;
-pub use planes::RoofPlane;
 pub use quality::ModelQuality;
 pub use solid::{ModelFace, Shell, SolidCheck, SurfaceType};
 pub use walls::WallFit;

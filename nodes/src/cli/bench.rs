@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use std::process::Stdio;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
+use crate::convert::pointcloud2::{EncodeOptions, encode};
 use serde_json::{Value, json};
 use skyground_core::cloud::synthetic;
 use skyground_msgs::builtin_interfaces::Time;
-use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::std_msgs::Header;
 use tokio::io::{AsyncBufReadExt, BufReader, Lines};
 use tokio::process::{Child, ChildStdout, Command};

@@ -6,7 +6,8 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use skyground_core::metrics::{Evaluation, Mission, building_attributes};
+use skyground_core::metrics::Evaluation;
+use skyground_core::mission::{Mission, building_attributes};
 use skyground_core::scene::cityjson::{
     Attributes, annotated_model, city_files, is_city_file, read_city_model, scene_model,
 };

@@ -22,7 +22,7 @@ pub struct SinkArgs {
     #[arg(long, default_value = "reliable")]
     pub qos: String,
     /// Tile size of the publisher.
-    #[arg(long, default_value_t = skyground_msgs::pointcloud2::tiles::DEFAULT_TILE_POINTS)]
+    #[arg(long, default_value_t = crate::convert::pointcloud2::tiles::DEFAULT_TILE_POINTS)]
     pub tile_points: u32,
     /// Check every point against the synthetic cloud of the same size.
     #[arg(long)]

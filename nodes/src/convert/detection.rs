@@ -6,11 +6,11 @@ use skyground_core::cloud::Cloud;
 use skyground_core::footprint::Footprint;
 use std::collections::BTreeMap;
 
+use crate::convert::pointcloud2::{Decoded, EncodeOptions, encode_with};
 use skyground_core::missing::{BuildingDetection, Detection, MissingPoint, Strategy};
 use skyground_core::mission::BuildingStatus;
 use skyground_core::targets::BuildingPlan;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::pointcloud2::{Decoded, EncodeOptions, encode_with};
 use skyground_msgs::sensor_msgs::PointCloud2;
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
@@ -227,14 +227,14 @@ pub fn detection_markers(header: &Header, d: &Detection) -> MarkerArray {
 
 #[cfg(test)]
 mod tests {
+    use crate::convert::pointcloud2::decode;
+    use crate::convert::pointcloud2::tiles::{Assembler, split};
     use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
     use skyground_core::missing::{DetectParams, SceneParams, detect_scene};
     use skyground_core::scene::load_scene;
     use skyground_core::targets::{
         Site, TargetParams, consolidate, generate, generate_from_missing,
     };
-    use skyground_msgs::pointcloud2::decode;
-    use skyground_msgs::pointcloud2::tiles::{Assembler, split};
 
     use super::*;
 
@@ -295,7 +295,7 @@ mod tests {
         let mut c = Cloud::from_xyz(vec![[1.0, 2.0, 3.0]]);
         c.building = Some(vec![4]);
         let msg =
-            skyground_msgs::pointcloud2::encode(&c, Header::default(), &EncodeOptions::default());
+            crate::convert::pointcloud2::encode(&c, Header::default(), &EncodeOptions::default());
         let e = missing_from_message(&decode(&msg).expect("decodes")).expect_err("no normals");
         assert!(e.contains("`nx`"), "{e}");
     }

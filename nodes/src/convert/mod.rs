@@ -5,5 +5,6 @@ pub mod detection;
 pub mod diagnostics;
 pub mod markers;
 pub mod path;
+pub mod pointcloud2;
 pub mod targets;
 pub mod tf;

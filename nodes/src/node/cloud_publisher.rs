@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use crate::convert::diagnostics::array;
+use crate::convert::pointcloud2::{EncodeOptions, encode};
 use crate::runtime::{NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
 use ros2_client::Publisher;
@@ -13,7 +14,6 @@ use serde::Deserialize;
 use skyground_core::cloud::{self, Cloud, synthetic};
 use skyground_core::mission::Georeference;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]

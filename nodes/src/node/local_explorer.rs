@@ -10,6 +10,7 @@
 
 use std::time::Duration;
 
+use crate::convert::pointcloud2::{EncodeOptions, decode, encode};
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::{Cloud, class};
@@ -21,7 +22,6 @@ use skyground_core::mission::explorer::{
 use skyground_core::mission::{PlannerStatus, VehicleStatus};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::{Odometry, Path};
-use skyground_msgs::pointcloud2::{EncodeOptions, decode, encode};
 use skyground_msgs::sensor_msgs::PointCloud2;
 use skyground_msgs::visualization_msgs::MarkerArray;
 

@@ -1,10 +1,10 @@
 //! scene_classifier: /aerial_cloud → ground by CSF, vegetation vs building by
 //! the Random Forest → /classified_cloud (label field, latched). docs/design.md step 1.
 
+use crate::convert::pointcloud2::{EncodeOptions, encode};
 use serde::Deserialize;
 use skyground_core::classify::SceneClassifier;
 use skyground_core::ground::CsfParams;
-use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 
 use crate::runtime::model::load_model;
 use crate::runtime::{NodeRuntime, RuntimeError, qos};

@@ -9,6 +9,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::convert::pointcloud2::{EncodeOptions, encode};
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::Cloud;
@@ -17,7 +18,6 @@ use skyground_core::targets::{
     BuildingPlan, Site, TargetParams, consolidate, generate_from_missing,
 };
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
-use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 

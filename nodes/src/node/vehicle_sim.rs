@@ -8,6 +8,7 @@
 
 use std::time::{Duration, Instant};
 
+use crate::convert::pointcloud2::{EncodeOptions, encode};
 use serde::Deserialize;
 use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
 use skyground_core::mission::VehicleStatus;
@@ -18,7 +19,6 @@ use skyground_core::vehicle::{
 use skyground_msgs::builtin_interfaces::Time;
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::Odometry;
-use skyground_msgs::pointcloud2::{EncodeOptions, encode};
 use skyground_msgs::rosgraph_msgs::Clock;
 use skyground_msgs::sensor_msgs::PointCloud2;
 use skyground_msgs::std_msgs::Header;

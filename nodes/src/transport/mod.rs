@@ -1,5 +1,5 @@
 //! Point clouds over DDS: tiled, acknowledgement-paced publishing and
-//! reassembling subscriptions (the rule is in `skyground_msgs::pointcloud2::tiles`).
+//! reassembling subscriptions (the rule is in `crate::convert::pointcloud2::tiles`).
 
 mod publisher;
 mod subscriber;

@@ -2,11 +2,11 @@
 
 use std::time::{Duration, Instant};
 
+use crate::convert::pointcloud2::tiles;
 use ros2_client::QosProfile;
 use rustdds::no_key::DataWriterCdr;
 use rustdds::{QosPolicies, TopicDescription};
 use serde::Deserialize;
-use skyground_msgs::pointcloud2::tiles;
 use skyground_msgs::sensor_msgs::PointCloud2;
 
 use crate::runtime::{NodeRuntime, RuntimeError};

@@ -1,10 +1,10 @@
 //! Receiving clouds: reassembles tiles and decodes, reporting bad messages
 //! without stopping.
 
+use crate::convert::pointcloud2::{self, Decoded, tiles::Assembler};
 use futures::StreamExt;
 use ros2_client::{QosProfile, Subscription};
 use skyground_core::cloud::Cloud;
-use skyground_msgs::pointcloud2::{self, Decoded, tiles::Assembler};
 use skyground_msgs::sensor_msgs::PointCloud2;
 
 use crate::runtime::{Logger, NodeRuntime, RuntimeError};

@@ -4,7 +4,7 @@ use skyground_core::cloud::Cloud;
 
 use super::datatype;
 use super::error::PointCloud2Error;
-use crate::sensor_msgs::{PointCloud2, PointField};
+use skyground_msgs::sensor_msgs::{PointCloud2, PointField};
 
 /// A decoded cloud and what was left out of it.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -271,7 +271,7 @@ fn out_of_record(s: Slot, msg: &PointCloud2) -> PointCloud2Error {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sensor_msgs::PointField;
+    use skyground_msgs::sensor_msgs::PointField;
 
     /// An xyz FLOAT32 cloud of `width` × `height` points, 12 bytes each, no row padding.
     fn xyz_msg(width: u32, height: u32) -> PointCloud2 {
@@ -299,10 +299,10 @@ mod tests {
 
     #[test]
     fn empty_rows_return_at_once() {
-        let mut msg = crate::pointcloud2::encode(
+        let mut msg = crate::convert::pointcloud2::encode(
             &skyground_core::cloud::Cloud::from_xyz(vec![]),
-            crate::std_msgs::Header::default(),
-            &crate::pointcloud2::EncodeOptions::default(),
+            skyground_msgs::std_msgs::Header::default(),
+            &crate::convert::pointcloud2::EncodeOptions::default(),
         );
         msg.height = u32::MAX;
         msg.width = 0;

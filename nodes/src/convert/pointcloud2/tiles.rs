@@ -16,8 +16,8 @@
 
 use std::collections::VecDeque;
 
-use crate::builtin_interfaces::Time;
-use crate::sensor_msgs::PointCloud2;
+use skyground_msgs::builtin_interfaces::Time;
+use skyground_msgs::sensor_msgs::PointCloud2;
 
 /// Default tile size: 65,536 points (1 MiB at 16 bytes per point).
 pub const DEFAULT_TILE_POINTS: u32 = 65_536;
@@ -157,9 +157,9 @@ fn compatible(g: &PointCloud2, t: &PointCloud2) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pointcloud2::{EncodeOptions, decode, encode};
-    use crate::std_msgs::Header;
+    use crate::convert::pointcloud2::{EncodeOptions, decode, encode};
     use skyground_core::cloud::Cloud;
+    use skyground_msgs::std_msgs::Header;
 
     fn cloud(n: usize, sec: i32) -> PointCloud2 {
         let mut c = Cloud::from_xyz((0..n).map(|i| [i as f32, 0.0, 1.0]).collect());

@@ -1,6 +1,6 @@
 //! `PointField` datatype codes: sizes and little-endian reads of one value.
 
-use crate::sensor_msgs::PointField;
+use skyground_msgs::sensor_msgs::PointField;
 
 /// Size in bytes of a datatype, or `None` for an unknown code (0 or > 8).
 pub(super) fn size(datatype: u8) -> Option<usize> {

@@ -2,8 +2,8 @@
 
 use skyground_core::cloud::Cloud;
 
-use crate::sensor_msgs::{PointCloud2, PointField};
-use crate::std_msgs::Header;
+use skyground_msgs::sensor_msgs::{PointCloud2, PointField};
+use skyground_msgs::std_msgs::Header;
 
 /// Choices for [`encode`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

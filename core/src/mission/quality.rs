@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 
 use serde_json::{Map, Value, json};
 
-use super::completeness::Coverage;
-use super::evaluation::Evaluation;
+use crate::metrics::completeness::Coverage;
+use crate::metrics::evaluation::Evaluation;
 use crate::targets::TargetSet;
 
 /// Attribute name prefix.

@@ -2,10 +2,10 @@
 
 use proptest::prelude::*;
 use skyground_core::cloud::Cloud;
-use skyground_msgs::pointcloud2::{EncodeOptions, PointCloud2Error, decode, encode};
 use skyground_msgs::sensor_msgs::{PointCloud2, PointField};
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::{from_cdr, to_cdr};
+use skyground_nodes::convert::pointcloud2::{EncodeOptions, PointCloud2Error, decode, encode};
 
 fn header() -> Header {
     Header {
