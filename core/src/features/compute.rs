@@ -8,9 +8,9 @@ use rayon::prelude::*;
 use super::echo::{Echoes, UNKNOWN, voxel_counts};
 use super::error::FeatureError;
 use super::params::FeatureParams;
-use super::shape::nearest_moments;
 use super::voxel::{ScaleStats, VoxelStats, thin, voxel_stats};
 use crate::cloud::ColumnLength;
+use crate::geom::shape::nearest_moments;
 
 /// Column names of [`Features::data`], in order. `knn_*` lengths are divided
 /// by the k-NN radius (scale-free); `r1_*` / `r2_*` are the small / large

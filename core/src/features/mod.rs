@@ -16,7 +16,6 @@ pub mod compute;
 pub mod echo;
 pub mod error;
 pub mod params;
-pub(crate) mod shape;
 mod voxel;
 
 pub use compute::{FEATURE_NAMES, Features, R1_PLANARITY, compute, compute_subset};

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use super::echo;
 use super::params::FeatureParams;
-use super::shape::Moments;
+use crate::geom::shape::Moments;
 
 /// Voxel centroids and which voxel each point fell into.
 pub struct Voxels {

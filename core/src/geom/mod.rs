@@ -17,5 +17,6 @@ pub(crate) mod normals;
 pub(crate) mod planes;
 pub mod ring;
 pub mod segment;
+pub(crate) mod shape;
 pub mod soup;
 pub mod tiled;

@@ -5,7 +5,7 @@ use std::num::NonZeroUsize;
 use kiddo::ImmutableKdTree;
 use rayon::prelude::*;
 
-use crate::features::shape::nearest_moments;
+use super::shape::nearest_moments;
 
 /// Normals (unit, z ≥ 0), curvature and the k nearest neighbours of points.
 pub(crate) struct Neighbourhoods {

@@ -3,7 +3,7 @@
 //! which is refitted as the region grows; coplanar fragments are merged.
 
 use super::normals::Neighbourhoods;
-use crate::features::shape::Moments;
+use super::shape::Moments;
 use crate::reconstruct::ReconstructParams;
 
 /// A roof plane n·p + d = 0 (unit n, n_z > 0) and its support.

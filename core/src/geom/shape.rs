@@ -5,7 +5,7 @@ use std::num::NonZeroUsize;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
-use crate::geom::eigen::sym3_eigen;
+use super::eigen::sym3_eigen;
 
 /// The moments relative to `p` of its `k` nearest points of `xyz` (indexed by
 /// `tree`); `each` is given every one's index and squared distance, nearest first.
