@@ -1,10 +1,10 @@
-//! skyground-msgs: the ROS 2 message types skyground uses, and the PointCloud2 codec.
+//! skyground-msgs: the ROS 2 message types skyground uses.
 //!
 //! One module per ROS package; each struct's serde field order is its .msg
 //! field order, which is its CDR layout. [`to_cdr`] / [`from_cdr`] give the
 //! ROS 2 serialized form (as rclpy's `serialize_message`), [`full_definition`]
-//! the `ros2msg` schema for MCAP, and [`pointcloud2`] converts between
-//! [`skyground_core::cloud::Cloud`] and `sensor_msgs/PointCloud2`.
+//! the `ros2msg` schema for MCAP. It knows no algorithm: the conversion
+//! between a cloud and `sensor_msgs/PointCloud2` is the nodes' (`convert::pointcloud2`).
 
 #![warn(missing_docs)]
 

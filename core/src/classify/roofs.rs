@@ -16,8 +16,7 @@ use serde::{Deserialize, Serialize};
 use crate::cloud::class::{BUILDING, VEGETATION};
 use crate::features::Echoes;
 use crate::geom::normals::{Neighbourhoods, neighbourhoods};
-use crate::geom::planes::{NO_PLANE, RoofPlane, grow_planes_with};
-use crate::reconstruct::ReconstructParams;
+use crate::geom::planes::{NO_PLANE, PlaneGrowth, ROOF_MIN_NZ, RoofPlane, grow_planes_with};
 
 /// The widest growing angle (°) [`RoofCheck::for_spacing`] gives a sparse
 /// cloud: the widest measured on thinned copies of real tiles, at 1 pts/m².
@@ -398,15 +397,14 @@ fn roof_voxels(
     pulses: Option<&[[u32; 2]]>,
     check: &RoofCheck,
 ) -> (Vec<bool>, usize) {
-    let params = ReconstructParams {
-        k: check.k,
-        grow_angle_deg: check.grow_angle_deg,
-        grow_dist_m: check.grow_dist_m,
-        min_plane_points: 12,
-        ..ReconstructParams::default()
+    let growth = PlaneGrowth {
+        min_nz: ROOF_MIN_NZ,
+        angle_deg: check.grow_angle_deg,
+        dist_m: check.grow_dist_m,
+        min_points: 12,
     };
     let nb = neighbourhoods(reps, check.k);
-    let (planes, label) = grow_planes_with(reps, &nb, &params, false);
+    let (planes, label) = grow_planes_with(reps, &nb, &growth, false);
     let cell = check.cell();
     let mut cells: Vec<HashSet<[i32; 2]>> = vec![HashSet::new(); planes.len()];
     let mut echo = vec![[0u32; 2]; planes.len()];

@@ -8,7 +8,7 @@
 //!
 //! - [`params`]: [`FeatureParams`] (k, radii, voxel size).
 //! - [`compute`]: [`compute`], [`compute_subset`] → [`Features`]; [`FEATURE_NAMES`].
-//! - `shape`: covariance eigen-analysis of one neighbourhood.
+//! - covariance eigen-analysis of one neighbourhood: [`crate::geom`]'s `shape`.
 //! - [`echo`]: return number / number of returns, the real-survey cue for vegetation.
 //! - `voxel`: the thinned cloud and its radius / column statistics.
 

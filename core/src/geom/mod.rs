@@ -7,6 +7,9 @@
 //! - [`tiled`]: a grid frame's cells stored in tiles only where wanted.
 //! - [`ring`]: point-in-polygon for a ring of points (geo).
 //! - [`soup`]: a triangle soup as parry3d's `TriMesh`.
+//! - `shape`: a neighbourhood's moments and eigen-features (line, plane, volume).
+//! - `normals`, `planes`: PCA normals of k nearest neighbours and planes grown
+//!   on them (the roof check of classification, the roofs of reconstruction).
 //! - `fixtures` (tests only): point sets the unit tests share.
 
 pub mod eigen;

@@ -4,7 +4,6 @@
 
 use super::normals::Neighbourhoods;
 use super::shape::Moments;
-use crate::reconstruct::ReconstructParams;
 
 /// A roof plane n·p + d = 0 (unit n, n_z > 0) and its support.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,6 +52,23 @@ impl RoofPlane {
     }
 }
 
+/// How planes grow: which points may join one, how far a neighbour's normal
+/// and offset may stray from it, and the smallest plane kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneGrowth {
+    /// Points whose normal has at least this |z| may belong to a plane.
+    pub min_nz: f64,
+    /// A neighbour joins a growing plane when its normal is within this angle (°).
+    pub angle_deg: f64,
+    /// ... and it lies within this distance (m) of the plane.
+    pub dist_m: f64,
+    /// Planes with fewer points are dropped.
+    pub min_points: usize,
+}
+
+/// Normals at least this upright may be roof: 60° slopes and flatter.
+pub const ROOF_MIN_NZ: f64 = 0.5;
+
 /// Across-spread (m, one standard deviation) under which a long region is a
 /// row of points rather than a plane: a real roof 0.35 m wide has 0.1 m.
 const ROW_WIDTH_M: f64 = 0.1;
@@ -69,9 +85,9 @@ fn wide(p: [f32; 3]) -> [f64; 3] {
 pub(crate) fn grow_planes(
     xyz: &[[f32; 3]],
     nb: &Neighbourhoods,
-    params: &ReconstructParams,
+    growth: &PlaneGrowth,
 ) -> (Vec<RoofPlane>, Vec<u32>) {
-    grow_planes_with(xyz, nb, params, true)
+    grow_planes_with(xyz, nb, growth, true)
 }
 
 /// [`grow_planes`], merging planes grown from two seeds only when `merge`:
@@ -80,7 +96,7 @@ pub(crate) fn grow_planes(
 pub(crate) fn grow_planes_with(
     xyz: &[[f32; 3]],
     nb: &Neighbourhoods,
-    params: &ReconstructParams,
+    growth: &PlaneGrowth,
     merge: bool,
 ) -> (Vec<RoofPlane>, Vec<u32>) {
     let n = xyz.len();
@@ -88,14 +104,10 @@ pub(crate) fn grow_planes_with(
     if nb.k == 0 {
         return (Vec::new(), label);
     }
-    let candidate: Vec<bool> = nb
-        .normal
-        .iter()
-        .map(|v| v[2] >= params.roof_min_nz)
-        .collect();
+    let candidate: Vec<bool> = nb.normal.iter().map(|v| v[2] >= growth.min_nz).collect();
     let mut order: Vec<usize> = (0..n).filter(|&i| candidate[i]).collect();
     order.sort_by(|&a, &b| nb.curvature[a].total_cmp(&nb.curvature[b]));
-    let cos_max = params.grow_angle_deg.to_radians().cos();
+    let cos_max = growth.angle_deg.to_radians().cos();
     let mut visited = vec![false; n];
     let mut planes: Vec<RoofPlane> = Vec::new();
     let mut members: Vec<Vec<usize>> = Vec::new();
@@ -128,7 +140,7 @@ pub(crate) fn grow_planes_with(
                 let cos =
                     nj[0] * plane.normal[0] + nj[1] * plane.normal[1] + nj[2] * plane.normal[2];
                 let p = wide(xyz[j]);
-                if cos < cos_max || plane.distance(p).abs() > params.grow_dist_m {
+                if cos < cos_max || plane.distance(p).abs() > growth.dist_m {
                     continue;
                 }
                 visited[j] = true;
@@ -142,7 +154,7 @@ pub(crate) fn grow_planes_with(
                 }
             }
         }
-        if region.len() < params.min_plane_points {
+        if region.len() < growth.min_points {
             // Small regions free their points for later, larger ones. (A
             // row keeps its points: freed, each of them would seed the
             // same row again.)
@@ -157,7 +169,7 @@ pub(crate) fn grow_planes_with(
         }
     }
     if merge {
-        merge_coplanar(xyz, &mut planes, &mut members, params);
+        merge_coplanar(xyz, &mut planes, &mut members, growth);
     }
     let mut idx: Vec<usize> = (0..planes.len()).collect();
     idx.sort_by_key(|&i| std::cmp::Reverse(members[i].len()));
@@ -180,9 +192,9 @@ fn merge_coplanar(
     xyz: &[[f32; 3]],
     planes: &mut Vec<RoofPlane>,
     members: &mut Vec<Vec<usize>>,
-    params: &ReconstructParams,
+    growth: &PlaneGrowth,
 ) {
-    let cos_max = (params.grow_angle_deg * 0.5).to_radians().cos();
+    let cos_max = (growth.angle_deg * 0.5).to_radians().cos();
     loop {
         let mut merged = false;
         'outer: for a in 0..planes.len() {
@@ -198,8 +210,8 @@ fn merge_coplanar(
                         .sum::<f64>()
                         / ids.len().max(1) as f64
                 };
-                if off(&pa, &members[b]) > params.grow_dist_m * 0.5
-                    || off(&pb, &members[a]) > params.grow_dist_m * 0.5
+                if off(&pa, &members[b]) > growth.dist_m * 0.5
+                    || off(&pb, &members[a]) > growth.dist_m * 0.5
                 {
                     continue;
                 }
@@ -231,6 +243,14 @@ mod tests {
     use super::super::normals::neighbourhoods;
     use super::*;
 
+    /// Reconstruction's default growth.
+    const GROWTH: PlaneGrowth = PlaneGrowth {
+        min_nz: ROOF_MIN_NZ,
+        angle_deg: 12.0,
+        dist_m: 0.2,
+        min_points: 30,
+    };
+
     #[test]
     fn gable_roof_gives_two_planes_and_walls_none() {
         // Ridge along x at y = 3.75, slope 0.6; a wall at y = -0.05 below it.
@@ -239,7 +259,7 @@ mod tests {
         let wall = crate::geom::fixtures::lattice(40, 20, 0.25, |_, _| 0.0);
         pts.extend(wall.iter().map(|p| [p[0], -0.05, p[1]]));
         let nb = neighbourhoods(&pts, 12);
-        let (planes, label) = grow_planes(&pts, &nb, &ReconstructParams::default());
+        let (planes, label) = grow_planes(&pts, &nb, &GROWTH);
         assert_eq!(planes.len(), 2, "{planes:?}");
         for p in &planes {
             let slope = (p.normal[1] / p.normal[2]).abs();
@@ -260,7 +280,7 @@ mod tests {
         // both slopes are planes, not rows of points.
         let pts = crate::geom::fixtures::lattice(160, 24, 0.25, |_, y| 8.0 - 0.9 * (y - 3.0).abs());
         let nb = neighbourhoods(&pts, 12);
-        let (planes, label) = grow_planes(&pts, &nb, &ReconstructParams::default());
+        let (planes, label) = grow_planes(&pts, &nb, &GROWTH);
         assert_eq!(planes.len(), 2, "{planes:?}");
         let labelled = label.iter().filter(|&&l| l != NO_PLANE).count();
         assert!(

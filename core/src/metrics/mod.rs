@@ -11,7 +11,6 @@
 //! - [`evaluation`]: both terms and completeness before/after a mission.
 //! - [`producer`]: missing points and targets against a survey producer's
 //!   building class.
-//! - [`quality`]: per-building attributes of a mission for a city model.
 
 pub mod accuracy;
 pub mod completeness;

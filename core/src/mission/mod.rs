@@ -12,7 +12,8 @@
 //! - `detector`: when detection re-runs on the merged cloud;
 //! - `progress`: what a launcher follows of the rounds, and when the loop ends;
 //! - `watchdog`: the robot's clock watched, a stalled vehicle restarted;
-//! - `waiting`: when a planner that lacks an input says so, and what DDS matched.
+//! - `waiting`: when a planner that lacks an input says so, and what DDS matched;
+//! - `quality`: what a mission did per building, as a city model's attributes.
 
 pub mod detector;
 pub mod explorer;

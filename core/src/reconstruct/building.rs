@@ -86,7 +86,7 @@ pub(crate) fn reconstruct_building(
         return Err(Skip::TooFewPoints);
     }
     let nb = neighbourhoods(xyz, params.k);
-    let (planes, label) = grow_planes(xyz, &nb, params);
+    let (planes, label) = grow_planes(xyz, &nb, &params.plane_growth());
     if planes.is_empty() {
         return Err(Skip::NoRoofPlane);
     }

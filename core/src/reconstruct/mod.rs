@@ -3,7 +3,8 @@
 //! ground-truth mesh.
 //!
 //! Per building (footprint given, or derived from its points):
-//! - `normals`, `planes`: roof planes by region growing on PCA normals;
+//! - roof planes by region growing on PCA normals ([`crate::geom`]'s
+//!   `normals` and `planes`, which classification's roof check shares);
 //! - `partition`: a raster over the footprint labelled with the best plane
 //!   per cell (roofer's idea of labelling an arrangement), traced into
 //!   chains shared by neighbouring regions;

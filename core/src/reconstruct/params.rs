@@ -1,6 +1,7 @@
 //! Tunables of building reconstruction, each default with its reason.
 
 use crate::footprint::{DeriveParams, SplitParams};
+use crate::geom::planes::{PlaneGrowth, ROOF_MIN_NZ};
 use crate::params::{Checks, ParamError};
 
 /// How buildings are reconstructed ([`super::reconstruct_cloud`]).
@@ -53,7 +54,7 @@ impl Default for ReconstructParams {
         Self {
             voxel_m: 0.1,
             k: 12,
-            roof_min_nz: 0.5,
+            roof_min_nz: ROOF_MIN_NZ,
             wall_max_nz: 0.3,
             grow_angle_deg: 12.0,
             grow_dist_m: 0.2,
@@ -72,6 +73,16 @@ impl Default for ReconstructParams {
 }
 
 impl ReconstructParams {
+    /// The roof planes' growth these tunables ask for.
+    pub fn plane_growth(&self) -> PlaneGrowth {
+        PlaneGrowth {
+            min_nz: self.roof_min_nz,
+            angle_deg: self.grow_angle_deg,
+            dist_m: self.grow_dist_m,
+            min_points: self.min_plane_points,
+        }
+    }
+
     /// Checks ranges, naming the first bad value.
     pub fn validate(&self) -> Result<(), ParamError> {
         let checks: [(&'static str, f64, f64, f64); 13] = [

@@ -1,5 +1,7 @@
 //! Library values ↔ standard ROS messages, in one place so every node
-//! speaks the same dialect (frames, namespaces, colours).
+//! speaks the same dialect (frames, namespaces, colours); [`pointcloud2`]
+//! is the codec between a [`Cloud`](skyground_core::cloud::Cloud) and
+//! `sensor_msgs/PointCloud2`.
 
 pub mod detection;
 pub mod diagnostics;
