@@ -139,14 +139,14 @@ pub fn reconstruct_cloud(
             let mut m = building::reconstruct_building(pts, &inp, params)
                 .or_else(|why| building::fallback_building(pts, &inp, why))
                 .map_err(|s| (f.id, s))?;
-            m.quality = quality::assess(&m, pts, &f.polygon);
+            m.quality = quality::assess(&m.shell, &m.outline, pts, &f.polygon);
             // A named building gets a valid model: its LoD 1.2 prism, saying
             // why, rather than a LoD 2.2 solid that fails the checks.
             if !m.quality.val3dity.is_empty()
                 && m.lod == Lod::Lod22
                 && let Ok(mut p) = building::fallback_building(pts, &inp, Skip::InvalidSolid)
             {
-                p.quality = quality::assess(&p, pts, &f.polygon);
+                p.quality = quality::assess(&p.shell, &p.outline, pts, &f.polygon);
                 if p.quality.val3dity.is_empty() {
                     p.quality.rejected_val3dity = std::mem::take(&mut m.quality.val3dity);
                     m = p;

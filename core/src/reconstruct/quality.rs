@@ -7,8 +7,8 @@
 use geo::{Contains, Coord, MultiPolygon};
 use serde::Serialize;
 
-use super::building::Model;
 use super::evaluate::FAR;
+use super::solid::Shell;
 use crate::footprint::iou;
 use crate::metrics::{MeshBackend, MeshDistance};
 
@@ -26,14 +26,15 @@ pub struct ModelQuality {
     pub rejected_val3dity: Vec<u16>,
 }
 
-/// Measures `model` against its points `xyz` and its `footprint`.
-pub fn assess(model: &Model, xyz: &[[f32; 3]], footprint: &MultiPolygon<f64>) -> ModelQuality {
-    let tris: Vec<[[f64; 3]; 3]> = model
-        .shell
-        .triangles()
-        .into_iter()
-        .map(|(t, _)| t)
-        .collect();
+/// Measures a model (its closed `shell` and its `outline`) against its
+/// points `xyz` and the `footprint` it was made for.
+pub fn assess(
+    shell: &Shell,
+    outline: &MultiPolygon<f64>,
+    xyz: &[[f32; 3]],
+    footprint: &MultiPolygon<f64>,
+) -> ModelQuality {
+    let tris: Vec<[[f64; 3]; 3]> = shell.triangles().into_iter().map(|(t, _)| t).collect();
     // Points the split gave the building from just outside its footprint
     // (eaves over the wall line) are not the footprint's points.
     let inside: Vec<[f64; 3]> = xyz
@@ -51,8 +52,8 @@ pub fn assess(model: &Model, xyz: &[[f32; 3]], footprint: &MultiPolygon<f64>) ->
     });
     ModelQuality {
         rmse_m,
-        footprint_iou: Some(iou(&model.outline, footprint)),
-        val3dity: super::validity_codes(&model.shell),
+        footprint_iou: Some(iou(outline, footprint)),
+        val3dity: super::validity_codes(shell),
         rejected_val3dity: Vec::new(),
     }
 }

@@ -3,10 +3,13 @@
 //! of its inner triangles joined across non-constraint edges, short spurs
 //! pruned.
 //!
+//! - [`graph`] — [`Skeleton`], the graph in xy.
 //! - [`medial`] — [`medial_axis`] → [`Skeleton`].
 //! - [`prune`] — removal of short leaf branches.
 
+pub mod graph;
 pub mod medial;
 pub mod prune;
 
-pub use medial::{Skeleton, SkeletonParams, medial_axis};
+pub use graph::Skeleton;
+pub use medial::{SkeletonParams, medial_axis};

@@ -1,7 +1,7 @@
 //! Pruning: leaf branches shorter than a length are boundary noise of the
 //! triangulation (every small contour bump grows one), not structure.
 
-use super::medial::Skeleton;
+use super::graph::Skeleton;
 
 /// Removes leaf branches (leaf up to the first junction) shorter than
 /// `min_branch`, twice so spurs exposed by the first pass go too, then drops

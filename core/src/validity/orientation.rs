@@ -2,8 +2,7 @@
 //! edges, and as a whole by the sign of the enclosed volume.
 
 use super::plane::newell;
-use super::shell::Edges;
-use super::surface::Face;
+use super::surface::{Edges, Face};
 use crate::scene::vec3::{dot, sub};
 use std::collections::VecDeque;
 

@@ -6,14 +6,10 @@ use super::codes::{
     MULTIPLE_CONNECTED_COMPONENTS, NON_MANIFOLD_CASE, POLYGON_WRONG_ORIENTATION, SHELL_NOT_CLOSED,
     SHELL_SELF_INTERSECTION, TOO_FEW_POLYGONS,
 };
-use super::surface::Face;
+use super::surface::{Edges, Face, edges};
 use super::{Tolerances, intersect, orientation};
 use petgraph::unionfind::UnionFind;
-use std::collections::{BTreeMap, HashMap};
-
-/// An undirected edge (smaller merged id first) → the faces using it, each
-/// with whether it runs the edge from the smaller id to the larger.
-pub(super) type Edges = BTreeMap<(usize, usize), Vec<(usize, bool)>>;
+use std::collections::HashMap;
 
 /// The shell's findings as (code, surface); `exterior` for the first shell,
 /// whose normals point out (a void's point into it).
@@ -68,23 +64,6 @@ pub(super) fn check(
             .map(|f| (SHELL_SELF_INTERSECTION, Some(f))),
     );
     found
-}
-
-/// Every ring edge of every face, keyed undirected.
-fn edges(faces: &[Face]) -> Edges {
-    let mut edges = Edges::new();
-    for (f, face) in faces.iter().enumerate() {
-        for ring in &face.rings {
-            for (i, &a) in ring.iter().enumerate() {
-                let b = ring[(i + 1) % ring.len()];
-                edges
-                    .entry((a.min(b), a.max(b)))
-                    .or_default()
-                    .push((f, a < b));
-            }
-        }
-    }
-    edges
 }
 
 /// The number of groups of faces joined by shared edges.

@@ -1,6 +1,8 @@
 //! One surface through the ring and polygon levels, into what the shell
 //! checks need: its rings and triangles in merged vertex ids.
 
+use std::collections::BTreeMap;
+
 use super::codes::{INVALID_INPUT_FILE, TOO_FEW_POINTS};
 use super::plane::{Plane, newell};
 use super::{Surface, Tolerances, polygon, ring, triangulate};
@@ -12,6 +14,27 @@ pub(super) struct Face {
     pub rings: Vec<Vec<usize>>,
     /// Triangles in merged vertex ids, turning as the outer ring does.
     pub triangles: Vec<[usize; 3]>,
+}
+
+/// An undirected edge (smaller merged id first) → the faces using it, each
+/// with whether it runs the edge from the smaller id to the larger.
+pub(super) type Edges = BTreeMap<(usize, usize), Vec<(usize, bool)>>;
+
+/// Every ring edge of every face, keyed undirected.
+pub(super) fn edges(faces: &[Face]) -> Edges {
+    let mut edges = Edges::new();
+    for (f, face) in faces.iter().enumerate() {
+        for ring in &face.rings {
+            for (i, &a) in ring.iter().enumerate() {
+                let b = ring[(i + 1) % ring.len()];
+                edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((f, a < b));
+            }
+        }
+    }
+    edges
 }
 
 /// The surface `rings` checked at the ring level (all rings), then at the

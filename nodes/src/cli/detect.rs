@@ -21,8 +21,9 @@ use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
 use super::err;
 use crate::convert::detection::strategy_name;
+use crate::runtime::RuntimeError;
 use crate::runtime::model::load_model_file;
-use crate::runtime::{RuntimeError, params::ParamSet};
+use crate::runtime::params::section;
 
 /// Options of `skyground detect`.
 #[derive(Debug, Clone, clap::Args)]
@@ -63,42 +64,6 @@ pub struct DetectArgs {
 struct GeneratorParams {
     #[serde(default)]
     targets: TargetParams,
-}
-
-/// A node's params section as `T`, from its config/ defaults and an optional file
-/// (keys of the node this command does not use are ignored).
-pub fn section<T: serde::de::DeserializeOwned>(
-    node: &str,
-    defaults: &str,
-    file: Option<&Path>,
-    keys: &[&str],
-) -> Result<T, RuntimeError> {
-    section_over(node, (defaults, None), file, keys)
-}
-
-/// As [`section`], with the command's own defaults (`(origin, yaml)`) over
-/// the node's and under the file's.
-pub fn section_over<T: serde::de::DeserializeOwned>(
-    node: &str,
-    (defaults, own): (&str, Option<(&str, &str)>),
-    file: Option<&Path>,
-    keys: &[&str],
-) -> Result<T, RuntimeError> {
-    let mut params = ParamSet::default();
-    params.merge_yaml(defaults, node, &format!("config/{node}.yaml"))?;
-    if let Some((origin, yaml)) = own {
-        params.merge_yaml(yaml, node, origin)?;
-    }
-    if let Some(f) = file {
-        params.merge_file(f, node)?;
-    }
-    let v: serde_json::Value = params.parse(node)?;
-    let picked: serde_json::Map<String, serde_json::Value> = keys
-        .iter()
-        .filter_map(|k| v.get(*k).map(|x| ((*k).to_string(), x.clone())))
-        .collect();
-    serde_json::from_value(serde_json::Value::Object(picked))
-        .map_err(|e| err(format!("{node} params: {e}")))
 }
 
 /// The scene named by `--gt`.

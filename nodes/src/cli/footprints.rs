@@ -132,7 +132,7 @@ pub fn run(a: &FootprintsArgs) -> Result<serde_json::Value, RuntimeError> {
         footprint_id: None,
     };
     let truth_read = truth_arg.read(None)?;
-    let p: SceneParams = super::detect::section(
+    let p: SceneParams = crate::runtime::params::section(
         "completeness_detector",
         SPEC.default_params,
         a.params_file.as_deref(),

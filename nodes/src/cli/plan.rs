@@ -16,9 +16,9 @@ use skyground_core::route::{
 };
 use skyground_core::targets::{Site, TargetParams, TargetSet};
 
-use super::detect::section_over;
 use super::err;
 use crate::runtime::RuntimeError;
+use crate::runtime::params::section_over;
 
 /// `skyground plan`'s own ground-graph default, over the planner node's: a
 /// tree crown blocks only where points stand in the vehicle's height band.

@@ -58,8 +58,8 @@ mod tests {
     use skyground_core::route::RouteParams;
     use skyground_core::targets::TargetParams;
 
-    use crate::cli::detect::section;
     use crate::runtime::NodeSpec;
+    use crate::runtime::params::section;
 
     /// The section `key` of a node's shipped YAML, as the node reads it.
     fn shipped<T: DeserializeOwned>(node: &str, yaml: &str, key: &str) -> T {

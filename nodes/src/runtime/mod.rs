@@ -19,5 +19,6 @@ pub mod watch;
 pub use args::RosArgs;
 pub use forward::forward;
 pub use log::Logger;
-pub use node::{NodeRuntime, NodeSpec, RuntimeError, run_node, run_with};
+pub use node::{NodeRuntime, RuntimeError, run_node, run_with};
+pub use specs::NodeSpec;
 pub use watch::{publish_logged, publish_watched};

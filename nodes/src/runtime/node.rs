@@ -25,6 +25,7 @@ use super::param_services;
 use super::params::{ParamSet, ParamsError};
 use super::qos;
 use super::shutdown::Shutdown;
+use super::specs::NodeSpec;
 
 /// Why a node could not start or run.
 #[derive(Debug, thiserror::Error)]
@@ -60,20 +61,6 @@ pub enum RuntimeError {
     /// The node's own work failed.
     #[error("{0}")]
     Node(String),
-}
-
-/// What a node binary declares about itself.
-#[derive(Debug, Clone, Copy)]
-pub struct NodeSpec {
-    /// Default node name.
-    pub name: &'static str,
-    /// Default parameters: the text of `config/<name>.yaml`, compiled in so
-    /// that the params file stays the single source of defaults.
-    pub default_params: &'static str,
-    /// Parameters the node reads again as it works, so a set (`ros2 param
-    /// set`) takes effect (a name, or a prefix ending in `.`); every other
-    /// one is read once at start-up and a set to it is refused.
-    pub live: &'static [&'static str],
 }
 
 /// A started node. Drop order matters to RustDDS: use [`NodeRuntime::stop`].

@@ -12,8 +12,8 @@ use ros2_client::NodeOptions;
 use ros2_client::parameters::ParameterValue;
 use serde_json::Value;
 
-use super::node::NodeSpec;
 use super::params::ParamSet;
+use super::specs::NodeSpec;
 
 /// A JSON parameter value as a ROS 2 parameter value. Arrays take the type
 /// of their elements (an empty one is a double array: ours hold

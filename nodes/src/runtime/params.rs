@@ -166,6 +166,44 @@ impl ParamSet {
     }
 }
 
+/// A node's params section as `T`, from its config/ defaults and an optional file
+/// (keys of the node this command does not use are ignored).
+pub fn section<T: serde::de::DeserializeOwned>(
+    node: &str,
+    defaults: &str,
+    file: Option<&Path>,
+    keys: &[&str],
+) -> Result<T, ParamsError> {
+    section_over(node, (defaults, None), file, keys)
+}
+
+/// As [`section`], with the command's own defaults (`(origin, yaml)`) over
+/// the node's and under the file's.
+pub fn section_over<T: serde::de::DeserializeOwned>(
+    node: &str,
+    (defaults, own): (&str, Option<(&str, &str)>),
+    file: Option<&Path>,
+    keys: &[&str],
+) -> Result<T, ParamsError> {
+    let mut params = ParamSet::default();
+    params.merge_yaml(defaults, node, &format!("config/{node}.yaml"))?;
+    if let Some((origin, yaml)) = own {
+        params.merge_yaml(yaml, node, origin)?;
+    }
+    if let Some(f) = file {
+        params.merge_file(f, node)?;
+    }
+    let v: serde_json::Value = params.parse(node)?;
+    let picked: serde_json::Map<String, serde_json::Value> = keys
+        .iter()
+        .filter_map(|k| v.get(*k).map(|x| ((*k).to_string(), x.clone())))
+        .collect();
+    serde_json::from_value(serde_json::Value::Object(picked)).map_err(|e| ParamsError::Invalid {
+        node: node.to_string(),
+        reason: e.to_string(),
+    })
+}
+
 fn flatten_into(out: &mut Map<String, Value>, prefix: &str, y: &Yaml) {
     if let Yaml::Hash(h) = y {
         for (k, v) in h {

@@ -2,7 +2,19 @@
 //! reads again as it works. The nodes run with these, and the CLI's
 //! commands read the same defaults here (never from a node module).
 
-use super::NodeSpec;
+/// What a node binary declares about itself.
+#[derive(Debug, Clone, Copy)]
+pub struct NodeSpec {
+    /// Default node name.
+    pub name: &'static str,
+    /// Default parameters: the text of `config/<name>.yaml`, compiled in so
+    /// that the params file stays the single source of defaults.
+    pub default_params: &'static str,
+    /// Parameters the node reads again as it works, so a set (`ros2 param
+    /// set`) takes effect (a name, or a prefix ending in `.`); every other
+    /// one is read once at start-up and a set to it is refused.
+    pub live: &'static [&'static str],
+}
 
 /// `pub const $spec`: the [`NodeSpec`] of node `$name`, whose defaults are
 /// `config/$name.yaml`, with its live parameters.

@@ -6,8 +6,6 @@
 //! node that will not split well is cut at its median instead, which bounds
 //! the depth (and the traversal stack) for any input.
 
-use super::Bvh;
-
 /// Centroid bins per axis.
 const BINS: usize = 16;
 /// Largest leaf (node slots store counts as `u8`).
@@ -70,14 +68,15 @@ pub(super) enum BNode {
     Inner(Box<[(BNode, Aabb); 2]>),
 }
 
-/// Builds the hierarchy and stores the triangles in leaf order.
-pub(super) fn build(tris: Vec<[[f32; 3]; 3]>, ids: Vec<u32>) -> Bvh {
+/// The binary hierarchy over `tris`, its bounds, and the triangles' indices
+/// in leaf order; `None` without triangles.
+pub(super) fn build(tris: &[[[f32; 3]; 3]]) -> Option<(BNode, Aabb, Vec<u32>)> {
     if tris.is_empty() {
-        return Bvh::default();
+        return None;
     }
     let mut bounds = Vec::with_capacity(tris.len());
     let mut centroid = Vec::with_capacity(tris.len());
-    for t in &tris {
+    for t in tris {
         let mut b = Aabb::EMPTY;
         t.iter().for_each(|&v| b.grow(v));
         bounds.push(b);
@@ -87,14 +86,7 @@ pub(super) fn build(tris: Vec<[[f32; 3]; 3]>, ids: Vec<u32>) -> Bvh {
     // Fewer than 2³² triangles: the caller's ids are u32.
     let mut idx: Vec<u32> = (0..tris.len() as u32).collect();
     let (root, root_box) = build_node(&prims, &mut idx, 0, 0);
-    let nodes = super::wide::flatten(root, root_box);
-    let tris_out = idx.iter().map(|&i| tris[i as usize]).collect();
-    let ids_out = idx.iter().map(|&i| ids[i as usize]).collect();
-    Bvh {
-        nodes,
-        tris: tris_out,
-        ids: ids_out,
-    }
+    Some((root, root_box, idx))
 }
 
 /// Builds the subtree over `idx` (which starts at `offset` in the full array).

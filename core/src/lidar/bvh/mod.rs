@@ -86,7 +86,14 @@ pub(crate) struct BvhStats {
 impl Bvh {
     /// Builds over `tris`; `ids[i]` is the caller's index of `tris[i]`.
     pub fn new(tris: Vec<[[f32; 3]; 3]>, ids: Vec<u32>) -> Self {
-        build::build(tris, ids)
+        let Some((root, root_box, order)) = build::build(&tris) else {
+            return Self::default();
+        };
+        Self {
+            nodes: wide::flatten(root, root_box),
+            tris: order.iter().map(|&i| tris[i as usize]).collect(),
+            ids: order.iter().map(|&i| ids[i as usize]).collect(),
+        }
     }
 
     /// Node, leaf and depth counts.
