@@ -5,8 +5,8 @@
 mod planning_scene;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use skyground_core::io::load_scene;
 use skyground_core::missing::{DetectParams, detect_all_on};
-use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, generate};
 
 fn bench(c: &mut Criterion) {

@@ -2,9 +2,9 @@
 //! simulated aerial prior (derived footprints, ~0.7 M building points).
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use skyground_core::io::load_scene;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::reconstruct::{ReconstructParams, reconstruct_cloud};
-use skyground_core::scene::load_scene;
 
 fn bench(c: &mut Criterion) {
     let scene = load_scene("reference").expect("reference scene");

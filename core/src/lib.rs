@@ -21,6 +21,7 @@ pub mod forest;
 pub mod geom;
 pub mod graph;
 pub mod ground;
+pub mod io;
 pub mod lidar;
 pub mod metrics;
 pub mod missing;

@@ -10,9 +10,10 @@ use std::path::{Path, PathBuf};
 
 use common::real_file;
 use serde_json::{Value, json};
+use skyground_core::io::cityjson::{Attributes, annotated_model, read_city_model, scene_model};
+use skyground_core::io::{SceneError, load_scene};
 use skyground_core::lidar::Caster;
-use skyground_core::scene::cityjson::{Attributes, annotated_model, read_city_model, scene_model};
-use skyground_core::scene::{ObjectKind, Scene, SceneError, load_scene, reference_scene};
+use skyground_core::scene::{ObjectKind, Scene, reference_scene};
 use skyground_core::vehicle::{Terrain, free_spot, start_spot};
 
 /// A scratch folder removed when the test ends.

@@ -4,10 +4,9 @@
 //! `SKIPPED: ...`, the test passes.
 
 use skyground_core::graph::{GraphParams, MAX_OCCUPANCY_CELLS};
+use skyground_core::io::{ObjOptions, load_scene, obj_text, parse_obj};
 use skyground_core::metrics::sample_building_surfaces;
-use skyground_core::scene::{
-    ObjOptions, ObjectKind, Window, busiest_window, crop_scene, load_scene, obj_text, parse_obj,
-};
+use skyground_core::scene::{ObjectKind, Window, busiest_window, crop_scene};
 
 mod common;
 use common::real_file;

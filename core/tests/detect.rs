@@ -10,12 +10,13 @@ use std::time::Instant;
 
 use geo::{Area, Contains, Coord, LineString, MultiPolygon, Polygon};
 use skyground_core::cloud::read_cloud;
+use skyground_core::io::load_scene;
 use skyground_core::metrics::sample_building_surfaces;
 use skyground_core::missing::{
     BuildingDetection, DetectParams, Detection, GroundGrid, SkipReason, Strategy, detect_all,
     detect_all_on, detect_building, evaluate,
 };
-use skyground_core::scene::{Scene, load_scene};
+use skyground_core::scene::Scene;
 
 mod common;
 use common::real_file;

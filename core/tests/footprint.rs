@@ -10,13 +10,16 @@ use skyground_core::cloud::Cloud;
 use skyground_core::cloud::class::BUILDING;
 use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::footprint::{
-    DeriveParams, Footprint, FootprintError, ParseError, ReadOptions, RingProblem,
-    SourceFootprints, SplitParams, derive, footprints_of_scene, iou, load_footprints,
-    match_footprints, parse_cityjson_footprints, parse_geojson, parse_geojson_with,
-    parse_obj_footprints, read_footprints, resolve_source, split,
+    DeriveParams, Footprint, FootprintError, ParseError, ReadOptions, RingProblem, SplitParams,
+    derive, footprints_of_scene, iou, match_footprints, split,
+};
+use skyground_core::io::load_scene;
+use skyground_core::io::{
+    SourceFootprints, load_footprints, parse_cityjson_footprints, parse_geojson,
+    parse_geojson_with, parse_obj_footprints, read_footprints, resolve_source,
 };
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
-use skyground_core::scene::{REFERENCE_SEED, Scene, load_scene, reference_scene};
+use skyground_core::scene::{REFERENCE_SEED, Scene, reference_scene};
 
 mod common;
 use common::{city3d_001, conformance_file, real_file};

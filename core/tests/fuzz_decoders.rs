@@ -19,11 +19,9 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use skyground_core::cloud::{Cloud, parse_ply, read_las};
-use skyground_core::footprint::parse_geojson;
+use skyground_core::io::parse_geojson;
+use skyground_core::io::{CityJsonOptions, ObjOptions, parse_cityjson, parse_obj, parse_ply_mesh};
 use skyground_core::rng::Rng;
-use skyground_core::scene::{
-    CityJsonOptions, ObjOptions, parse_cityjson, parse_obj, parse_ply_mesh,
-};
 
 /// A decoder under test: its name, the extensions of its seed files, its
 /// own seeds, and the call (whose result only has to come back).

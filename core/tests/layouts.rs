@@ -10,8 +10,8 @@ mod common;
 use common::real_file;
 use serde_json::{Value, json};
 use skyground_core::graph::{GraphParams, GroundGraph};
+use skyground_core::io::cityjson::{CityJsonOptions, parse_cityjson, read_city_files_and_crs};
 use skyground_core::lidar::Caster;
-use skyground_core::scene::cityjson::{CityJsonOptions, parse_cityjson, read_city_files_and_crs};
 use skyground_core::scene::{MeshPart, ObjectKind, Scene, SceneBuilder, Window};
 use skyground_core::vehicle::{
     START_CLEARANCE_M, StartError, Terrain, Vehicle, VehicleConfig, find_start, free_spot,

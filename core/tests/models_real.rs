@@ -8,7 +8,8 @@
 
 use skyground_core::cloud::read_cloud;
 use skyground_core::crs::SourceFrame;
-use skyground_core::footprint::{ReadOptions, read_footprints};
+use skyground_core::footprint::ReadOptions;
+use skyground_core::io::read_footprints;
 use skyground_core::prior::join_tiles;
 use skyground_core::reconstruct::{Lod, Model, ReconstructParams, Skip, reconstruct_cloud};
 

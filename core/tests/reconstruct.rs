@@ -5,8 +5,9 @@
 
 use std::path::PathBuf;
 
+use skyground_core::io::cityjson::models as cityjson;
 use skyground_core::reconstruct::evaluate::points_to_models;
-use skyground_core::reconstruct::{ReconstructParams, cityjson, reconstruct_cloud};
+use skyground_core::reconstruct::{ReconstructParams, reconstruct_cloud};
 
 mod common;
 use common::city3d_001;

@@ -7,13 +7,13 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use skyground_core::cloud::Cloud;
+use skyground_core::io::{SceneError, load_scene};
 use skyground_core::metrics::{
     SurfaceKind, cloud_to_mesh_distances, completeness, completeness_of_cloud, mean_cloud_to_mesh,
     mean_gt_distance, sample_building_surfaces,
 };
 use skyground_core::scene::{
-    MeshPart, ObjectKind, REFERENCE_SEED, ReferenceTerrain, Scene, SceneBuilder, SceneError,
-    load_scene, reference_scene,
+    MeshPart, ObjectKind, REFERENCE_SEED, ReferenceTerrain, Scene, SceneBuilder, reference_scene,
 };
 
 mod common;

@@ -3,8 +3,9 @@
 //! tree), point targets against their standoff range, regions against the
 //! shape the planner expects.
 
+use skyground_core::io::load_scene;
 use skyground_core::missing::{DetectParams, Strategy, detect_all_on};
-use skyground_core::scene::{ObjectKind, load_scene};
+use skyground_core::scene::ObjectKind;
 use skyground_core::targets::{Site, TargetParams, generate};
 
 #[path = "planning_scene/mod.rs"]

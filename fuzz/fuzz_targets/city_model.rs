@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use skyground_core::scene::{CityJsonOptions, parse_cityjson};
+use skyground_core::io::{CityJsonOptions, parse_cityjson};
 
 fuzz_target!(|data: &[u8]| {
     let _ = parse_cityjson(data, &CityJsonOptions::default());

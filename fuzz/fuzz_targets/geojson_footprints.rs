@@ -5,7 +5,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use skyground_core::footprint::parse_geojson;
+use skyground_core::io::parse_geojson;
 
 fuzz_target!(|data: &[u8]| {
     let _ = parse_geojson(data, [0.0; 3]);

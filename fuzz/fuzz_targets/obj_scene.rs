@@ -5,7 +5,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use skyground_core::scene::{ObjOptions, parse_obj};
+use skyground_core::io::{ObjOptions, parse_obj};
 
 fuzz_target!(|data: &[u8]| {
     let _ = parse_obj(&String::from_utf8_lossy(data), &ObjOptions::default());

@@ -5,7 +5,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use skyground_core::scene::parse_ply_mesh;
+use skyground_core::io::parse_ply_mesh;
 
 fuzz_target!(|data: &[u8]| {
     let _ = parse_ply_mesh(data);

@@ -4,8 +4,8 @@
 use geo::{Centroid, MultiPolygon};
 use serde_json::{Value, json};
 
-use super::geojson::{feature, feature_collection, multipolygon};
 use crate::crs::SourceFrame;
+use crate::io::geojson::write::{feature, feature_collection, multipolygon};
 use crate::missing::{Detection, Strategy};
 use crate::targets::TargetSet;
 

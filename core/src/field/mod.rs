@@ -4,14 +4,12 @@
 //! completeness as CSV.
 
 mod completeness;
-mod geojson;
 mod route;
 mod targets;
 
 pub use completeness::{
     BuildingFigures, DetectedFigures, completeness_csv, completeness_geojson, detection_figures,
 };
-pub use geojson::{feature, feature_collection, multipolygon};
 pub use route::{FieldRoute, Leg, path_geojson, route_geojson};
 pub use targets::targets_geojson;
 

@@ -3,8 +3,8 @@
 
 use serde_json::{Value, json};
 
-use super::geojson::{feature, feature_collection, position, ring};
 use crate::crs::SourceFrame;
+use crate::io::geojson::write::{feature, feature_collection, position, ring};
 use crate::route::{Route, SetDowns, Stop};
 use crate::targets::TargetSet;
 

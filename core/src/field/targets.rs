@@ -4,8 +4,8 @@
 use geo::{Area, Contains, Coord, LineString, Point, Polygon};
 use serde_json::{Value, json};
 
-use super::geojson::{feature, feature_collection, position, ring};
 use crate::crs::SourceFrame;
+use crate::io::geojson::write::{feature, feature_collection, position, ring};
 use crate::missing::{Detection, MissingPoint, Strategy};
 use crate::targets::TargetSet;
 

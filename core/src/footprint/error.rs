@@ -49,7 +49,7 @@ pub enum FootprintError {
     #[error("{source}")]
     City {
         /// The city model reader's error (names the file).
-        source: Box<crate::scene::SceneError>,
+        source: Box<crate::io::SceneError>,
     },
     /// `--footprints model` without a CityJSON scene to take them from.
     #[error(
@@ -105,7 +105,7 @@ pub enum ParseError {
 }
 
 /// A [`ParseError::Shape`] saying `what`.
-pub(super) fn shape(what: &str) -> ParseError {
+pub(crate) fn shape(what: &str) -> ParseError {
     ParseError::Shape {
         what: what.to_string(),
     }

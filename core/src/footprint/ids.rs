@@ -29,7 +29,7 @@ pub struct ReadOptions {
 }
 
 /// A property value as id text: a non-empty string or a number.
-pub(super) fn id_text(v: &Value) -> Option<String> {
+pub(crate) fn id_text(v: &Value) -> Option<String> {
     match v {
         Value::String(s) => Some(s.trim().to_string()).filter(|s| !s.is_empty()),
         Value::Number(n) => Some(n.to_string()),
@@ -39,7 +39,7 @@ pub(super) fn id_text(v: &Value) -> Option<String> {
 
 /// The own id in `props`: the named field when one is named, else the first
 /// of [`ID_FIELDS`] present.
-pub(super) fn own_id(props: Option<&Map<String, Value>>, options: &ReadOptions) -> Option<String> {
+pub(crate) fn own_id(props: Option<&Map<String, Value>>, options: &ReadOptions) -> Option<String> {
     let props = props?;
     match &options.id_field {
         Some(field) => props.get(field).and_then(id_text),
@@ -51,7 +51,7 @@ pub(super) fn own_id(props: Option<&Map<String, Value>>, options: &ReadOptions) 
 
 /// A named id field that no feature carries is the user's mistake, said
 /// with the fields the first one does carry.
-pub(super) fn check_named_field(
+pub(crate) fn check_named_field(
     options: &ReadOptions,
     found: usize,
     first_props: Option<&Map<String, Value>>,

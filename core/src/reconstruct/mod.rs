@@ -18,11 +18,9 @@
 //!   [`compare`]: before against after.
 
 mod building;
-pub mod cityjson;
 mod compare;
 mod error;
 pub mod evaluate;
-pub mod obj;
 mod params;
 mod partition;
 mod prism;

@@ -3,6 +3,8 @@
 //! with the south walls missing).
 
 use super::*;
+use crate::io::cityjson::models as cityjson;
+use crate::io::obj::models as obj;
 use crate::metrics::sample_building_surfaces;
 use crate::scene::reference::solids::{Rect, gable_house, podium_with_towers, prism};
 use crate::scene::{MeshPart, ObjectKind, Scene, SceneBuilder};

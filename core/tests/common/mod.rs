@@ -7,8 +7,9 @@ use skyground_core::classify::{
     pulse_sample, train,
 };
 use skyground_core::cloud::{Cloud, read_cloud};
-use skyground_core::footprint::{Loaded, load_footprints};
+use skyground_core::footprint::Loaded;
 use skyground_core::ground::CsfParams;
+use skyground_core::io::load_footprints;
 
 /// The forest the shipped model learned as vegetation.
 #[allow(dead_code)]

@@ -7,13 +7,14 @@ use std::time::Instant;
 use serde::Deserialize;
 use serde_json::json;
 use skyground_core::cloud::{Cloud, CloudIoError, write_cloud};
+use skyground_core::io::load_scene_and_crs;
 use skyground_core::lidar::airborne::survey_areas;
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
 use skyground_core::metrics::{
     CompletenessReport, GtSamples, SurfaceKind, completeness_of_cloud, nearest_distances,
     sample_building_surfaces,
 };
-use skyground_core::scene::{Scene, load_scene_and_crs};
+use skyground_core::scene::Scene;
 
 use crate::runtime::{RuntimeError, params::ParamSet};
 

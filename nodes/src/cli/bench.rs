@@ -53,7 +53,7 @@ pub fn lidar(a: &LidarArgs) -> std::process::ExitCode {
                     return std::process::ExitCode::from(2);
                 }
             },
-            None => match skyground_core::scene::load_scene(spec) {
+            None => match skyground_core::io::load_scene(spec) {
                 Ok(s) => s,
                 Err(e) => {
                     eprintln!("skyground bench lidar: scene {spec}: {e}");

@@ -6,11 +6,11 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use skyground_core::metrics::Evaluation;
-use skyground_core::mission::{Mission, building_attributes};
-use skyground_core::scene::cityjson::{
+use skyground_core::io::cityjson::{
     Attributes, annotated_model, city_files, is_city_file, read_city_model, scene_model,
 };
+use skyground_core::metrics::Evaluation;
+use skyground_core::mission::{Mission, building_attributes};
 use skyground_core::scene::{Cropped, ObjectKind, Scene};
 
 use crate::runtime::RuntimeError;

@@ -6,9 +6,8 @@ use std::str::FromStr;
 
 use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::graph::{GraphParams, MAX_OCCUPANCY_CELLS};
-use skyground_core::scene::{
-    CropError, Cropped, Scene, Window, busiest_window, crop_scene, load_scene, write_obj,
-};
+use skyground_core::io::{load_scene, write_obj};
+use skyground_core::scene::{CropError, Cropped, Scene, Window, busiest_window, crop_scene};
 
 use crate::runtime::RuntimeError;
 

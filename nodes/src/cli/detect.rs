@@ -11,12 +11,12 @@ use skyground_core::classify::SceneClassifier;
 use skyground_core::cloud::extent::check_plan_extent;
 use skyground_core::cloud::{Cloud, class, write_cloud};
 use skyground_core::file;
+use skyground_core::io::load_scene;
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
 use skyground_core::missing::{SceneParams, detect_scene, evaluate, shift_missing};
 use skyground_core::plot::detection_picture;
-use skyground_core::scene::load_scene;
 use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
 use super::err;

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::read_cloud;
+use skyground_core::io::load_scene_and_crs;
 use skyground_core::metrics::{Evaluation, evaluate, sample_building_surfaces};
-use skyground_core::scene::load_scene_and_crs;
 
 use super::err;
 use crate::runtime::RuntimeError;

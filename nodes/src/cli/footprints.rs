@@ -7,10 +7,9 @@
 use std::path::PathBuf;
 
 use skyground_core::crs::{Crs, SourceFrame};
-use skyground_core::field::{feature, feature_collection, multipolygon};
-use skyground_core::footprint::{
-    Footprint, ReadOptions, SourceFootprints, read_footprints, resolve_source, segmentation, split,
-};
+use skyground_core::footprint::{Footprint, ReadOptions, segmentation, split};
+use skyground_core::io::geojson::write::{feature, feature_collection, multipolygon};
+use skyground_core::io::{SourceFootprints, read_footprints, resolve_source};
 use skyground_core::missing::{SceneParams, derive_footprints};
 
 use super::err;

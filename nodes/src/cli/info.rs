@@ -7,10 +7,11 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 use skyground_core::cloud::info::{DENSITY_CELL_M, cloud_info};
 use skyground_core::crs::{Crs, JsonCrs, cityjson_crs, geojson_crs};
-use skyground_core::footprint::load_footprints;
-use skyground_core::scene::{
-    CityJsonError, CityJsonOptions, Scene, SceneError, load_scene, read_city_files_and_crs,
+use skyground_core::io::load_footprints;
+use skyground_core::io::{
+    CityJsonError, CityJsonOptions, SceneError, load_scene, read_city_files_and_crs,
 };
+use skyground_core::scene::Scene;
 
 use super::err;
 use crate::runtime::RuntimeError;

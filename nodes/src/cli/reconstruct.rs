@@ -7,11 +7,13 @@ use std::path::{Path, PathBuf};
 use skyground_core::cloud::Cloud;
 use skyground_core::cloud::extent::check_plan_extent;
 use skyground_core::footprint::Footprint;
+use skyground_core::io::cityjson::models as cityjson;
+use skyground_core::io::obj::models as obj;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
 use skyground_core::reconstruct::evaluate::points_to_models;
 use skyground_core::reconstruct::{
-    BeforeAfter, ModelEvaluation, ReconstructParams, Reconstruction, cityjson, evaluate_models,
-    obj, reconstruct_cloud,
+    BeforeAfter, ModelEvaluation, ReconstructParams, Reconstruction, evaluate_models,
+    reconstruct_cloud,
 };
 use skyground_core::scene::Scene;
 
@@ -232,7 +234,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
     let eval = match &a.gt {
         Some(s) => {
             let scene =
-                skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+                skyground_core::io::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             Some(evaluate_against(&scene, &rec, a.gt_spacing))
         }
         None => None,
@@ -240,7 +242,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
     let before_after = match (&a.before, &a.gt) {
         (Some(b), Some(s)) => {
             let scene =
-                skyground_core::scene::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
+                skyground_core::io::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = a.units.read(b)?;
             let (mb, ma) = before_after(
                 &a.out,

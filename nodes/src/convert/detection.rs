@@ -229,9 +229,9 @@ pub fn detection_markers(header: &Header, d: &Detection) -> MarkerArray {
 mod tests {
     use crate::convert::pointcloud2::decode;
     use crate::convert::pointcloud2::tiles::{Assembler, split};
+    use skyground_core::io::load_scene;
     use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};
     use skyground_core::missing::{DetectParams, SceneParams, detect_scene};
-    use skyground_core::scene::load_scene;
     use skyground_core::targets::{
         Site, TargetParams, consolidate, generate, generate_from_missing,
     };

@@ -6,7 +6,8 @@ use std::sync::Arc;
 
 use futures::StreamExt;
 use serde::Deserialize;
-use skyground_core::footprint::{Footprint, load_given};
+use skyground_core::footprint::Footprint;
+use skyground_core::io::load_given;
 use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::mission::PlannerStatus;
 use skyground_core::mission::detector::Detector;

@@ -10,9 +10,9 @@ use std::time::{Duration, Instant};
 
 use crate::convert::pointcloud2::{EncodeOptions, encode};
 use serde::Deserialize;
+use skyground_core::io::load_scene;
 use skyground_core::lidar::{Caster, LidarConfig, Pose, scan};
 use skyground_core::mission::VehicleStatus;
-use skyground_core::scene::load_scene;
 use skyground_core::vehicle::{
     Every, RobotClock, ScanSchedule, Step, Vehicle, VehicleConfig, start_spot,
 };

@@ -11,7 +11,7 @@
 use super::Window;
 use crate::geom::grid::GridFrame;
 use crate::scene::MeshPart;
-use crate::scene::cityjson::blend_bases;
+use crate::scene::terrain::blend_bases;
 
 /// Grid cell of the filled ground, metres (the CityJSON terrain's).
 pub const FILL_CELL: f64 = 2.0;

@@ -21,9 +21,10 @@ use std::time::Instant;
 use skyground_core::cloud::write_cloud;
 use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::footprint::Footprint;
+use skyground_core::io::load_scene_and_crs;
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::prior::unlabelled;
-use skyground_core::scene::{Cropped, Scene, load_scene_and_crs};
+use skyground_core::scene::{Cropped, Scene};
 
 use crate::cli::aerial::{Survey, survey_of};
 use crate::cli::profile::Profile;

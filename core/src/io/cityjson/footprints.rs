@@ -6,22 +6,22 @@
 //! highest-LoD geometry gives the xy outline of its `GroundSurface`
 //! surfaces when it has any, else the union of the xy projections of all
 //! its surfaces. Numeric ids follow the scene reader
-//! ([`crate::scene::cityjson`]): 1.. in the sorted order of the root
+//! ([`super`]): 1.. in the sorted order of the root
 //! buildings' CityJSON ids, so they match a scene loaded from the same
 //! file(s). The own id (`name`) is the root Building's attribute the user
-//! names, else the first of [`ID_FIELDS`](super::ids::ID_FIELDS) it has,
+//! names, else the first of [`ID_FIELDS`](crate::footprint::ID_FIELDS) it has,
 //! else its CityObject id.
 
 use std::collections::BTreeMap;
 
 use geo::Polygon;
 
-use super::error::{ParseError, Skipped, shape};
-use super::ids::{ReadOptions, check_named_field, own_id};
-use super::polygon::{ring, union_valid};
-use super::types::{Footprint, Loaded};
-use crate::scene::cityjson::boundaries::{self, Surface};
-use crate::scene::cityjson::{CityModel, CityObject, Geometry, parse_city_model};
+use super::boundaries::{self, Surface};
+use super::{CityModel, CityObject, Geometry, parse_city_model};
+use crate::footprint::error::{ParseError, Skipped, shape};
+use crate::footprint::ids::{ReadOptions, check_named_field, own_id};
+use crate::footprint::polygon::{ring, union_valid};
+use crate::footprint::{Footprint, Loaded};
 
 /// Decodes CityJSON (or CityJSONSeq) bytes; coordinates have `origin` subtracted.
 pub fn parse_cityjson_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError> {

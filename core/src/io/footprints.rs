@@ -6,16 +6,14 @@ use std::path::{Path, PathBuf};
 use geo::{BoundingRect, Coord, MapCoordsInPlace};
 use serde_json::Value;
 
+use super::cityjson::{city_files, read_city_model};
 use crate::crs::{Crs, JsonCrs, SourceFrame, epsg_from_reference, geojson_crs};
 use crate::file;
-use crate::scene::cityjson::{city_files, read_city_model};
 
-use super::cityjson::cityjson_footprints;
-use super::error::FootprintError;
-use super::geojson::parse_geojson_with;
-use super::ids::ReadOptions;
-use super::obj::parse_obj_footprints;
-use super::types::Loaded;
+use super::cityjson::footprints::cityjson_footprints;
+use super::geojson::footprints::parse_geojson_with;
+use super::obj::footprints::parse_obj_footprints;
+use crate::footprint::{FootprintError, Loaded, ReadOptions};
 
 /// The `--footprints` keyword for a CityJSON scene's own buildings.
 pub const MODEL_KEYWORD: &str = "model";

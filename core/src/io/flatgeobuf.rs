@@ -12,10 +12,10 @@ use geozero::GeomProcessor;
 use geozero::error::Result as GzResult;
 use serde_json::{Map, Value};
 
-use super::error::{ParseError, RingProblem, Skipped, shape};
-use super::ids::{ReadOptions, check_named_field, own_id};
-use super::types::{Footprint, Loaded};
 use crate::crs::Crs;
+use crate::footprint::error::{ParseError, RingProblem, Skipped, shape};
+use crate::footprint::ids::{ReadOptions, check_named_field, own_id};
+use crate::footprint::{Footprint, Loaded};
 
 /// Decodes FlatGeobuf bytes (source CRS and unit) and the CRS its header names.
 pub fn parse_fgb(data: &[u8], options: &ReadOptions) -> Result<(Loaded, Option<Crs>), ParseError> {

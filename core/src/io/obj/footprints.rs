@@ -3,9 +3,9 @@
 
 use geo::Polygon;
 
-use super::error::{ParseError, Skipped};
-use super::polygon::{ring, union_valid};
-use super::types::{Footprint, Loaded};
+use crate::footprint::error::{ParseError, Skipped};
+use crate::footprint::polygon::{ring, union_valid};
+use crate::footprint::{Footprint, Loaded};
 
 /// Decodes OBJ text; coordinates have `origin` subtracted.
 pub fn parse_obj_footprints(data: &[u8], origin: [f64; 3]) -> Result<Loaded, ParseError> {

@@ -371,10 +371,10 @@ fn a_scene_loads_with_its_models_crs_from_one_read() {
     let plain = dir.join("plain.city.json");
     let wrote = std::fs::write(&feet, in_feet(1200.0 / 3937.0))
         .and_then(|()| std::fs::write(&plain, doc("2.0")));
-    let load = |p: &std::path::Path| crate::scene::load_scene_and_crs(&p.display().to_string());
+    let load = |p: &std::path::Path| crate::io::load_scene_and_crs(&p.display().to_string());
     let (named, unnamed) = (load(&feet), load(&plain));
     let scene_alone = read_city_files(std::slice::from_ref(&feet), &CityJsonOptions::default());
-    let reference = crate::scene::load_scene_and_crs("reference");
+    let reference = crate::io::load_scene_and_crs("reference");
     let _ = std::fs::remove_dir_all(&dir);
     assert!(wrote.is_ok());
     let (scene, crs) = named.expect("a model in feet loads");

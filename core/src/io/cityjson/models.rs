@@ -7,8 +7,8 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-use super::{ReconstructError, Reconstruction};
-use crate::scene::cityjson::crs_url;
+use super::crs_url;
+use crate::reconstruct::{ReconstructError, Reconstruction};
 
 /// Vertex precision: a thousandth of the source unit (1 mm, or 0.001 ft).
 const SCALE: f64 = 0.001;
@@ -88,9 +88,9 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
         let values: Vec<usize> = kinds
             .iter()
             .map(|k| match k {
-                super::SurfaceType::RoofSurface => 0,
-                super::SurfaceType::WallSurface => 1,
-                super::SurfaceType::GroundSurface => 2,
+                crate::reconstruct::SurfaceType::RoofSurface => 0,
+                crate::reconstruct::SurfaceType::WallSurface => 1,
+                crate::reconstruct::SurfaceType::GroundSurface => 2,
             })
             .collect();
         objects.insert(

@@ -29,9 +29,10 @@ pub use error::{PlyMeshError, PlyPlace};
 
 use crate::cloud::ply::reader::{AsciiRows, BinaryRows, Header, PlyFormat, Rows, parse_header};
 
-use super::indexed::{IndexedObject, scene_from_indexed};
-use super::{ObjectKind, Scene, SceneError};
 use crate::file;
+use crate::io::SceneError;
+use crate::scene::indexed::{IndexedObject, scene_from_indexed};
+use crate::scene::{ObjectKind, Scene};
 
 const SPLIT_NAMES: [&str; 5] = ["object", "object_id", "label", "building", "building_id"];
 const CLASS_NAMES: [&str; 2] = ["class", "classification"];

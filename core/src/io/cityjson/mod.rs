@@ -36,11 +36,11 @@
 
 pub(crate) mod boundaries;
 mod error;
+pub mod footprints;
 mod ground_level;
 pub(crate) mod model;
+pub mod models;
 mod source;
-mod streets;
-mod terrain;
 mod write;
 
 use std::collections::{BTreeMap, HashMap};
@@ -53,15 +53,14 @@ pub use source::{
     BUILDING_TYPES, CityModel, GROUND_TYPES, city_files, crs_key, is_city_file, parse_city_model,
     read_city_model,
 };
-pub(crate) use terrain::blend_bases;
-pub use terrain::{Footprint, TerrainOptions, terrain_around};
 pub use write::{Attributes, annotated_model, crs_url, scene_model};
 
-use super::builder::{MeshPart, SceneBuilder};
-use super::indexed::localize;
-use super::polygon::triangulate_3d;
-use super::vec3::{area_vector, norm};
-use super::{ObjectKind, Scene, SceneError};
+use super::SceneError;
+use crate::scene::indexed::localize;
+use crate::scene::polygon::triangulate_3d;
+use crate::scene::terrain::{Footprint, TerrainOptions, terrain_around};
+use crate::scene::vec3::{area_vector, norm};
+use crate::scene::{MeshPart, ObjectKind, Scene, SceneBuilder};
 
 /// Triangles smaller than this (m²) are dropped as degenerate.
 const MIN_AREA: f64 = 1e-6;

@@ -12,7 +12,7 @@ use super::boundaries::map_indices;
 use super::error::CityJsonError;
 use super::model::{CityObject, Document, Transform};
 use crate::file;
-use crate::scene::SceneError;
+use crate::io::SceneError;
 
 /// City object types that are buildings (their parts included).
 pub const BUILDING_TYPES: &[&str] = &["Building", "BuildingPart"];

@@ -2,7 +2,7 @@
 //! Polygon, MultiPolygon and GeometryCollections of them, with holes.
 //!
 //! Each footprint's own id (its `name`) is the property the user names, else
-//! the first of [`ID_FIELDS`](super::ids::ID_FIELDS) present, else the
+//! the first of [`ID_FIELDS`](crate::footprint::ID_FIELDS) present, else the
 //! Feature's `id`, else its `name`. Numeric ids come from the property `id`
 //! or `building` or the Feature's `id` (a positive integer or a string of
 //! one); the others get the next free ids in file order. Features sharing a
@@ -14,10 +14,10 @@ use std::collections::BTreeMap;
 use geo::{MultiPolygon, Polygon};
 use serde_json::Value;
 
-use super::error::{ParseError, RingProblem, Skipped, shape};
-use super::ids::{ReadOptions, check_named_field, id_text, own_id};
-use super::polygon::{ring, union_valid};
-use super::types::{Footprint, Loaded};
+use crate::footprint::error::{ParseError, RingProblem, Skipped, shape};
+use crate::footprint::ids::{ReadOptions, check_named_field, id_text, own_id};
+use crate::footprint::polygon::{ring, union_valid};
+use crate::footprint::{Footprint, Loaded};
 
 /// One feature's polygons with its ids.
 struct Part {

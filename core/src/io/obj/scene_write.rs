@@ -1,4 +1,4 @@
-//! Writing a [`Scene`] as an OBJ file that [`super::read_obj`] reads back
+//! Writing a [`Scene`] as an OBJ file that [`read_obj`](super::scene::read_obj) reads back
 //! into the same objects, kinds, building ids and source coordinates.
 //!
 //! - Vertices are written in source coordinates (local + origin, `f64`), so
@@ -9,15 +9,16 @@
 //!   same), each of its objects (CityJSON BuildingParts: the ground truth
 //!   treats them as separate solids) as a `g part_NAME` part when it has
 //!   several; then vegetation, then
-//!   ground, each `o` named so that [`super::kind_from_name`] announces its
+//!   ground, each `o` named so that [`kind_from_name`] announces its
 //!   kind.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{ObjectKind, Scene, SceneError, kind_from_name};
 use crate::file;
+use crate::io::SceneError;
+use crate::scene::{ObjectKind, Scene, kind_from_name};
 
 /// The scene as OBJ text.
 pub fn obj_text(scene: &Scene) -> String {
@@ -119,8 +120,9 @@ fn unique(used: &mut HashSet<String>, kind: ObjectKind, name: &str) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::super::scene::{ObjOptions, parse_obj};
     use super::*;
-    use crate::scene::{ObjOptions, REFERENCE_SEED, parse_obj, reference_scene};
+    use crate::scene::{REFERENCE_SEED, reference_scene};
 
     /// Per building id: (triangles, area), and the kinds' triangle counts.
     fn profile(s: &Scene) -> (BTreeMap<u32, (usize, i64)>, [usize; 3]) {

@@ -21,10 +21,10 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::indexed::{IndexedObject, scene_from_indexed};
-use super::naming::{UnknownObjects, kind_from_name};
-use super::{ObjectKind, Scene, SceneError};
 use crate::file;
+use crate::io::SceneError;
+use crate::scene::indexed::{IndexedObject, scene_from_indexed};
+use crate::scene::{ObjectKind, Scene, UnknownObjects, kind_from_name};
 
 /// Options for reading OBJ scenes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

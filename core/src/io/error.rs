@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use super::cityjson::CityJsonError;
-use super::obj::ObjError;
+use super::obj::scene::ObjError;
 use super::ply_mesh::PlyMeshError;
 use crate::file::FileError;
 

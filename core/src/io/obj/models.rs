@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{ReconstructError, Reconstruction};
+use crate::reconstruct::{ReconstructError, Reconstruction};
 
 /// The reconstruction as OBJ text.
 pub fn obj_text(rec: &Reconstruction) -> String {

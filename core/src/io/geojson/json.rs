@@ -2,7 +2,7 @@
 
 use serde_json::Value;
 
-use super::error::ParseError;
+use crate::footprint::ParseError;
 
 /// Parses JSON; empty input and syntax errors become typed errors.
 pub fn parse(data: &[u8]) -> Result<Value, ParseError> {

@@ -8,7 +8,7 @@
 //! boxes whose patches (each box grown by the terrain's margin) are apart:
 //! the shortest set of straight streets that connects every cluster.
 
-use super::terrain::Footprint;
+use super::around::Footprint;
 
 /// A straight street between two footprint boxes: its ends in plan (m).
 pub type Street = [[f64; 2]; 2];

@@ -4,11 +4,12 @@ use std::path::Path;
 
 use crate::crs::Crs;
 
+use super::SceneError;
 use super::cityjson::{CityJsonOptions, city_files, is_city_file, read_city_files_and_crs};
-use super::obj::{ObjOptions, read_obj};
+use super::obj::scene::{ObjOptions, read_obj};
 use super::ply_mesh::read_ply_mesh;
-use super::reference::{REFERENCE_SEED, reference_scene};
-use super::{Scene, SceneError};
+use crate::scene::Scene;
+use crate::scene::reference::{REFERENCE_SEED, reference_scene};
 
 /// Loads a scene from a spec:
 /// - `reference` or `reference:SEED` (decimal u64): the built-in scene;
