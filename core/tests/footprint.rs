@@ -10,12 +10,12 @@ use skyground_core::cloud::Cloud;
 use skyground_core::cloud::class::BUILDING;
 use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::footprint::{
-    DeriveParams, Footprint, FootprintError, ParseError, ReadOptions, RingProblem, SplitParams,
-    derive, footprints_of_scene, iou, match_footprints, split,
+    DeriveParams, Footprint, ParseError, ReadOptions, RingProblem, SplitParams, derive,
+    footprints_of_scene, iou, match_footprints, split,
 };
 use skyground_core::io::load_scene;
 use skyground_core::io::{
-    SourceFootprints, load_footprints, parse_cityjson_footprints, parse_geojson,
+    FootprintError, SourceFootprints, load_footprints, parse_cityjson_footprints, parse_geojson,
     parse_geojson_with, parse_obj_footprints, read_footprints, resolve_source,
 };
 use skyground_core::lidar::{AirborneConfig, Caster, airborne_scan};

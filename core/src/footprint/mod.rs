@@ -25,7 +25,7 @@ mod types;
 
 pub use compare::{FootprintMatch, Segmentation, iou, match_footprints, segmentation};
 pub use derive::derive;
-pub use error::{FootprintError, ParseError, RingProblem, Skipped};
+pub use error::{ParseError, RingProblem, Skipped};
 pub use ids::{ID_FIELDS, ReadOptions};
 pub use params::{DeriveParams, SplitParams};
 pub use scene::footprints_of_scene;

@@ -1,4 +1,4 @@
-//! The error of loading a scene.
+//! The errors of loading a scene or a footprint file.
 
 use std::path::PathBuf;
 
@@ -6,6 +6,7 @@ use super::cityjson::CityJsonError;
 use super::obj::scene::ObjError;
 use super::ply_mesh::PlyMeshError;
 use crate::file::FileError;
+use crate::footprint::ParseError;
 
 /// Loading a scene failed; file errors start with the path.
 #[derive(Debug, thiserror::Error)]
@@ -81,5 +82,74 @@ pub enum SceneError {
         /// The cause.
         #[source]
         source: CityJsonError,
+    },
+}
+
+/// A footprint file that could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum FootprintError {
+    /// The file could not be opened or read.
+    #[error(transparent)]
+    Io(#[from] FileError),
+    /// The file's content is wrong.
+    #[error("{path}: {source}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        source: ParseError,
+    },
+    /// The file names a horizontal CRS other than the cloud's.
+    #[error(
+        "{path}: the footprints are in {file} but the cloud in {cloud}: reproject the footprints to the cloud's CRS first (e.g. ogr2ogr -t_srs)"
+    )]
+    CrsMismatch {
+        /// The file.
+        path: PathBuf,
+        /// The CRS the file names.
+        file: String,
+        /// The cloud's CRS.
+        cloud: String,
+    },
+    /// Neither the extension nor the content says GeoJSON, CityJSON, FlatGeobuf or OBJ.
+    #[error(
+        "{path}: unknown footprint format (expected GeoJSON .geojson/.json, CityJSON .json/.city.json, CityJSONSeq .jsonl, FlatGeobuf .fgb or OBJ .obj)"
+    )]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// GeoPackage is not read (no maintained pure-Rust SQLite reader).
+    #[error(
+        "{path}: GeoPackage is not read here (it is SQLite, and no maintained pure-Rust SQLite reader exists): convert it first, e.g. `ogr2ogr -f FlatGeobuf footprints.fgb {path}` or `ogr2ogr -f GeoJSON footprints.geojson {path}`"
+    )]
+    GeoPackage {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A CityJSON file (or tiles) that could not be read as a city model.
+    #[error("{source}")]
+    City {
+        /// The city model reader's error (names the file).
+        source: Box<SceneError>,
+    },
+    /// `--footprints model` without a CityJSON scene to take them from.
+    #[error(
+        "--footprints model takes a CityJSON scene's own buildings, but {}: give the footprint file instead",
+        scene.as_ref().map_or_else(|| "there is no scene".to_string(), |s| format!("the scene `{s}` is not CityJSON"))
+    )]
+    ModelWithoutCity {
+        /// The scene spec, when there is one.
+        scene: Option<String>,
+    },
+    /// RFC 7946 GeoJSON (no `crs`) in longitude/latitude over a projected cloud.
+    #[error(
+        "{path}: the footprints are in longitude/latitude (GeoJSON without a `crs` member is WGS 84, RFC 7946) but the cloud is in {cloud}: reproject them to the cloud's CRS first (e.g. ogr2ogr -t_srs)"
+    )]
+    LongitudeLatitude {
+        /// The file.
+        path: PathBuf,
+        /// The cloud's CRS.
+        cloud: String,
     },
 }

@@ -10,10 +10,11 @@ use super::cityjson::{city_files, read_city_model};
 use crate::crs::{Crs, JsonCrs, SourceFrame, epsg_from_reference, geojson_crs};
 use crate::file;
 
+use super::FootprintError;
 use super::cityjson::footprints::cityjson_footprints;
 use super::geojson::footprints::parse_geojson_with;
 use super::obj::footprints::parse_obj_footprints;
-use crate::footprint::{FootprintError, Loaded, ReadOptions};
+use crate::footprint::{Loaded, ReadOptions};
 
 /// The `--footprints` keyword for a CityJSON scene's own buildings.
 pub const MODEL_KEYWORD: &str = "model";

@@ -22,7 +22,7 @@ pub use cityjson::{
     CityJsonError, CityJsonOptions, CityModel, parse_cityjson, read_city_files,
     read_city_files_and_crs, read_cityjson,
 };
-pub use error::SceneError;
+pub use error::{FootprintError, SceneError};
 pub use flatgeobuf::parse_fgb;
 pub use footprints::{
     MODEL_KEYWORD, SourceFootprints, load_footprints, load_footprints_in, load_given,

@@ -14,7 +14,8 @@
 //! - `prism`: the LoD 1.2 fallback where no roof plane is found;
 //! - `solid`: roof faces, vertical faces and the base as one closed shell
 //!   ([`Shell::check`] counts edge uses);
-//! - [`cityjson`], [`obj`]: writers; [`evaluate`]: distances to the truth;
+//! - the models are written by [`crate::io`] (CityJSON, OBJ);
+//!   [`evaluate`]: distances to the truth;
 //!   [`compare`]: before against after.
 
 mod building;

@@ -106,7 +106,7 @@ pub fn mission_scene(
         return Ok((spec.to_string(), full, None));
     };
     let path = out.join("scene.obj");
-    write_obj(&c.scene, &path).map_err(|e| err(e.to_string()))?;
+    write_obj(&path, &c.scene).map_err(|e| err(e.to_string()))?;
     eprintln!(
         "  {}; written to {}",
         describe(&c, model_crs),

@@ -76,7 +76,7 @@ pub fn obj_text(scene: &Scene) -> String {
 }
 
 /// Writes the scene to `path` as OBJ.
-pub fn write_obj(scene: &Scene, path: &Path) -> Result<(), SceneError> {
+pub fn write_obj(path: &Path, scene: &Scene) -> Result<(), SceneError> {
     Ok(file::write(path, obj_text(scene))?)
 }
 
