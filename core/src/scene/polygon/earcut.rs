@@ -342,6 +342,26 @@ mod tests {
         assert_eq!(tris.len(), 3);
         assert!((area(&pts, &tris) - 2.0).abs() < 1e-12);
     }
+
+    /// Issue 51: the reason given for this file (geo's earcut dropping
+    /// collinear vertices) does not hold for geo 0.33 on the simplest ring:
+    /// both keep the vertex (1, 0). What still stands between this file and
+    /// geo's earcut is open (holes, degenerate rings, a bench).
+    #[test]
+    fn geo_earcut_keeps_the_collinear_vertex_too() {
+        use geo::{LineString, Polygon, TriangulateEarcut};
+        let pts = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
+        let ring = LineString::from(pts.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>());
+        let raw = Polygon::new(ring, vec![]).earcut_triangles_raw();
+        let used = |k: usize| {
+            raw.triangle_indices
+                .iter()
+                .any(|&i| raw.vertices[i] == pts[k])
+        };
+        assert!(used(1), "geo's earcut dropped the collinear vertex");
+        let ours = triangulate_2d(&pts, &[vec![0, 1, 2, 3, 4]]);
+        assert!(ours.iter().any(|t| t.contains(&1)));
+    }
 }
 
 #[cfg(test)]

@@ -11,6 +11,9 @@
 //! (`filter_points`), which leaves T-junctions where a wall meets a roof
 //! edge, so the reconstructed solids (`reconstruct::solid`) would no longer
 //! be watertight. This clipper keeps every vertex (`collinear_vertices_are_kept`).
+//! geo 0.33's earcut keeps the collinear vertex of that simple ring too
+//! (`geo_earcut_keeps_the_collinear_vertex_too`), so that reason is not shown
+//! there; whether geo's earcut can replace this file is open (issue 51).
 
 mod earcut;
 mod plane;
