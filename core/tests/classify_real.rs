@@ -13,7 +13,9 @@
 //! (building F1 0.90, vegetation F1 0.85, a forest ≤ 1 % building, ground
 //! total error ≤ 5 % on the IGN tiles) and the measured figure less a small
 //! margin where it does not (St Barth building F1 0.880, the Nebraska
-//! snippet 0.738); see docs/classification.md.
+//! snippet 0.738); see docs/classification.md. Ground, ISPRS-style (bare
+//! earth vs objects, low vegetation apart), ≤ 5 % on every labelled file
+//! the shipped model never saw, 6 % on PDAL's 1,065-point Autzen snippet.
 //! There the test also checks what the missed building points look like
 //! (`shapes_by_pairing`): shaped as the vegetation both sides agree on.
 
@@ -28,7 +30,8 @@ use skyground_core::ground::CsfParams;
 
 mod common;
 use common::{
-    BC_FOREST, IGN, real_file, shipped, sparse_delft_2, trained_on, trained_with_forests,
+    BC_FOREST, IGN, conformance_file, real_file, shipped, sparse_delft_2, trained_on,
+    trained_with_forests,
 };
 
 struct Scored {
@@ -308,7 +311,8 @@ fn nebraska_snippet_held_out() {
 /// flat ground left standing as a 300 m roof, and a footbridge rises from
 /// it. Both continue the terrain without a step, so they are ground (or
 /// deck), not buildings. Measured: producer ground called non-ground
-/// 17.7 % → 8.4 %, points labelled building 11.6 % → 2.2 %.
+/// 17.7 % → 8.4 % (2.9 % once the forest's ground is ground too), points
+/// labelled building 11.6 % → 2.2 %.
 #[test]
 fn a_river_bank_the_cloth_missed_is_ground_not_a_building() {
     let Some(path) = real_file("autzen_trim.las") else {
@@ -402,4 +406,50 @@ fn a_sparse_survey_keeps_its_roofs() {
     );
     let f1 = report.class(BUILDING).map_or(0.0, |m| m.f1);
     assert!(f1 >= 0.87, "building F1 {f1:.3}");
+}
+
+/// Ground, ISPRS-style (bare earth 2 vs objects 4–6, low vegetation 3 left
+/// out; the producer's ground alone where it labels only ground and
+/// unclassified), on every labelled file the shipped model never saw: the
+/// issue's 5 % where met. The CSF settings were chosen on sample_c.las,
+/// ahn3_delft_1 and the reference scene (docs/density.md): their rows are
+/// held out for the forest's ground only. The 1,065-point Autzen snippet
+/// (0.25 pts per m², PDAL's `1.2-with-color`) is held at its measured
+/// 5.43 % less a margin: its 15 missed ground points stand alone on a
+/// hillside, 46–138 ft from the nearest point called ground and 5–50 ft
+/// over it; no neighbourhood judges them (docs/classification.md).
+#[test]
+fn ground_on_files_nobody_tuned_it_on_is_within_five_percent() {
+    let classifier = SceneClassifier::new(CsfParams::default(), shipped()).unwrap();
+    let floors = [
+        ("autzen_trim.las", false, 0.05),
+        ("ahn3_delft_1.laz", false, 0.05),
+        ("ahn3_delft_2.laz", false, 0.05),
+        ("sample_c.las", false, 0.05),
+        ("laspy_nebraska_ftus.las", false, 0.05),
+        ("lidr_mixedconifer.laz", false, 0.05),
+        ("pdal_4_6_crop.las", true, 0.05),
+        ("pdal_sample_c_thin.las", true, 0.05),
+        ("pdal_1.2-with-color.las", true, 0.06),
+    ];
+    let mut scored = 0;
+    for (name, conformance, floor) in floors {
+        let found = if conformance {
+            conformance_file(name)
+        } else {
+            real_file(name)
+        };
+        let Some(path) = found else {
+            println!("SKIPPED {name}: not found");
+            continue;
+        };
+        let cloud = read_cloud(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let truth = cloud.label.clone().unwrap_or_default();
+        let c = classifier.classify_cloud(&cloud).unwrap();
+        let g = GroundReport::new(&truth, &c.ground.is_ground).unwrap();
+        println!("{name}: {} ({:?})", g.line(), c.at_grade);
+        assert!(g.total_error <= floor, "{name}: {}", g.line());
+        scored += 1;
+    }
+    println!("{scored} files scored");
 }

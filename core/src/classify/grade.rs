@@ -31,7 +31,8 @@ pub const MIN_CELL_M: f32 = 1.0;
 /// over that ground.
 pub const DECK_CLEARANCE_M: f32 = 2.0;
 
-/// What [`join_terrain`] relabelled.
+/// What [`join_terrain`] relabelled, and the points the forest took back
+/// as ground ([`super::classify_at`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub struct AtGrade {
     /// Building points that continue the terrain: now ground.
@@ -39,19 +40,32 @@ pub struct AtGrade {
     /// Building points that continue the terrain over lower ground: now
     /// bridge deck.
     pub to_bridge_deck: usize,
+    /// Points the ground filter left standing that the forest calls
+    /// ground: now ground.
+    pub forest_ground: usize,
 }
 
 impl AtGrade {
     /// What a user is told when points were relabelled; `None` otherwise.
     pub fn message(&self) -> Option<String> {
-        (self.to_ground + self.to_bridge_deck > 0).then(|| {
+        let joined = (self.to_ground + self.to_bridge_deck > 0).then(|| {
             format!(
                 "{} point(s) read as roofs continue the terrain without a step (ground the cloth hung below, at a bank or a slope): {} now ground, {} bridge deck",
                 self.to_ground + self.to_bridge_deck,
                 self.to_ground,
                 self.to_bridge_deck
             )
-        })
+        });
+        let forest = (self.forest_ground > 0).then(|| {
+            format!(
+                "{} point(s) the ground filter left standing are ground to the forest (terrain the cloth hung off, on a slope or a bank): now ground",
+                self.forest_ground
+            )
+        });
+        match (joined, forest) {
+            (Some(a), Some(b)) => Some(format!("{a}\n{b}")),
+            (a, b) => a.or(b),
+        }
     }
 }
 

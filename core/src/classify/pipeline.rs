@@ -13,8 +13,9 @@ use crate::features::Echoes;
 
 /// LAS class of every point: 2 where `is_ground`, else the forest's
 /// vegetation (5) or building (6). A non-ground point the forest calls
-/// ground (a low object the ground filter left standing) gets 1, and a
-/// building surface that continues the terrain 2 or 17 ([`join_terrain`]).
+/// ground is ground too (2: terrain the cloth missed, see
+/// [`classify_at`]), and a building surface that continues the terrain 2
+/// or 17 ([`join_terrain`]).
 /// `hag`: height above the ground model, metres; `echoes`: the cloud's
 /// return numbers, when it has them.
 pub fn classify(
@@ -30,9 +31,13 @@ pub fn classify(
 
 /// [`classify`] of a cloud whose point spacing (m) is already measured
 /// (the ground filter measures it): the roof check's cells and links
-/// follow it below 4 pts/m². Also says which building points turned out
-/// to continue the terrain ([`join_terrain`]): those are ground (2) or
-/// bridge deck (17), though the ground filter left them standing.
+/// follow it below 4 pts/m². Also says which points the ground filter
+/// left standing are ground after all: building surfaces that continue the
+/// terrain ([`join_terrain`]: ground (2) or bridge deck (17)), and points
+/// the forest calls ground. The forest learned its ground class on exactly
+/// the points the filter leaves to it (producer ground the cloth missed,
+/// [`super::training::labelled_cloud`]): terrain on slopes and banks, where
+/// a stiff cloth hangs more than its threshold off the ground.
 pub fn classify_at(
     xyz: &[[f32; 3]],
     hag: &[f32],
@@ -49,6 +54,7 @@ pub fn classify_at(
     }
     model.check()?;
     let rows: Vec<usize> = (0..xyz.len()).filter(|&i| !is_ground[i]).collect();
+    let mut forest_ground: Vec<usize> = Vec::new();
     let mut out = vec![GROUND; xyz.len()];
     if rows.is_empty() {
         return Ok((out, AtGrade::default()));
@@ -60,6 +66,11 @@ pub fn classify_at(
     let proba = smooth_votes(&sub, &proba, classes.len(), s.k, s.radius_m);
     for (&i, k) in rows.iter().zip(argmax_rows(&proba, classes.len())) {
         let c = classes.get(k).copied().unwrap_or(UNCLASSIFIED);
+        // Held out of the roof check and the growing at grade (their
+        // settings were chosen without these points), ground after them.
+        if c == GROUND {
+            forest_ground.push(i);
+        }
         out[i] = if c == GROUND { UNCLASSIFIED } else { c };
     }
     check_roofs(
@@ -69,6 +80,12 @@ pub fn classify_at(
         echoes,
         &model.roof_check.for_spacing(spacing_m),
     );
-    let at_grade = join_terrain(xyz, &mut out, spacing_m);
+    let mut at_grade = join_terrain(xyz, &mut out, spacing_m);
+    for i in forest_ground {
+        if out[i] == UNCLASSIFIED {
+            out[i] = GROUND;
+            at_grade.forest_ground += 1;
+        }
+    }
     Ok((out, at_grade))
 }

@@ -31,8 +31,10 @@ pub struct Classified {
     pub seconds_csf: f64,
     /// Seconds in features and forest.
     pub seconds_classify: f64,
-    /// Building points found to continue the terrain: now ground (and
-    /// ground in `ground.is_ground`) or bridge deck.
+    /// Points the ground filter left standing that are ground after all:
+    /// building surfaces that continue the terrain (now ground, or bridge
+    /// deck) and points the forest calls ground; ground ones are ground in
+    /// `ground.is_ground` too.
     pub at_grade: AtGrade,
 }
 
@@ -213,32 +215,40 @@ pub fn echoes_of(cloud: &Cloud) -> Option<Echoes<'_>> {
     })
 }
 
-/// Ground vs non-ground against reference labels (the CSF paper's measures).
+/// Ground vs non-ground against reference labels, ISPRS-style (the CSF
+/// paper's measures): bare earth against objects, low vegetation apart.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct GroundReport {
     /// Points compared.
     pub points: usize,
-    /// Which points were compared: "producer classes 2-6" (ground,
-    /// vegetation, building: unclassified, water, noise and bridges say
+    /// Which points were compared: "bare earth (2) vs objects (4-6), low
+    /// vegetation (3) left out" (unclassified, water, noise and bridges say
     /// nothing about the ground filter) or, when the reference has no class
     /// 3–6 point (ground / unclassified only, e.g. Autzen), "producer ground
     /// only": its other points are not known to be off the ground.
     pub scope: &'static str,
     /// Misclassified / compared (type I alone for "producer ground only").
     pub total_error: f64,
-    /// Type I: ground called non-ground / reference ground.
+    /// Type I: bare earth called non-ground / reference bare earth.
     pub type_i: f64,
-    /// Type II: non-ground called ground / reference non-ground; `None`
-    /// when the reference names no non-ground point.
+    /// Type II: objects called ground / reference objects; `None` when the
+    /// reference names no object point.
     pub type_ii: Option<f64>,
     /// Cohen's kappa of the two-class agreement; `None` with `type_ii`.
     pub kappa: Option<f64>,
+    /// The total error with low vegetation (3) counted as object; `None`
+    /// with `type_ii`.
+    pub total_error_with_low_vegetation: Option<f64>,
+    /// Reference low-vegetation (3) points.
+    pub low_vegetation_points: usize,
+    /// Share of them called ground; `None` when there are none.
+    pub low_vegetation_called_ground: Option<f64>,
 }
 
 impl GroundReport {
-    /// Compares the filter's ground flags with LAS labels (class 2 = ground)
-    /// over the points of producer class 2–6, or over the producer's ground
-    /// alone when it labels no class 3–6 point.
+    /// Compares the filter's ground flags with LAS labels: bare earth (2)
+    /// against objects (4–6), low vegetation (3) apart, or the producer's
+    /// ground alone when it labels no class 3–6 point.
     pub fn new(truth: &[u8], is_ground: &[bool]) -> Result<Self, ClassifyError> {
         ColumnLength::check("ground flags", truth.len(), is_ground.len())?;
         if truth.is_empty() {
@@ -247,13 +257,21 @@ impl GroundReport {
         let labelled = truth.iter().any(|t| (3..=6).contains(t));
         let scored = |t: u8| {
             if labelled {
-                (2..=6).contains(&t)
+                t == class::GROUND || (4..=6).contains(&t)
             } else {
                 t == class::GROUND
             }
         };
         let (mut a, mut b, mut c, mut d) = (0f64, 0f64, 0f64, 0f64);
-        for (&t, &g) in truth.iter().zip(is_ground).filter(|(t, _)| scored(**t)) {
+        let (mut low, mut low_ground) = (0usize, 0usize);
+        for (&t, &g) in truth.iter().zip(is_ground) {
+            if t == class::LOW_VEGETATION {
+                low += 1;
+                low_ground += usize::from(g);
+            }
+            if !scored(t) {
+                continue;
+            }
             match (t == class::GROUND, g) {
                 (true, true) => a += 1.0,
                 (true, false) => b += 1.0,
@@ -273,10 +291,11 @@ impl GroundReport {
         } else {
             1.0
         };
+        let with_low = (b + c + low_ground as f64) / (n + low as f64);
         Ok(Self {
             points: n as usize,
             scope: if labelled {
-                "producer classes 2-6"
+                "bare earth (2) vs objects (4-6), low vegetation (3) left out"
             } else {
                 "producer ground only"
             },
@@ -284,13 +303,16 @@ impl GroundReport {
             type_i: ratio(b, a + b),
             type_ii: labelled.then(|| ratio(c, c + d)),
             kappa: labelled.then_some(kappa),
+            total_error_with_low_vegetation: labelled.then_some(with_low),
+            low_vegetation_points: low,
+            low_vegetation_called_ground: (low > 0).then(|| low_ground as f64 / low as f64),
         })
     }
 
     /// One line: total error, type I, type II and kappa where known.
     pub fn line(&self) -> String {
         let mut s = format!(
-            "ground vs non-ground ({}, {} points): total error {:.2} %, type I {:.2} %",
+            "ground ({}, {} points): total error {:.2} %, type I {:.2} %",
             self.scope,
             self.points,
             self.total_error * 100.0,
@@ -299,6 +321,17 @@ impl GroundReport {
         match (self.type_ii, self.kappa) {
             (Some(t2), Some(k)) => s += &format!(", type II {:.2} %, kappa {k:.3}", t2 * 100.0),
             _ => s += " (no non-ground reference: type II unknown)",
+        }
+        if let (Some(e), Some(g)) = (
+            self.total_error_with_low_vegetation,
+            self.low_vegetation_called_ground,
+        ) {
+            s += &format!(
+                "; with low vegetation as object {:.2} % ({:.1} % of its {} points called ground)",
+                e * 100.0,
+                g * 100.0,
+                self.low_vegetation_points
+            );
         }
         s
     }
@@ -319,11 +352,17 @@ mod tests {
         assert!((r.kappa.unwrap_or(0.0) - 0.5).abs() < 1e-12);
         assert!(r.line().contains("type II 25.00 %"));
         assert!(GroundReport::new(&truth, &flags[..3]).is_err());
-        // Water (9) and unclassified (1) are left out when classes 3–6 exist.
-        let truth = [2, 2, 6, 6, 9, 1];
-        let flags = [true, false, false, false, true, true];
+        // Water (9) and unclassified (1) are left out when classes 3–6
+        // exist; low vegetation (3) is apart: only in the second total.
+        let truth = [2, 2, 6, 6, 9, 1, 3, 3];
+        let flags = [true, false, false, false, true, true, true, false];
         let r = GroundReport::new(&truth, &flags).unwrap();
         assert_eq!((r.points, r.total_error), (4, 0.25));
+        assert_eq!(r.total_error_with_low_vegetation, Some(2.0 / 6.0));
+        assert_eq!(
+            (r.low_vegetation_points, r.low_vegetation_called_ground),
+            (2, Some(0.5))
+        );
         // Ground / unclassified only (Autzen): unclassified is not known to
         // be off the ground, so only the producer's ground is judged.
         let r = GroundReport::new(&[2, 2, 1, 1], &[true, false, true, false]).unwrap();
