@@ -1,21 +1,27 @@
 //! Quality per model, as 3DBAG publishes it: the RMSE of the building's
-//! points inside its footprint to its model (`b3_rmse_lod22`'s meaning;
-//! roofs and walls alike), the footprint IoU of the model's
-//! outline against the footprint it was made for, and the val3dity codes
-//! its solid fails.
+//! roof points inside its footprint to its model's roof surfaces
+//! (`b3_rmse_lod22`'s meaning), the footprint IoU of the model's outline
+//! against the footprint it was made for, and the val3dity codes its solid
+//! fails. Roof points are the ones the air sees: no other point of the
+//! building lies over them (within [`COVER_RADIUS_M`] in plan and
+//! [`COVER_HEIGHT_M`] above). A facade or a point under the eaves has
+//! the roof over it and is left out, as are the model's walls and base: a
+//! wall point lies metres below the roof the RMSE is about.
 
 use geo::{Contains, Coord, MultiPolygon};
+use rustc_hash::FxHashMap;
 use serde::Serialize;
 
 use super::evaluate::FAR;
-use super::solid::Shell;
+use super::solid::{Shell, SurfaceType};
 use crate::footprint::iou;
 use crate::metrics::{MeshBackend, MeshDistance};
 
 /// What [`assess`] finds of one model.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct ModelQuality {
-    /// RMSE of the building's points to its model, m (`None` without points).
+    /// RMSE of the building's roof points to its model's roof faces, m
+    /// (`None` without points).
     pub rmse_m: Option<f64>,
     /// IoU of the model's outline and the footprint it was made for.
     pub footprint_iou: Option<f64>,
@@ -26,6 +32,42 @@ pub struct ModelQuality {
     pub rejected_val3dity: Vec<u16>,
 }
 
+/// A point with another this close in plan ...
+pub const COVER_RADIUS_M: f64 = 0.3;
+/// ... and this much higher is covered: not a roof point.
+pub const COVER_HEIGHT_M: f64 = 0.5;
+
+/// Per point of `xyz`: no other point covers it (see the module docs).
+pub fn seen_from_above(xyz: &[[f32; 3]]) -> Vec<bool> {
+    let r = COVER_RADIUS_M;
+    let key = |p: &[f32; 3]| {
+        (
+            (f64::from(p[0]) / r).floor() as i64,
+            (f64::from(p[1]) / r).floor() as i64,
+        )
+    };
+    let mut cells: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+    for (i, p) in xyz.iter().enumerate() {
+        cells.entry(key(p)).or_default().push(i as u32);
+    }
+    xyz.iter()
+        .map(|p| {
+            let (i, j) = key(p);
+            !(i - 1..=i + 1).any(|a| {
+                (j - 1..=j + 1).any(|b| {
+                    cells.get(&(a, b)).is_some_and(|v| {
+                        v.iter().any(|&k| {
+                            let q = &xyz[k as usize];
+                            let (dx, dy) = (f64::from(q[0] - p[0]), f64::from(q[1] - p[1]));
+                            dx * dx + dy * dy <= r * r && f64::from(q[2] - p[2]) > COVER_HEIGHT_M
+                        })
+                    })
+                })
+            })
+        })
+        .collect()
+}
+
 /// Measures a model (its closed `shell` and its `outline`) against its
 /// points `xyz` and the `footprint` it was made for.
 pub fn assess(
@@ -34,12 +76,20 @@ pub fn assess(
     xyz: &[[f32; 3]],
     footprint: &MultiPolygon<f64>,
 ) -> ModelQuality {
-    let tris: Vec<[[f64; 3]; 3]> = shell.triangles().into_iter().map(|(t, _)| t).collect();
+    let tris: Vec<[[f64; 3]; 3]> = shell
+        .triangles()
+        .into_iter()
+        .filter(|(_, kind)| *kind == SurfaceType::RoofSurface)
+        .map(|(t, _)| t)
+        .collect();
     // Points the split gave the building from just outside its footprint
     // (eaves over the wall line) are not the footprint's points.
+    let seen = seen_from_above(xyz);
     let inside: Vec<[f64; 3]> = xyz
         .iter()
-        .map(|p| p.map(f64::from))
+        .zip(&seen)
+        .filter(|(_, s)| **s)
+        .map(|(p, _)| p.map(f64::from))
         .filter(|p| footprint.contains(&Coord { x: p[0], y: p[1] }))
         .collect();
     let rmse_m = (!inside.is_empty() && !tris.is_empty()).then(|| {
