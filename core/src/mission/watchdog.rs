@@ -4,7 +4,7 @@
 //!
 //! - vehicle_sim: its clock (odometry stamps) advances, always (while it
 //!   drives and while it waits for orders);
-//! - global_planner: its status comes (every tick) while a round runs;
+//! - global_planner: its status comes (every tick, in every phase);
 //! - local_explorer: the scans it merged grow after the vehicle moved;
 //! - completeness_detector: a detection comes after a merged cloud arrived.
 //!
@@ -50,7 +50,7 @@ impl Watched {
     pub fn progress(self) -> &'static str {
         match self {
             Watched::VehicleSim => "its clock (robot time) stood",
-            Watched::GlobalPlanner => "no /planner_status came while a round ran",
+            Watched::GlobalPlanner => "no /planner_status came",
             Watched::LocalExplorer => "no scan was merged while the vehicle moved",
             Watched::CompletenessDetector => "no detection came after a merged cloud arrived",
         }

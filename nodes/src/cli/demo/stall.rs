@@ -71,14 +71,10 @@ impl Guard {
         self.last_pose = Some(p);
     }
 
-    /// A planner status: progress; it owes the next while a round runs.
-    pub fn planner(&mut self, phase: &str) {
-        let node = Watched::GlobalPlanner;
-        if matches!(phase, "driving" | "exploring" | "carrying") {
-            self.dog.beat(node, self.now());
-        } else {
-            self.dog.progress(node);
-        }
+    /// A planner status (one every 0.5 s, in every phase): progress; it
+    /// owes the next (a planner stopped between rounds would never plan the next).
+    pub fn planner(&mut self) {
+        self.dog.beat(Watched::GlobalPlanner, self.now());
     }
 
     /// A merged cloud arrived: the detector owes a detection.

@@ -394,7 +394,7 @@ impl<'a> Follower<'a> {
             return;
         };
         let finished_round = self.w.progress.planner(&s);
-        self.guard.planner(&s.phase);
+        self.guard.planner();
         self.keep_planner(&s);
         if s.round > 0 {
             prof.stage(&match s.phase.as_str() {
