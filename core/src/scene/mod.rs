@@ -37,7 +37,7 @@ pub use crop::{CropError, Cropped, Window, busiest_window, crop_scene};
 pub use error::SceneError;
 pub use load::{load_scene, load_scene_and_crs};
 pub use mesh::{ObjectKind, Scene, SceneObject};
-pub use naming::{UnknownObjects, kind_from_name};
+pub use naming::{MaterialClass, UnknownObjects, kind_from_material, kind_from_name};
 pub use obj::{ObjError, ObjErrorKind, ObjOptions, parse_obj, read_obj};
 pub use obj_write::{obj_text, write_obj};
 pub use ply_mesh::{PlyMeshError, parse_ply_mesh, read_ply_mesh};
