@@ -2,6 +2,7 @@
 from real buildings (never committed: they are ../shared/data/real's data).
 
     python tests/python/city_layouts.py spread OUT.city.json
+    python tests/python/city_layouts.py far OUT.city.json
     python tests/python/city_layouts.py single OUT.city.json
     python tests/python/city_layouts.py holes OUT.city.json
     python tests/python/city_layouts.py lifted OUT.city.json
@@ -11,6 +12,8 @@ Each takes real LoD2 buildings from zurich_subset_lod2.json (cjio's test data,
 EPSG:2056, CityJSON 1.1) and writes a CityJSON 2.0 file:
 - spread: 16 buildings in 4 clusters of 4 at the corners of a 500 m × 380 m
   rectangle (about 550 m × 430 m with the buildings), no terrain;
+- far: 3 buildings 500 m apart (0,0 → 500,0 → 500,500), no terrain: the
+  spread layout small enough for the demo to run to its end in CI;
 - single: one building, no terrain;
 - holes: 4 buildings 40 m apart on a TINRelief with a 30 m hole between them;
 - lifted: the same 4 on a TINRelief 50 m below their bases (another datum);
@@ -133,6 +136,13 @@ def spread(src):
     return model(pieces)
 
 
+def far(src):
+    """3 buildings 500 m apart, one per corner of an L (0,0 → 500,0 → 500,500)."""
+    bs = buildings(src)[:3]
+    corners = [(0, 0, 0.0), (500, 0, 5.0), (500, 500, -3.0)]
+    return model([placed(b, (X0 + cx, Y0 + cy), Z0 + dz) for b, (cx, cy, dz) in zip(bs, corners)])
+
+
 def single(src):
     """The first building alone."""
     return model([placed(buildings(src)[0], (X0, Y0), Z0)])
@@ -190,7 +200,7 @@ def local(src):
     return doc
 
 
-LAYOUTS = {"spread": spread, "single": single, "holes": holes, "lifted": lifted, "local": local}
+LAYOUTS = {"spread": spread, "far": far, "single": single, "holes": holes, "lifted": lifted, "local": local}
 
 
 def write(name, out, real=REAL):

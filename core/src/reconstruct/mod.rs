@@ -77,7 +77,7 @@ impl Reconstruction {
 }
 
 /// Reconstructs every building of `cloud`: its building points (class 6;
-/// all points when unlabelled) split by `footprints` (same frame as the
+/// all points when unlabelled, or labelled only 0/1) split by `footprints` (same frame as the
 /// cloud), or by footprints derived from the points when `None`.
 pub fn reconstruct_cloud(
     cloud: &Cloud,
@@ -85,7 +85,14 @@ pub fn reconstruct_cloud(
     params: &ReconstructParams,
 ) -> Result<Reconstruction, ReconstructError> {
     params.validate()?;
-    let is = |i: usize, c: u8| cloud.label.as_ref().is_none_or(|l| l.get(i) == Some(&c));
+    // Labels that are all 0 (never classified) or 1 (unclassified), as a
+    // LAS file straight from the scanner has, say nothing about which points
+    // are buildings: as with no labels, every point is used.
+    let labels = cloud
+        .label
+        .as_ref()
+        .filter(|l| l.iter().any(|&c| c > class::UNCLASSIFIED));
+    let is = |i: usize, c: u8| labels.is_none_or(|l| l.get(i) == Some(&c));
     let building: Vec<[f32; 3]> = (0..cloud.len())
         .filter(|&i| is(i, class::BUILDING))
         .map(|i| cloud.xyz[i])
@@ -102,7 +109,7 @@ pub fn reconstruct_cloud(
     if building.is_empty() {
         // A classified tile without buildings has no models; an empty or
         // unclassified cloud has nothing to say which points are buildings.
-        return match &cloud.label {
+        return match labels {
             Some(_) if !cloud.is_empty() => Ok(out),
             _ => Err(ReconstructError::NoBuildingPoints),
         };

@@ -140,6 +140,37 @@ fn missing_walls_leave_the_model_less_accurate() {
 }
 
 #[test]
+fn a_cloud_labelled_only_unclassified_uses_all_its_points() {
+    // A scanner's LAS: every point class 0 or 1. `--help` says all points
+    // are used; before, it gave 0 models and no error.
+    let s = scene();
+    let mut c = cloud(&s, |_, _| true);
+    let keep: Vec<bool> = c
+        .label
+        .iter()
+        .flatten()
+        .map(|&l| l == class::BUILDING)
+        .collect();
+    c.xyz = c
+        .xyz
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(p, _)| *p)
+        .collect();
+    for code in [class::CREATED, class::UNCLASSIFIED] {
+        c.label = Some(vec![code; c.xyz.len()]);
+        let rec = reconstruct_cloud(&c, None, &ReconstructParams::default()).unwrap();
+        assert_eq!(
+            rec.models.len(),
+            3,
+            "class {code}: skipped {:?}",
+            rec.skipped
+        );
+    }
+}
+
+#[test]
 fn bad_input_is_typed() {
     let empty = Cloud::from_xyz(Vec::new());
     assert!(matches!(

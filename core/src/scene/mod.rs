@@ -25,5 +25,5 @@ pub use builder::{MeshPart, SceneBuilder};
 pub use check::{EdgeDefects, SceneCheckError};
 pub use crop::{CropError, Cropped, Window, busiest_window, crop_scene};
 pub use mesh::{ObjectKind, Scene, SceneObject};
-pub use naming::{UnknownObjects, kind_from_name};
+pub use naming::{MaterialClass, UnknownObjects, kind_from_material, kind_from_name};
 pub use reference::{REFERENCE_SEED, ReferenceTerrain, reference_scene};

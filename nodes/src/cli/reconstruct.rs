@@ -24,7 +24,7 @@ use crate::runtime::RuntimeError;
 #[derive(Debug, Clone, clap::Args)]
 pub struct ReconstructArgs {
     /// The cloud (LAS/LAZ/PLY); building points are class 6 (all points when
-    /// unlabelled). Tiles of one survey: repeat `--in` or join them by commas.
+    /// unlabelled or only 0/1, unclassified). Tiles of one survey: repeat `--in` or join them by commas.
     #[arg(long = "in", required = true, value_delimiter = ',')]
     pub input: Vec<PathBuf>,
     #[command(flatten)]

@@ -23,9 +23,8 @@ const EVLR_HEADER_LEN: u64 = 60;
 const VLR_HEADER_LEN: u64 = 54;
 /// The LASzip VLR: user id and record id.
 const LASZIP: (&[u8], u16) = (b"laszip encoded", 22204);
-/// LASzip compressor types: one chunk of every point; chunks of points.
+/// The LASzip compressor type whose one chunk holds every point.
 const POINT_WISE: u16 = 1;
-const POINT_WISE_CHUNKED: u16 = 2;
 
 /// What the checks learned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -163,16 +162,15 @@ fn check_chunks<R: Read + Seek>(
     source.seek(SeekFrom::Start(u64::from(offset)))?;
     let table = ChunkTable::read_from(&mut *source, &vlr);
     source.seek(SeekFrom::Start(0))?;
-    let table = match table {
-        Ok(t) => t,
-        // Layered chunks carry their own point counts: a table is optional.
-        Err(_) if compressor != POINT_WISE_CHUNKED => return Ok(()),
-        Err(e) => {
-            return Err(bad(format!(
-                "variable-size chunks but no readable chunk table ({e})"
-            )));
-        }
-    };
+    // Layered chunks carry their own point counts, but the laz crate (0.13)
+    // goes on reading from wherever its failed look for the table left the
+    // file (`failed to fill whole buffer`): without a table, no compressor
+    // can be read.
+    let table = table.map_err(|e| {
+        bad(format!(
+            "variable-size chunks but no readable chunk table ({e})"
+        ))
+    })?;
     let held: u64 = table[..].iter().map(|c| c.point_count).sum();
     if held < count {
         return Err(bad(format!(

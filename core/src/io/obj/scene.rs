@@ -10,10 +10,15 @@
 //!   except `g part_NAME` inside a building: a part of that building, its
 //!   own object `NAME` with the building's id (a CityJSON BuildingPart, as
 //!   [`super::write_obj`] writes it). Any other unknown name follows
-//!   [`UnknownObjects`] (default: error).
-//! - Faces before any name belong to an object `building` (one building).
+//!   [`UnknownObjects`] (default: error), unless a `usemtl` under it names
+//!   a class ([`kind_from_material`]: 3dfier writes each object's class as
+//!   its material, `o ID` + `usemtl Building`); materials of classes the
+//!   vehicle neither drives on nor scans (water, bridges) leave the object out.
+//! - Faces before any name belong to an object `building` (one building),
+//!   or, after a `usemtl` that names a class, to an object of that class
+//!   named by the material (3dfier's output per class has no `o` at all).
 //! - Faces are fanned into triangles; indices may be negative (relative) and
-//!   written `v`, `v/vt`, `v//vn` or `v/vt/vn`. `vt`, `vn`, materials,
+//!   written `v`, `v/vt`, `v//vn` or `v/vt/vn`. `vt`, `vn`, other materials,
 //!   smoothing groups, lines and points are ignored.
 //! - Coordinates are moved to a local frame ([`crate::cloud::origin`] rule)
 //!   kept in [`Scene::origin`]; unused vertices are dropped.
@@ -24,7 +29,9 @@ use std::path::Path;
 use crate::file;
 use crate::io::SceneError;
 use crate::scene::indexed::{IndexedObject, scene_from_indexed};
-use crate::scene::{ObjectKind, Scene, UnknownObjects, kind_from_name};
+use crate::scene::{
+    MaterialClass, ObjectKind, Scene, UnknownObjects, kind_from_material, kind_from_name,
+};
 
 /// Options for reading OBJ scenes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -78,7 +85,7 @@ pub enum ObjErrorKind {
         /// Vertices found.
         got: usize,
     },
-    /// An object name that announces no kind, with [`UnknownObjects::Error`].
+    /// An object whose name and materials announce no kind, with [`UnknownObjects::Error`].
     #[error(
         "object `{name}`: name announces no kind (expected ground*/terrain*, building*, tree*/vegetation*)"
     )]
@@ -107,6 +114,36 @@ struct Group {
     triangles: Vec<[u32; 3]>,
     /// The group whose building this is a part of (its own index otherwise).
     building: usize,
+    /// The line of the `o`/`g` whose name announced no kind, while no
+    /// `usemtl` has given one.
+    undecided: Option<usize>,
+    /// A material of a class left out (water, bridges): its faces are dropped.
+    left_out: bool,
+    /// Opened by a `usemtl` outside any named object.
+    by_material: bool,
+}
+
+impl Group {
+    fn new(name: String, kind: ObjectKind, opened_by_o: bool, building: usize) -> Group {
+        Group {
+            name,
+            kind,
+            opened_by_o,
+            triangles: Vec::new(),
+            building,
+            undecided: None,
+            left_out: false,
+            by_material: false,
+        }
+    }
+
+    /// Takes the class a material names.
+    fn take(&mut self, class: MaterialClass) {
+        match class {
+            MaterialClass::Kind(kind) => self.kind = kind,
+            MaterialClass::LeftOut => self.left_out = true,
+        }
+    }
 }
 
 /// The name prefix of a `g` that is a part of the building `o` around it.
@@ -165,38 +202,45 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
                 {
                     let key = format!("{}\0{name}", groups[r].name);
                     current = Some(*by_name.entry(key).or_insert_with(|| {
-                        groups.push(Group {
-                            name: part.to_string(),
-                            kind: ObjectKind::Building,
-                            opened_by_o: false,
-                            triangles: Vec::new(),
-                            building: r,
-                        });
+                        groups.push(Group::new(part.to_string(), ObjectKind::Building, false, r));
                         groups.len() - 1
                     }));
                     continue;
                 }
                 let kind = match kind_from_name(&name) {
-                    Some(kind) => kind,
+                    Some(kind) => Some(kind),
                     None if tag == "g" && current.is_some_and(|c| groups[c].opened_by_o) => {
                         continue;
                     }
-                    None => match options.unknown {
-                        UnknownObjects::Error => {
-                            return Err(err(ObjErrorKind::UnknownObject { name }));
-                        }
-                        UnknownObjects::Building => ObjectKind::Building,
-                    },
+                    // Decided by a `usemtl` under it, or at the end by `options.unknown`.
+                    None => None,
                 };
                 by_name.insert(name.clone(), groups.len());
                 current = Some(groups.len());
-                groups.push(Group {
+                let mut g = Group::new(
                     name,
-                    kind,
-                    opened_by_o: tag == "o",
-                    triangles: Vec::new(),
-                    building: groups.len(),
-                });
+                    kind.unwrap_or(ObjectKind::Building),
+                    tag == "o",
+                    groups.len(),
+                );
+                g.undecided = kind.is_none().then_some(line);
+                groups.push(g);
+            }
+            "usemtl" => {
+                let material = tokens.next().unwrap_or_default();
+                let Some(class) = kind_from_material(material) else {
+                    continue;
+                };
+                match current {
+                    Some(c) if groups[c].undecided.is_some() => {
+                        groups[c].undecided = None;
+                        groups[c].take(class);
+                    }
+                    // A named object keeps the kind its name gave.
+                    Some(c) if !groups[c].by_material => {}
+                    // No object named: the material is the object (output per class).
+                    _ => current = Some(material_group(&mut groups, &mut by_name, material, class)),
+                }
             }
             "f" => {
                 let corners = tokens
@@ -210,16 +254,13 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
                     None => {
                         let name = "building".to_string();
                         by_name.insert(name.clone(), groups.len());
-                        groups.push(Group {
-                            name,
-                            kind: ObjectKind::Building,
-                            opened_by_o: true,
-                            triangles: Vec::new(),
-                            building: groups.len(),
-                        });
+                        groups.push(Group::new(name, ObjectKind::Building, true, groups.len()));
                         *current.insert(groups.len() - 1)
                     }
                 };
+                if groups[g].left_out {
+                    continue;
+                }
                 let tris = &mut groups[g].triangles;
                 tris.extend(
                     (1..corners.len() - 1).map(|i| [corners[0], corners[i], corners[i + 1]]),
@@ -227,6 +268,18 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
             }
             _ => {}
         }
+    }
+    if options.unknown == UnknownObjects::Error
+        && let Some(g) = groups
+            .iter()
+            .find(|g| g.undecided.is_some() && !g.triangles.is_empty())
+    {
+        return Err(ObjError {
+            line: g.undecided.unwrap_or(last_line),
+            kind: ObjErrorKind::UnknownObject {
+                name: g.name.clone(),
+            },
+        });
     }
     let objects: Vec<IndexedObject> = groups
         .into_iter()
@@ -244,6 +297,30 @@ pub fn parse_obj(text: &str, options: &ObjOptions) -> Result<Scene, ObjError> {
     scene_from_indexed(&vertices, &objects)
         .ok_or_else(|| whole_file(ObjErrorKind::NoFaces))?
         .map_err(|_| whole_file(ObjErrorKind::NonFinite))
+}
+
+/// The object of faces under `usemtl material` outside any named object
+/// (found again when the material comes back).
+fn material_group(
+    groups: &mut Vec<Group>,
+    by_name: &mut HashMap<String, usize>,
+    material: &str,
+    class: MaterialClass,
+) -> usize {
+    *by_name
+        .entry(format!("usemtl\0{material}"))
+        .or_insert_with(|| {
+            let mut g = Group::new(
+                material.to_string(),
+                ObjectKind::Building,
+                true,
+                groups.len(),
+            );
+            g.by_material = true;
+            g.take(class);
+            groups.push(g);
+            groups.len() - 1
+        })
 }
 
 /// Resolves one face token (`v`, `v/vt`, `v//vn`, `v/vt/vn`) to a 0-based index.
@@ -340,6 +417,79 @@ f 5 7 8
         assert_eq!(s.building_count(), 1);
         assert_eq!(s.origin, [2_600_000.0, 1_200_000.0, 0.0]);
         assert_eq!(s.vertices[0], [0.5, 0.25, 400.0]);
+    }
+
+    /// 3dfier's OBJ: every vertex first, then `o ID` and the class as a material.
+    const THREEDFIER: &str = "\
+mtllib ./3dfier.mtl
+v 0 0 0
+v 30 0 0
+v 30 30 0
+v 0 30 0
+v 10 10 0
+v 14 10 0
+v 14 14 6
+v 20 20 0
+v 22 20 0
+v 22 22 0
+o b1000
+usemtl Building
+f 5 6 7
+o t2000
+usemtl Terrain
+f 1 2 3
+f 1 3 4
+o w3000
+usemtl Water
+f 8 9 10
+o r4000
+usemtl Road
+f 8 10 9
+";
+
+    #[test]
+    fn objects_whose_class_is_their_material_are_read_by_it() {
+        let s = parse_obj(THREEDFIER, &ObjOptions::default()).unwrap_or_default();
+        let kinds: Vec<(&str, ObjectKind)> = s
+            .objects
+            .iter()
+            .map(|o| (o.name.as_str(), o.kind))
+            .collect();
+        // Water is left out, as the CityJSON reader leaves out a WaterBody.
+        assert_eq!(
+            kinds,
+            [
+                ("b1000", ObjectKind::Building),
+                ("t2000", ObjectKind::Ground),
+                ("r4000", ObjectKind::Ground),
+            ]
+        );
+        assert_eq!(s.building_count(), 1);
+        assert_eq!(s.object_triangles(1).count(), 2);
+        // Per class (no `o`): each material is one object.
+        let per_class = THREEDFIER
+            .lines()
+            .filter(|l| !l.starts_with("o "))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let s = parse_obj(&per_class, &ObjOptions::default()).unwrap_or_default();
+        let kinds: Vec<(&str, ObjectKind)> = s
+            .objects
+            .iter()
+            .map(|o| (o.name.as_str(), o.kind))
+            .collect();
+        assert_eq!(
+            kinds,
+            [
+                ("Building", ObjectKind::Building),
+                ("Terrain", ObjectKind::Ground),
+                ("Road", ObjectKind::Ground),
+            ]
+        );
+        // A material that names no class decides nothing: still refused, at the `o`.
+        let e = err("v 0 0 0\nv 1 0 0\nv 0 1 0\no b1\nusemtl red\nf 1 2 3\n");
+        assert_eq!(e.line, 4);
+        assert!(e.to_string().contains("b1"), "{e}");
     }
 
     fn err(text: &str) -> ObjError {
