@@ -4,12 +4,16 @@
 //! actually observed: ground seen under a building's outline means the
 //! outline is not a wall down to the ground there (a slab on pillars).
 
+use geo::{BoundingRect, Contains, LineString, MultiPolygon, Point, Polygon};
+
 use crate::geom::grid::GridFrame;
 use crate::ground::Dtm;
 
 /// Cell of the observed-ground bitmap, metres (fine enough to tell the
 /// ground under a slab from the ground at its wall's foot).
 pub const SEEN_CELL: f32 = 0.5;
+/// Most probes along one side of a hole looked into for ground (a 1 km hole at 0.5 m).
+const MAX_PROBES: usize = 2000;
 
 /// The terrain model (mean ground height per cell, holes under buildings
 /// filled from their neighbours) and where ground was observed.
@@ -58,6 +62,45 @@ impl GroundGrid {
     /// Whether a ground point was observed within the [`SEEN_CELL`] cell of (x, y).
     pub fn seen(&self, x: f64, y: f64) -> bool {
         self.seen_frame.index_of(x, y).is_some_and(|k| self.seen[k])
+    }
+
+    /// `outline` without the holes in which no ground was observed: a
+    /// courtyard shows its floor from the air, while a gap in the roof
+    /// points that shows nothing is a roof the aerial survey did not reach
+    /// (the shadow of a tower on its podium), with no wall round it to miss.
+    pub fn fill_blind_holes(&self, outline: &MultiPolygon<f64>) -> MultiPolygon<f64> {
+        let polygons = outline.0.iter().map(|p| {
+            let holes: Vec<LineString<f64>> = p
+                .interiors()
+                .iter()
+                .filter(|ring| self.seen_inside(ring))
+                .cloned()
+                .collect();
+            Polygon::new(p.exterior().clone(), holes)
+        });
+        MultiPolygon(polygons.collect())
+    }
+
+    /// Whether ground was observed anywhere inside `ring`.
+    fn seen_inside(&self, ring: &LineString<f64>) -> bool {
+        let area = Polygon::new(ring.clone(), vec![]);
+        let Some(r) = area.bounding_rect() else {
+            return false;
+        };
+        let step = f64::from(SEEN_CELL);
+        let (nx, ny) = (
+            ((r.width() / step).ceil() as usize).min(MAX_PROBES),
+            ((r.height() / step).ceil() as usize).min(MAX_PROBES),
+        );
+        (0..ny).any(|j| {
+            (0..nx).any(|i| {
+                let (x, y) = (
+                    r.min().x + (i as f64 + 0.5) * step,
+                    r.min().y + (j as f64 + 0.5) * step,
+                );
+                self.seen(x, y) && area.contains(&Point::new(x, y))
+            })
+        })
     }
 }
 
