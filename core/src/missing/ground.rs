@@ -127,4 +127,35 @@ mod tests {
         assert!(g.beyond_data(0.4, 5.0) && !g.beyond_data(0.6, 5.0) && g.beyond_data(5.0, 49.6));
         assert!(GroundGrid::from_points(&[], 2.0, 10).is_none());
     }
+
+    #[test]
+    fn a_hole_without_ground_is_filled_a_courtyard_is_kept() {
+        // Ground seen everywhere on 0..50 m but in the square 20..30 (a roof).
+        let pts: Vec<[f32; 3]> = (0..100)
+            .flat_map(|i| {
+                (0..100).map(move |j| [i as f32 * 0.5 + 0.25, j as f32 * 0.5 + 0.25, 0.0])
+            })
+            .filter(|p| !((20.0..30.0).contains(&p[0]) && (20.0..30.0).contains(&p[1])))
+            .collect();
+        let g = GroundGrid::from_points(&pts, 2.0, 10).unwrap();
+        let square = |x0: f64, y0: f64, side: f64| {
+            LineString::from(vec![
+                (x0, y0),
+                (x0 + side, y0),
+                (x0 + side, y0 + side),
+                (x0, y0 + side),
+                (x0, y0),
+            ])
+        };
+        // One outline with a hole on the unseen roof and one over seen ground.
+        let outline = MultiPolygon(vec![Polygon::new(
+            square(5.0, 5.0, 40.0),
+            vec![square(22.0, 22.0, 4.0), square(8.0, 8.0, 6.0)],
+        )]);
+        let filled = g.fill_blind_holes(&outline);
+        assert_eq!(filled.0.len(), 1);
+        let holes = filled.0[0].interiors();
+        assert_eq!(holes.len(), 1, "{holes:?}");
+        assert_eq!(holes[0], square(8.0, 8.0, 6.0));
+    }
 }
