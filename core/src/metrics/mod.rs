@@ -37,5 +37,5 @@ pub use gt::{
     sample_building_surfaces_with,
 };
 pub use mesh_distance::{MeshBackend, MeshDistance};
-pub use nearest::nearest_distances;
+pub use nearest::{nearest_distances, nearest_indices};
 pub use producer::{ProducerCheck, TARGET_REACH_M, producer_check};

@@ -7,30 +7,40 @@ use rayon::prelude::*;
 /// (`f32::INFINITY` when there are no finite points). Non-finite points are
 /// ignored; a non-finite query gets `f32::INFINITY`.
 pub fn nearest_distances(queries: &[[f32; 3]], points: &[[f32; 3]]) -> Vec<f32> {
-    let finite: Vec<[f32; 3]> = points
+    nearest_indices(queries, points)
+        .into_iter()
+        .map(|n| n.map_or(f32::INFINITY, |(_, d)| d))
+        .collect()
+}
+
+/// The index into `points` of the nearest one to each of `queries`, and its
+/// distance; None for a non-finite query or when no point is finite.
+pub fn nearest_indices(queries: &[[f32; 3]], points: &[[f32; 3]]) -> Vec<Option<(usize, f32)>> {
+    let (finite, index): (Vec<[f32; 3]>, Vec<usize>) = points
         .iter()
-        .filter(|p| p.iter().all(|v| v.is_finite()))
-        .copied()
-        .collect();
+        .enumerate()
+        .filter(|(_, p)| p.iter().all(|v| v.is_finite()))
+        .map(|(i, p)| (*p, i))
+        .unzip();
     let tree = if finite.is_empty() {
         None
     } else {
         ImmutableKdTree::<f32, 3>::new_from_slice(&finite).ok()
     };
     let Some(tree) = tree else {
-        return vec![f32::INFINITY; queries.len()];
+        return vec![None; queries.len()];
     };
     queries
         .par_iter()
         .map(|q| {
             if !q.iter().all(|v| v.is_finite()) {
-                return f32::INFINITY;
+                return None;
             }
-            tree.query(q)
+            let hit = tree
+                .query(q)
                 .nearest_one::<SquaredEuclidean<f32>>()
-                .execute()
-                .distance
-                .sqrt()
+                .execute();
+            Some((index[hit.item as usize], hit.distance.sqrt()))
         })
         .collect()
 }

@@ -114,6 +114,112 @@ fn share(a: usize, b: usize) -> f64 {
     if b == 0 { 1.0 } else { a as f64 / b as f64 }
 }
 
+/// The wall cells of a scene's ground truth and how the aerial cloud holds them.
+pub(super) struct WallCells {
+    /// Positions of the wall samples (GT kind Wall).
+    pub wall_xyz: Vec<[f32; 3]>,
+    /// Index into `gt` of each wall sample.
+    pub wall_gt: Vec<usize>,
+    /// Whether an aerial point lies within τ of each wall sample.
+    pub covered: Vec<bool>,
+    /// The cell of each wall sample.
+    pub cell_of: Vec<usize>,
+    /// Wall samples of each cell.
+    pub samples: Vec<Vec<usize>>,
+    /// Whether each cell is an underside (cut in xy cells).
+    pub underside: Vec<bool>,
+    /// GT building of each cell.
+    pub building: Vec<u32>,
+    /// Whether each cell is truly missing.
+    pub truly: Vec<bool>,
+}
+
+impl WallCells {
+    /// Cuts `gt`'s walls in cells and marks those `aerial_xyz` leaves missing.
+    pub fn new(gt: &GtSamples, aerial_xyz: &[[f32; 3]]) -> Self {
+        let wall_gt: Vec<usize> = (0..gt.len())
+            .filter(|&i| gt.kind[i] == SurfaceKind::Wall)
+            .collect();
+        let wall_xyz: Vec<[f32; 3]> = wall_gt.iter().map(|&i| gt.xyz[i]).collect();
+        let covered: Vec<bool> = nearest_distances(&wall_xyz, aerial_xyz)
+            .into_iter()
+            .map(|d| d <= TAU)
+            .collect();
+        let mut cell_of_key: HashMap<(u32, i32, i64, i64, i64), usize> = HashMap::new();
+        let mut cells = WallCells {
+            wall_xyz: Vec::new(),
+            wall_gt: Vec::new(),
+            covered,
+            cell_of: Vec::with_capacity(wall_gt.len()),
+            samples: Vec::new(),
+            underside: Vec::new(),
+            building: Vec::new(),
+            truly: Vec::new(),
+        };
+        for (w, &i) in wall_gt.iter().enumerate() {
+            let (key, down) = cell_key(gt, i);
+            let k = *cell_of_key.entry(key).or_insert_with(|| {
+                cells.underside.push(down);
+                cells.samples.push(Vec::new());
+                cells.building.push(gt.building[i]);
+                cells.samples.len() - 1
+            });
+            cells.samples[k].push(w);
+            cells.cell_of.push(k);
+        }
+        cells.truly = (0..cells.samples.len())
+            .map(|k| {
+                let n = cells.samples[k].len();
+                n >= MIN_CELL_SAMPLES && cells.covered_share(k) < 0.5
+            })
+            .collect();
+        cells.wall_xyz = wall_xyz;
+        cells.wall_gt = wall_gt;
+        cells
+    }
+
+    /// Whether cell `k` has samples enough to be scored.
+    pub fn evaluated(&self, k: usize) -> bool {
+        self.samples[k].len() >= MIN_CELL_SAMPLES
+    }
+
+    /// Share of cell `k`'s samples the aerial cloud holds.
+    pub fn covered_share(&self, k: usize) -> f64 {
+        let n = self.samples[k].len();
+        let c = self.samples[k].iter().filter(|&&w| self.covered[w]).count();
+        if n == 0 { 0.0 } else { c as f64 / n as f64 }
+    }
+
+    /// Positions of the samples of every truly missing cell.
+    pub fn truly_xyz(&self) -> Vec<[f32; 3]> {
+        (0..self.samples.len())
+            .filter(|&k| self.truly[k])
+            .flat_map(|k| self.samples[k].iter().map(|&w| self.wall_xyz[w]))
+            .collect()
+    }
+}
+
+/// The cell key of wall sample `i` and whether it is an underside.
+fn cell_key(gt: &GtSamples, i: usize) -> ((u32, i32, i64, i64, i64), bool) {
+    let [x, y, z] = gt.xyz[i];
+    let [nx, ny, _] = gt.normal[i];
+    let bins = AZIMUTH_BINS as i32;
+    let az =
+        ((ny.atan2(nx) / std::f32::consts::TAU * AZIMUTH_BINS).round() as i32).rem_euclid(bins);
+    let a = az as f32 / AZIMUTH_BINS * std::f32::consts::TAU;
+    let (c, s) = (a.cos(), a.sin());
+    let offset = ((c * x + s * y) / 0.5).round() as i64;
+    let along = ((-s * x + c * y) / CELL).floor() as i64;
+    let up = (z / CELL).floor() as i64;
+    let down = gt.normal[i][2] <= -0.5;
+    if down {
+        let f = |v: f32| (v / CELL).floor() as i64;
+        ((gt.building[i], -1, f(x), f(y), up), true)
+    } else {
+        ((gt.building[i], az, offset, along, up), false)
+    }
+}
+
 /// Scores `missing` against the wall cells of `gt`, covered by `aerial_xyz`
 /// (both in the same local frame as `gt`).
 pub fn evaluate(
@@ -121,64 +227,23 @@ pub fn evaluate(
     aerial_xyz: &[[f32; 3]],
     missing: &[MissingPoint],
 ) -> DetectionScore {
-    let walls: Vec<usize> = (0..gt.len())
-        .filter(|&i| gt.kind[i] == SurfaceKind::Wall)
-        .collect();
-    let wall_xyz: Vec<[f32; 3]> = walls.iter().map(|&i| gt.xyz[i]).collect();
-    let covered: Vec<bool> = nearest_distances(&wall_xyz, aerial_xyz)
-        .into_iter()
-        .map(|d| d <= TAU)
-        .collect();
+    score_cells(&WallCells::new(gt, aerial_xyz), missing)
+}
 
-    // Cell key per wall sample.
-    let mut cell_of_key: HashMap<(u32, i32, i64, i64, i64), usize> = HashMap::new();
-    let mut underside: Vec<bool> = Vec::new();
-    let mut cell_samples: Vec<Vec<usize>> = Vec::new();
-    let mut cell_building: Vec<u32> = Vec::new();
-    for (w, &i) in walls.iter().enumerate() {
-        let [x, y, z] = gt.xyz[i];
-        let [nx, ny, _] = gt.normal[i];
-        let bins = AZIMUTH_BINS as i32;
-        let az =
-            ((ny.atan2(nx) / std::f32::consts::TAU * AZIMUTH_BINS).round() as i32).rem_euclid(bins);
-        let a = az as f32 / AZIMUTH_BINS * std::f32::consts::TAU;
-        let (c, s) = (a.cos(), a.sin());
-        let offset = ((c * x + s * y) / 0.5).round() as i64;
-        let along = ((-s * x + c * y) / CELL).floor() as i64;
-        let up = (z / CELL).floor() as i64;
-        let down = gt.normal[i][2] <= -0.5;
-        let key = if down {
-            let f = |v: f32| (v / CELL).floor() as i64;
-            (gt.building[i], -1, f(x), f(y), up)
-        } else {
-            (gt.building[i], az, offset, along, up)
-        };
-        let k = *cell_of_key.entry(key).or_insert_with(|| {
-            underside.push(down);
-            cell_samples.push(Vec::new());
-            cell_building.push(gt.building[i]);
-            cell_samples.len() - 1
-        });
-        cell_samples[k].push(w);
-    }
-    let evaluated: Vec<usize> = (0..cell_samples.len())
-        .filter(|&k| cell_samples[k].len() >= MIN_CELL_SAMPLES)
-        .collect();
-    let truly: Vec<bool> = (0..cell_samples.len())
-        .map(|k| {
-            let n = cell_samples[k].len();
-            let c = cell_samples[k].iter().filter(|&&w| covered[w]).count();
-            n >= MIN_CELL_SAMPLES && (c as f64) < 0.5 * n as f64
-        })
-        .collect();
-
+/// [`evaluate`] on cells already cut.
+pub(super) fn score_cells(cells: &WallCells, missing: &[MissingPoint]) -> DetectionScore {
     let missing_xyz: Vec<[f32; 3]> = missing.iter().map(|m| m.xyz).collect();
-    let to_missing = nearest_distances(&wall_xyz, &missing_xyz);
-    let truly_xyz: Vec<[f32; 3]> = (0..cell_samples.len())
-        .filter(|&k| truly[k])
-        .flat_map(|k| cell_samples[k].iter().map(|&w| wall_xyz[w]))
+    let to_missing = nearest_distances(&cells.wall_xyz, &missing_xyz);
+    let to_truly = nearest_distances(&missing_xyz, &cells.truly_xyz());
+    let evaluated: Vec<usize> = (0..cells.samples.len())
+        .filter(|&k| cells.evaluated(k))
         .collect();
-    let to_truly = nearest_distances(&missing_xyz, &truly_xyz);
+    let (underside, truly, cell_samples, cell_building) = (
+        &cells.underside,
+        &cells.truly,
+        &cells.samples,
+        &cells.building,
+    );
 
     let mut per: BTreeMap<u32, WallCounts> = BTreeMap::new();
     for &k in evaluated.iter().filter(|&&k| !underside[k]) {

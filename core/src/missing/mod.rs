@@ -11,7 +11,8 @@
 //!   [`coverage`], the strip test.
 //! - [`ground`] — terrain grid, so sloped ground is not taken for missing wall.
 //! - [`wall`] — the wall's direction near q_n, and open ground floors.
-//! - [`eval`] — recall / precision against ground-truth wall cells.
+//! - [`eval`] — recall / precision against ground-truth wall cells;
+//!   [`explain`], where the false missing points lie.
 
 pub mod all;
 pub mod band;
@@ -20,6 +21,7 @@ pub mod building;
 pub mod coverage;
 pub mod detection;
 pub mod eval;
+pub mod explain;
 pub mod ground;
 pub mod params;
 pub mod scene;
@@ -32,6 +34,7 @@ pub use detection::{
     StructureReport,
 };
 pub use eval::{BuildingScore, DetectionScore, WallCounts, evaluate};
+pub use explain::{Breakdown, Row, evaluate_explained};
 pub use ground::GroundGrid;
 pub use params::DetectParams;
 pub use scene::{SceneDetectError, SceneParams, derive_footprints, detect_scene, shift_missing};

@@ -86,10 +86,7 @@ pub fn detect_scene(
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
     let used: Vec<Footprint> = match footprints {
         Some(f) => f.to_vec(),
-        None => derive(
-            &standing(&pts, terrain.as_ref(), params.derive.min_height_m),
-            &params.derive,
-        )?,
+        None => derived(&pts, terrain.as_ref(), &params.derive)?,
     };
     if let Some(e) = extra {
         pts.extend(building_xyz(e, aerial.origin, false)?);
@@ -125,10 +122,24 @@ pub fn derive_footprints(
     let pts = building_xyz(aerial, aerial.origin, true)?;
     let ground = aerial.xyz_of_class(class::GROUND);
     let terrain = GroundGrid::from_points(&ground, TERRAIN_CELL, TERRAIN_FILL);
-    Ok(derive(
-        &standing(&pts, terrain.as_ref(), params.min_height_m),
-        params,
-    )?)
+    Ok(derived(&pts, terrain.as_ref(), params)?)
+}
+
+/// Footprints derived from the building points `pts` standing over
+/// `terrain`, without the holes that show no ground (roofs the survey did
+/// not reach, not courtyards).
+fn derived(
+    pts: &[[f32; 3]],
+    terrain: Option<&GroundGrid>,
+    params: &DeriveParams,
+) -> Result<Vec<Footprint>, ParamError> {
+    let mut footprints = derive(&standing(pts, terrain, params.min_height_m), params)?;
+    if let Some(t) = terrain {
+        for f in &mut footprints {
+            f.polygon = t.fill_blind_holes(&f.polygon);
+        }
+    }
+    Ok(footprints)
 }
 
 /// The building points standing at least `min_height_m` over the terrain,

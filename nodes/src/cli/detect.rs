@@ -15,7 +15,7 @@ use skyground_core::io::load_scene;
 use skyground_core::metrics::{
     TARGET_REACH_M, building_points, producer_check, sample_building_surfaces,
 };
-use skyground_core::missing::{SceneParams, detect_scene, evaluate, shift_missing};
+use skyground_core::missing::{SceneParams, detect_scene, evaluate_explained, shift_missing};
 use skyground_core::plot::detection_picture;
 use skyground_core::targets::{Site, TargetParams, consolidate, generate};
 
@@ -286,7 +286,8 @@ fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
         let gt = sample_building_surfaces(&scene, 0.25);
         let aerial = building_points(&cloud, gt.origin);
         let moved = shift_missing(&detection.missing_points(), cloud.origin, gt.origin);
-        let score = evaluate(&gt, &aerial, &moved);
+        let vegetation = vegetation_points(&cloud, gt.origin);
+        let (score, breakdown) = evaluate_explained(&gt, &aerial, &moved, &vegetation);
         if !a.json {
             eprintln!(
                 "detection vs ground truth ({scene_spec}): recall {:.3} ({} of {} truly missing 1 m wall cells), precision {:.3} ({} of {} missing points)",
@@ -298,9 +299,25 @@ fn detect_files(a: &DetectArgs) -> Result<serde_json::Value, RuntimeError> {
                 score.walls.missing_points
             );
         }
-        out["gt"] = json!({"scene": scene_spec, "recall": score.walls.recall, "precision": score.walls.precision, "score": score});
+        out["gt"] = json!({"scene": scene_spec, "recall": score.walls.recall, "precision": score.walls.precision, "score": score, "breakdown": breakdown});
     }
     Ok(out)
+}
+
+/// The cloud's vegetation points (classes 3–5) in the frame at `origin`:
+/// what the breakdown of `--gt` tells points near trees by.
+fn vegetation_points(cloud: &Cloud, origin: [f64; 3]) -> Vec<[f32; 3]> {
+    let shift = [0, 1, 2].map(|k| cloud.origin[k] - origin[k]);
+    let Some(labels) = &cloud.label else {
+        return Vec::new();
+    };
+    cloud
+        .xyz
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| matches!(**l, class::LOW_VEGETATION..=class::VEGETATION))
+        .map(|(p, _)| [0, 1, 2].map(|k| (f64::from(p[k]) + shift[k]) as f32))
+        .collect()
 }
 
 /// The two names `detect` gives the classified cloud.
