@@ -95,10 +95,10 @@ fn las12(points: &[Pt]) -> Vec<u8> {
             h[at..at + 4].copy_from_slice(&n.to_le_bytes());
         }
     }
-    for k in 0..3 {
+    for (k, off) in offset.iter().enumerate() {
         let at = 131 + 8 * k;
         h[at..at + 8].copy_from_slice(&scale.to_le_bytes());
-        h[at + 24..at + 32].copy_from_slice(&offset[k].to_le_bytes());
+        h[at + 24..at + 32].copy_from_slice(&off.to_le_bytes());
         let lo = points
             .iter()
             .map(|p| p.xyz[k])
@@ -112,8 +112,8 @@ fn las12(points: &[Pt]) -> Vec<u8> {
         h[at + 8..at + 16].copy_from_slice(&lo.to_le_bytes());
     }
     for (i, p) in points.iter().enumerate() {
-        for k in 0..3 {
-            let v = ((p.xyz[k] - offset[k]) / scale).round() as i32;
+        for (x, off) in p.xyz.iter().zip(offset) {
+            let v = ((x - off) / scale).round() as i32;
             h.extend(v.to_le_bytes());
         }
         h.extend(100u16.to_le_bytes());
