@@ -16,27 +16,9 @@ use std::collections::{BTreeSet, HashMap};
 
 use spade::{DelaunayTriangulation, FloatTriangulation, HasPosition, Point2, Triangulation};
 
+use super::base::Footprint;
 use super::streets::{length, street_cells, streets};
 use crate::scene::builder::MeshPart;
-
-/// Where a building stands: its footprint's bounding box and base height.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Footprint {
-    /// Minimum x, y.
-    pub min: [f64; 2],
-    /// Maximum x, y.
-    pub max: [f64; 2],
-    /// Lowest z of the building.
-    pub base: f64,
-}
-
-impl Footprint {
-    fn distance(&self, x: f64, y: f64) -> f64 {
-        let dx = (self.min[0] - x).max(x - self.max[0]).max(0.0);
-        let dy = (self.min[1] - y).max(y - self.max[1]).max(0.0);
-        (dx * dx + dy * dy).sqrt()
-    }
-}
 
 /// How the ground under loaded buildings is made.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,7 +3,9 @@
 //! streets joining clusters whose patches do not meet (`streets`).
 
 mod around;
+mod base;
 mod streets;
 
 pub(crate) use around::blend_bases;
-pub use around::{Footprint, TerrainOptions, terrain_around};
+pub use around::{TerrainOptions, terrain_around};
+pub use base::Footprint;

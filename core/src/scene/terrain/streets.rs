@@ -8,7 +8,7 @@
 //! boxes whose patches (each box grown by the terrain's margin) are apart:
 //! the shortest set of straight streets that connects every cluster.
 
-use super::around::Footprint;
+use super::base::Footprint;
 
 /// A straight street between two footprint boxes: its ends in plan (m).
 pub type Street = [[f64; 2]; 2];
