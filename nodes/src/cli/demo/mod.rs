@@ -22,7 +22,7 @@ use std::time::Instant;
 use skyground_core::cloud::write_cloud;
 use skyground_core::crs::{Crs, SourceFrame};
 use skyground_core::footprint::Footprint;
-use skyground_core::io::load_scene_and_crs;
+use skyground_core::io::{SourceFootprints, load_scene_and_crs};
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::prior::unlabelled;
 use skyground_core::scene::{Cropped, Scene};
@@ -55,15 +55,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let (full, model_crs) =
         load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
-    // Footprints in another CRS than the cloud's stop the demo here, before
-    // any node starts; in the prior's frame they also shape the models (one
-    // per footprint, its id kept).
-    let frame = SourceFrame::new(prior.scene.origin, prior.cloud.crs.clone());
-    let footprints = given
-        .as_ref()
-        .map(|r| crate::cli::footprints::in_frame(r, &frame))
-        .transpose()
-        .map_err(|e| err(format!("footprints: {e}")))?;
+    let footprints = in_prior_frame(given.as_ref(), &prior)?;
     let detector = a.footprints.detector_params(
         footprints.as_deref(),
         Some(&a.scene()),
@@ -118,6 +110,20 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         (t0, &mut prof),
     )
     .await
+}
+
+/// The given footprints moved into the prior's frame. Footprints in another
+/// CRS than the cloud's stop the demo here, before any node starts; in the
+/// prior's frame they also shape the models (one per footprint, its id kept).
+fn in_prior_frame(
+    given: Option<&SourceFootprints>,
+    prior: &Survey,
+) -> Result<Option<Vec<Footprint>>, RuntimeError> {
+    let frame = SourceFrame::new(prior.scene.origin, prior.cloud.crs.clone());
+    given
+        .map(|r| crate::cli::footprints::in_frame(r, &frame))
+        .transpose()
+        .map_err(|e| RuntimeError::Node(format!("footprints: {e}")))
 }
 
 /// The mission's survey, what was measured before it, its crop, the city
