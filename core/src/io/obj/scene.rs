@@ -447,14 +447,18 @@ usemtl Road
 f 8 10 9
 ";
 
+    /// Each object's name and kind, in file order.
+    fn kinds_of(s: &Scene) -> Vec<(&str, ObjectKind)> {
+        s.objects
+            .iter()
+            .map(|o| (o.name.as_str(), o.kind))
+            .collect()
+    }
+
     #[test]
     fn objects_whose_class_is_their_material_are_read_by_it() {
         let s = parse_obj(THREEDFIER, &ObjOptions::default()).unwrap_or_default();
-        let kinds: Vec<(&str, ObjectKind)> = s
-            .objects
-            .iter()
-            .map(|o| (o.name.as_str(), o.kind))
-            .collect();
+        let kinds = kinds_of(&s);
         // Water is left out, as the CityJSON reader leaves out a WaterBody.
         assert_eq!(
             kinds,
@@ -473,11 +477,7 @@ f 8 10 9
             .collect::<Vec<_>>()
             .join("\n");
         let s = parse_obj(&per_class, &ObjOptions::default()).unwrap_or_default();
-        let kinds: Vec<(&str, ObjectKind)> = s
-            .objects
-            .iter()
-            .map(|o| (o.name.as_str(), o.kind))
-            .collect();
+        let kinds = kinds_of(&s);
         assert_eq!(
             kinds,
             [
