@@ -389,6 +389,11 @@ def test_a_killed_mission_resumed_ends_as_an_uninterrupted_one(tmp_path, env, sm
           f"{kept['odometer_m']:.0f} m and resumed: coverage {report['coverage_after']:.4f}, "
           f"{report['path_length_m']:.0f} m, {report['sim_time_s']:.0f} robot s, {report['targets_reached']} stops")
     assert abs(report["coverage_after"] - whole["coverage_after"]) <= 0.005
+    # The stops of both runs: the killed run's (its finished round and the
+    # one it was driving) are carried, then the resumed run's are added.
+    carried = kept["targets"]["reached"]
+    assert carried > 0 and report["targets_reached"] > carried, (kept, report["targets_reached"])
+    assert abs(report["targets_reached"] - whole["targets_reached"]) <= max(3, 0.25 * whole["targets_reached"])
     assert (out / "mission_1.mcap").is_file(), "the resumed run records into the next split"
 
 
@@ -401,12 +406,14 @@ def pid_of(root, node):
 
 
 def test_soak_a_stuck_vehicle_a_killed_explorer_and_a_stalled_recorder_and_the_mission_finishes(tmp_path, env):
-    """Issue 50 parts 2 and 5: faults injected into one mission. The recorder
+    """Issue 50 parts 2 and 5: faults injected into one mission. vehicle_sim
+    sends a burst of multi-MB scans (SKYGROUND_LARGE_SCANS). The recorder
     is stopped (SIGSTOP: a reader that stops acknowledging), the explorer
     killed (it goes on from its merge store), vehicle_sim stopped (its clock
     stands: the demo names it within 30 s, restarts it where the vehicle was
     and hands it its leg). The mission finishes and keeps every merged scan."""
     out, argv = demo(tmp_path, "--timeout", "500")
+    env = dict(env, SKYGROUND_LARGE_SCANS=LARGE_SCANS)
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         assert wait_for_log(out / "global_planner.log", "route", proc, 240)
@@ -438,3 +445,52 @@ def test_soak_a_stuck_vehicle_a_killed_explorer_and_a_stalled_recorder_and_the_m
     assert report["coverage_after"] > report["coverage_before"] + 0.02
     state, held = stored_batches(out)
     assert report["merge"]["points"] == sum(held) == laz_points(out / "resampled.laz") - laz_points(out / "aerial.laz")
+
+
+# vehicle_sim's scans 40 to 59 sent with 250,000 points each (~5 MB a sample).
+LARGE_SCANS = "40:20:250000"
+
+
+def scans_sent(out):
+    """Scans vehicle_sim said it sent, over every run of it that stopped in order."""
+    sim = (out / "vehicle_sim.log").read_text()
+    return [int(l.split(" scans,")[0].rsplit()[-1]) for l in sim.splitlines() if " scans, " in l and "stopped after" in l]
+
+
+def test_a_stuck_planner_is_restarted_with_its_stops_and_a_burst_of_large_scans_loses_none(tmp_path, env):
+    """Issue 50 parts 2 and 5: the planner stopped as a round starts (SIGSTOP:
+    alive but silent, as one blocked in its event loop) is named within 30 s,
+    restarted and given back its round (kept by the demo), and the mission
+    finishes; vehicle_sim sends a burst of
+    multi-MB scans, and every scan it sent is in the merge."""
+    out, argv = demo(tmp_path, "--timeout", "400")
+    env = dict(env, SKYGROUND_LARGE_SCANS=LARGE_SCANS)
+    proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        # Stopped as round 1's route starts (the small scene's round takes ~3 wall s).
+        assert wait_for_log(out / "global_planner.log", "round 1: route over", proc, 240)
+        planner = pid_of(proc.pid, "global_planner")
+        os.kill(planner, signal.SIGSTOP)
+        stopped = time.time()
+        while time.time() - stopped < 60 and pid_of(proc.pid, "global_planner") == planner:
+            time.sleep(0.5)
+        named = time.time() - stopped
+        _, err = proc.communicate(timeout=400)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    print(f"\nstopped global_planner replaced after {named:.0f} s")
+    assert named < 45, err[-3000:]
+    assert "global_planner stalled: no /planner_status came" in err, err[-3000:]
+    assert proc.returncode == 0, err[-3000:]
+    report = json.loads((out / "report.json").read_text())
+    assert report["finished"] is True and report["restarts"].get("global_planner", 0) >= 1, report["restarts"]
+    # The restarted planner took the round the demo kept (a planner without it restores round 0).
+    log = (out / "global_planner.log").read_text(errors="replace")
+    assert "restored round 1:" in log, log[-3000:]
+    assert report["coverage_after"] > report["coverage_before"] + 0.02
+    sent = scans_sent(out)
+    state, _ = stored_batches(out)
+    print(f"scans sent {sent}, merged {state['scans']}; stops reached {report['targets_reached']}")
+    assert len(sent) == 1 and sent[0] > 60, sent
+    assert state["scans"] == sent[0] == report["merge"]["scans"], (sent, state, report["merge"])

@@ -14,8 +14,8 @@ pub struct StopRule {
     pub max_rounds: u32,
 }
 
-/// Targets summed over the finished rounds.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// Targets summed over rounds (kept in a resumable mission's progress).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Totals {
     /// Reached (dealt with and not given up).
     pub reached: usize,
@@ -27,6 +27,19 @@ pub struct Totals {
     pub unreachable: usize,
     /// Set-downs the planner asked for.
     pub set_downs: usize,
+}
+
+impl Totals {
+    /// Both counts added.
+    pub fn plus(&self, o: &Totals) -> Totals {
+        Totals {
+            reached: self.reached + o.reached,
+            given_up: self.given_up + o.given_up,
+            seen: self.seen + o.seen,
+            unreachable: self.unreachable + o.unreachable,
+            set_downs: self.set_downs + o.set_downs,
+        }
+    }
 }
 
 /// A round whose route was driven to its end, as the planner reported it.
@@ -57,6 +70,8 @@ pub struct Progress {
     pub totals: Totals,
     /// Routes driven to the end: (round, targets dealt with).
     pub rounds_finished: Vec<(u32, usize)>,
+    /// The round being driven: what it reached and gave up so far (zero between rounds).
+    pub round_so_far: Totals,
 }
 
 impl Progress {
@@ -84,12 +99,21 @@ impl Progress {
     /// Takes the planner's status; the round it finishes, once per round.
     pub fn planner(&mut self, s: &PlannerStatus) -> Option<FinishedRound> {
         self.last.clone_from(s);
-        if s.phase != Phase::Done.word() || self.rounds_finished.iter().any(|(r, _)| *r == s.round)
-        {
-            return None;
-        }
+        let finished = self.rounds_finished.iter().any(|(r, _)| *r == s.round);
         let done = self.done();
         let given_up = s.given_up.points.len() + s.given_up.regions.len();
+        if s.phase != Phase::Done.word() || finished {
+            // A restarted planner's first statuses (round 0) are not the round's.
+            if s.round > 0 && !finished {
+                self.round_so_far = Totals {
+                    reached: (done.0 + done.1).saturating_sub(given_up),
+                    given_up,
+                    ..Totals::default()
+                };
+            }
+            return None;
+        }
+        self.round_so_far = Totals::default();
         let unreachable = s.unreachable_points + s.unreachable_regions;
         let f = FinishedRound {
             round: s.round,
@@ -106,6 +130,11 @@ impl Progress {
         self.totals.unreachable += unreachable;
         self.totals.set_downs += f.set_downs;
         Some(f)
+    }
+
+    /// Targets over the finished rounds and the one being driven.
+    pub fn totals_so_far(&self) -> Totals {
+        self.totals.plus(&self.round_so_far)
     }
 
     /// Routes driven to the end that had somewhere to go.
@@ -191,6 +220,25 @@ mod tests {
             }
         );
         assert_eq!(p.rounds_driven(), 1);
+    }
+
+    #[test]
+    fn the_round_being_driven_counts_until_it_ends_and_a_restarted_planner_does_not_reset_it() {
+        let mut p = Progress::default();
+        p.planner(&status(1, "done", 4, 1));
+        p.planner(&status(2, "driving", 3, 1));
+        let so_far = p.totals_so_far();
+        assert_eq!((so_far.reached, so_far.given_up), (4 + 3, 1 + 1));
+        p.planner(&PlannerStatus::default());
+        assert_eq!(
+            p.totals_so_far(),
+            so_far,
+            "round 0: a planner starting again"
+        );
+        p.planner(&status(2, "done", 5, 1));
+        let end = p.totals_so_far();
+        assert_eq!((end.reached, end.given_up), (4 + 5, 2));
+        assert_eq!(p.round_so_far, Totals::default());
     }
 
     #[test]

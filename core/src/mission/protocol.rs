@@ -18,8 +18,9 @@ pub const WARN: u8 = 1;
 /// `DiagnosticStatus.level` ERROR.
 pub const ERROR: u8 = 2;
 
-/// A status as it travels: level, name, message and key–value pairs.
-#[derive(Debug, Clone, PartialEq, Default)]
+/// A status as it travels: level, name, message and key–value pairs (as
+/// JSON too: a launcher keeps the planner's last one for a restarted planner).
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Wire {
     /// 0 OK, 1 WARN, 2 ERROR, 3 STALE.
     pub level: u8,
@@ -243,6 +244,50 @@ pub struct PlannerStatus {
 pub const PLANNER: &str = "global_planner";
 /// Name of the explorer's status.
 pub const EXPLORER: &str = "local_explorer";
+
+/// A planner status kept in a file could not be written or read back.
+#[derive(Debug, thiserror::Error)]
+pub enum KeptStatusError {
+    /// Writing or reading the file failed.
+    #[error(transparent)]
+    File(#[from] crate::file::FileError),
+    /// The file is not a kept status.
+    #[error("{}: not a kept planner status ({reason})", path.display())]
+    Json {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The status it holds cannot be read.
+    #[error(transparent)]
+    Protocol(#[from] ProtocolError),
+}
+
+impl PlannerStatus {
+    /// Keeps it in `path` (its wire form as JSON), atomically: a launcher
+    /// saves the planner's last status for a planner it restarts.
+    pub fn keep(&self, path: &std::path::Path) -> Result<(), KeptStatusError> {
+        let json = serde_json::to_vec(&self.to_wire()).map_err(|e| KeptStatusError::Json {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        Ok(crate::file::write(path, json)?)
+    }
+
+    /// The status kept in `path`; `None` when there is no such file.
+    pub fn kept(path: &std::path::Path) -> Result<Option<PlannerStatus>, KeptStatusError> {
+        if !path.is_file() {
+            return Ok(None);
+        }
+        let bytes = crate::file::read(path)?;
+        let wire: Wire = serde_json::from_slice(&bytes).map_err(|e| KeptStatusError::Json {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        Ok(Some(PlannerStatus::from_wire(&wire)?))
+    }
+}
 
 impl PlannerStatus {
     /// As it goes on the wire.
@@ -789,5 +834,38 @@ mod tests {
             ExplorerStatus::from_wire(&w),
             Err(ProtocolError::State { .. })
         ));
+    }
+
+    #[test]
+    fn a_kept_planner_status_reads_back_and_a_bad_file_is_an_error() {
+        let dir = std::env::temp_dir().join(format!("skyground-kept-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("planner.json");
+        assert!(
+            PlannerStatus::kept(&path).unwrap().is_none(),
+            "no file, no status"
+        );
+        let s = PlannerStatus {
+            phase: "driving".into(),
+            round: 2,
+            target_points: 9,
+            visited: Visited {
+                points: vec![0, 3],
+                regions: vec![1],
+            },
+            given_up: Visited {
+                points: vec![3],
+                regions: vec![],
+            },
+            ..PlannerStatus::default()
+        };
+        s.keep(&path).unwrap();
+        assert_eq!(PlannerStatus::kept(&path).unwrap(), Some(s));
+        std::fs::write(&path, b"{\"level\": 0}").unwrap();
+        assert!(matches!(
+            PlannerStatus::kept(&path),
+            Err(KeptStatusError::Json { .. })
+        ));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

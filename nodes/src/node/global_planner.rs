@@ -48,6 +48,9 @@ struct Params {
     /// Set-downs on other pieces of ground a round may ask for.
     set_downs: usize,
     transport: TransportConfig,
+    /// A status the launcher kept (`PlannerStatus::keep`), this planner's state at start.
+    #[serde(default)]
+    restore: String,
 }
 
 pub use crate::runtime::specs::GLOBAL_PLANNER as SPEC;
@@ -73,15 +76,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut target_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), tile)?;
     // Only skip_seen needs the gaps: otherwise the detector need not send them here.
     let skip_seen = p.route.skip_seen;
-    let mut missing_sub = match skip_seen {
-        true => Some(CloudSubscription::new(
-            rt,
-            "/missing_points",
-            qos::latched(64),
-            tile,
-        )?),
-        false => None,
-    };
+    let mut missing_sub = skip_seen
+        .then(|| CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile))
+        .transpose()?;
     let regions_sub = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
     let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
@@ -110,6 +107,17 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         targets: p.targets,
         set_downs: p.set_downs,
     });
+    // Before its own first status: a restarted planner goes on with the round it was driving.
+    let kept = PlannerStatus::kept(std::path::Path::new(&p.restore));
+    let kept = kept.map_err(|e| rt.log.warn(&format!("restore: {e}")));
+    for c in kept
+        .ok()
+        .flatten()
+        .into_iter()
+        .flat_map(|s| planner.handle(PlannerEvent::Restore(s)))
+    {
+        perform(rt, &out, c).await;
+    }
     rt.log.info(
         "waiting for /classified_cloud, /target_points, /target_regions and /state_estimation",
     );

@@ -104,7 +104,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let rate = f64::from(p.lidar.rate_hz);
     let mut scan_due = ScanSchedule::new(rate, p.scan_min_move_m, p.stationary_scan_period_s);
     let mut clock = RobotClock::new(p.step_s, p.time_factor);
-    let mut scans = 0u64;
+    let (mut scans, burst) = (0u64, crate::runtime::faults::LargeScans::from_env());
     let wall0 = Instant::now();
     while !rt.shutdown.requested() {
         while let Ok(g) = goals.try_recv() {
@@ -170,7 +170,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             let pose = Pose::new(sensor, vehicle.state.yaw);
             let points =
                 scan(&caster, &p.lidar, &pose, scans).map_err(|e| err(format!("lidar: {e}")))?;
-            let cloud = points.to_cloud(caster.origin());
+            let mut cloud = points.to_cloud(caster.origin());
+            burst.inspect(|b| b.apply(scans, &mut cloud));
             let msg = encode(&cloud, h, &EncodeOptions::default());
             if p.throttle_every > 0 && scans.is_multiple_of(p.throttle_every) {
                 let sent = throttle_pub.async_publish(msg.clone());

@@ -4,6 +4,7 @@
 pub mod args;
 pub mod creation_watch;
 pub mod domain;
+pub mod faults;
 pub mod forward;
 pub mod log;
 pub mod model;

@@ -283,10 +283,13 @@ fn explorer_params(a: &DemoArgs) -> Vec<String> {
     v
 }
 
-/// global_planner's parameters from the demo's arguments.
+/// global_planner's parameters from the demo's arguments; a planner the
+/// watch restarts goes on from the status the watch kept.
 fn planner_params(a: &DemoArgs) -> Vec<String> {
     let mut v = graph_params(a);
     v.extend(a.set_downs.map(|n| format!("set_downs:={n}")));
+    let kept = a.out.join(super::resume::PLANNER_FILE);
+    v.push(format!("restore:={}", kept.display()));
     v
 }
 
@@ -424,8 +427,12 @@ mod tests {
         assert!(graph_params(&parse(&[])).is_empty());
         assert_eq!(graph_params(&parse(&["--field"])), band);
         assert_eq!(graph_params(&parse(&["--prior", "a.laz"])), band);
-        let planner = planner_params(&parse(&["--field", "--set-downs", "0"]));
-        assert_eq!(planner, [band[0].clone(), "set_downs:=0".to_string()]);
+        let planner = planner_params(&parse(&["--field", "--set-downs", "0", "--out", "/o"]));
+        let restore = "restore:=/o/planner.json".to_string();
+        assert_eq!(
+            planner,
+            [band[0].clone(), "set_downs:=0".to_string(), restore]
+        );
     }
 
     #[test]

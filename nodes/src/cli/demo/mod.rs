@@ -12,6 +12,7 @@ mod console;
 mod launch;
 mod report;
 mod resume;
+mod stall;
 mod watch;
 
 pub use args::{DemoArgs, FieldArgs};
@@ -176,6 +177,9 @@ async fn stop_and_report(
 /// A new mission clears what a former one left in its folder and keeps its
 /// command line; a resumed one reads what its earlier runs did.
 fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
+    // A planner restarted in this run goes on from its status; a new run
+    // plans anew (a resumed one from what it detects on the merge so far).
+    let _ = std::fs::remove_file(a.out.join(resume::PLANNER_FILE));
     let carried = if a.resume.is_some() {
         let c = resume::read(&a.out)?;
         eprintln!(

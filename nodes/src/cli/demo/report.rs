@@ -223,11 +223,11 @@ fn summary_json(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> serde_json
         "rounds": r.outcome.total.rounds,
         "runs": r.outcome.total.runs,
         "detected_completeness_by_round": w.progress.detected,
-        "targets_reached": w.progress.totals.reached,
-        "targets_given_up": w.progress.totals.given_up,
-        "targets_seen_on_the_way": w.progress.totals.seen,
-        "targets_unreachable": w.progress.totals.unreachable,
-        "set_downs": w.progress.totals.set_downs,
+        "targets_reached": r.outcome.total.targets.reached,
+        "targets_given_up": r.outcome.total.targets.given_up,
+        "targets_seen_on_the_way": r.outcome.total.targets.seen,
+        "targets_unreachable": r.outcome.total.targets.unreachable,
+        "set_downs": r.outcome.total.targets.set_downs,
         "last_route": {"greedy_m": f64::from(w.progress.last.greedy_m), "tsp_m": f64::from(w.progress.last.tsp_m)},
         "ground_points_added": ground_points(w),
         "bag_bytes": super::launch::bag_bytes(&a.out.join("mission.mcap")),
@@ -263,7 +263,7 @@ fn mission_markdown(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> String
         None => format!("skyground demo: {}", a.scene()),
     };
     let mut md = markdown(e, &title);
-    let t = &w.progress.totals;
+    let t = &r.outcome.total.targets;
     md.push_str(&format!(
         "\n## Mission\n\n| | |\n|---|---|\n| prior | {} |\n| finished | {finished} ({why}) |\n| rounds | {} |\n| targets reached / given up (blocked) / left off (seen on the way) / unreachable | {} / {} / {} / {} |\n| set-downs (the robot carried to another piece of ground) | {} |\n| metres driven | {:.0} |\n| {} seconds | {:.0} |\n| wall seconds | {wall:.1} |\n| ground points added | {} |\n",
         a.prior.describe(), r.outcome.total.rounds, t.reached, t.given_up, t.seen, t.unreachable, t.set_downs, r.outcome.total.odometer_m,

@@ -6,10 +6,17 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use skyground_core::mission::progress::Totals;
+
 use crate::runtime::RuntimeError;
 
 /// The file in a mission's folder that holds its progress.
 pub const PROGRESS_FILE: &str = "progress.json";
+
+/// The file in a mission's folder that holds the planner's last status, for
+/// a planner restarted while the mission runs (a new run starts without it:
+/// it detects again from the merge and plans a new round).
+pub const PLANNER_FILE: &str = "planner.json";
 
 /// The file in a mission's folder that holds its command line.
 pub const COMMAND_FILE: &str = "command.json";
@@ -65,16 +72,20 @@ pub(super) struct Carried {
     pub position: Option<[f32; 3]>,
     /// Runs of the mission so far (1: never resumed).
     pub runs: u32,
+    /// Targets reached, given up, … over the finished rounds and the one
+    /// being driven when the progress was written.
+    #[serde(default)]
+    pub targets: Totals,
 }
 
 impl Carried {
     /// This run's figures added to what earlier runs carried.
     pub fn plus(
         &self,
-        odometer_m: f64,
-        sim_s: f64,
+        (odometer_m, sim_s): (f64, f64),
         rounds: u32,
         position: Option<[f32; 3]>,
+        targets: &Totals,
     ) -> Carried {
         Carried {
             odometer_m: self.odometer_m + odometer_m,
@@ -82,6 +93,7 @@ impl Carried {
             rounds: self.rounds + rounds,
             position: position.or(self.position),
             runs: self.runs,
+            targets: self.targets.plus(targets),
         }
     }
 }
@@ -108,6 +120,14 @@ pub(super) fn write(dir: &Path, c: &Carried) -> Result<(), String> {
 mod tests {
     use super::*;
 
+    fn reached(reached: usize, given_up: usize) -> Totals {
+        Totals {
+            reached,
+            given_up,
+            ..Totals::default()
+        }
+    }
+
     #[test]
     fn progress_round_trips_and_adds_runs() {
         let d = std::env::temp_dir().join(format!("skyground-progress-{}", std::process::id()));
@@ -117,15 +137,16 @@ mod tests {
             runs: 1,
             ..Carried::default()
         }
-        .plus(100.0, 50.0, 1, Some([1.0, 2.0, 0.0]));
+        .plus((100.0, 50.0), 1, Some([1.0, 2.0, 0.0]), &reached(7, 1));
         write(&d, &first).unwrap();
         let back = read(&d).unwrap();
         assert_eq!(back, first);
-        let second = back.plus(20.0, 5.0, 0, None);
+        let second = back.plus((20.0, 5.0), 0, None, &reached(3, 2));
         assert_eq!(
             (second.odometer_m, second.sim_s, second.rounds),
             (120.0, 55.0, 1)
         );
+        assert_eq!(second.targets, reached(10, 3), "stops over both runs");
         assert_eq!(
             second.position,
             Some([1.0, 2.0, 0.0]),

@@ -9,7 +9,6 @@ use futures::StreamExt;
 use skyground_core::cloud::Cloud;
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::mission::progress::{Progress, StopRule};
-use skyground_core::mission::watchdog::{ClockVerdict, Watchdog};
 use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, VehicleStatus, Wire};
 use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
 use skyground_core::targets::{TargetPoint, TargetSet};
@@ -21,6 +20,7 @@ use super::DemoArgs;
 use super::console::Console;
 use super::launch::{Proc, respawn};
 use super::resume::Carried;
+use super::stall::Guard;
 use crate::cli::aerial::Survey;
 use crate::cli::detections::Detections;
 use crate::cli::profile::Profile;
@@ -71,8 +71,10 @@ struct Follower<'a> {
     t0: Instant,
     /// What earlier runs of a resumed mission did.
     carried: Carried,
-    /// The robot's clock watched (a stalled vehicle_sim is restarted).
-    dog: Watchdog,
+    /// Each node's progress watched (a silent one is restarted).
+    guard: Guard,
+    /// What the planner had reached when its status was last kept for a restart.
+    planner_kept: Option<(u32, usize, usize, usize)>,
     /// The last /state_estimation stamp, and the robot time before a
     /// restarted vehicle_sim's clock began again at 0.
     last_stamp: f64,
@@ -201,7 +203,8 @@ impl<'a> Follower<'a> {
             console: Console::new(),
             t0,
             carried,
-            dog: Watchdog::new(STALL_S, STALL_RESTARTS),
+            guard: Guard::new(t0, &a.merge_store()),
+            planner_kept: None,
             last_stamp: 0.0,
             clock_offset: 0.0,
             leg: None,
@@ -232,7 +235,12 @@ impl<'a> Follower<'a> {
         sample(procs, prof);
         self.state();
         self.keep_progress();
-        self.watch_clock(procs)
+        if self.a.field.field {
+            // A real robot is not ours to restart; the time limit follows it.
+            return None;
+        }
+        let console = &mut self.console;
+        self.guard.check(procs, &mut |line| console.say(line))
     }
 
     /// How the watch ended.
@@ -256,35 +264,13 @@ impl<'a> Follower<'a> {
         due.then(|| self.leg.clone()).flatten()
     }
 
-    /// The watchdog's verdict at a tick: a stalled vehicle_sim is killed (the
-    /// respawn starts it again where it was); `Some(why)` ends the mission.
-    fn watch_clock(&mut self, procs: &mut [Proc]) -> Option<String> {
-        if self.a.field.field {
-            // A real robot is not ours to restart; the time limit follows it.
-            return None;
-        }
-        match self.dog.check(self.t0.elapsed().as_secs_f64()) {
-            ClockVerdict::Fine => None,
-            ClockVerdict::Restart { robot_s, for_s } => {
-                self.console.say(&format!(
-                    "  vehicle_sim stalled: robot time stood at {robot_s:.1} s for {for_s:.0} wall s; restarting it where the vehicle was"
-                ));
-                if let Some(p) = procs.iter_mut().find(|p| p.name == "vehicle_sim") {
-                    let _ = p.child.start_kill();
-                }
-                None
-            }
-            ClockVerdict::GiveUp { restarts } => Some(format!(
-                "vehicle_sim stalled: {restarts} restarts did not move the robot's clock"
-            )),
-        }
-    }
-
     /// The mission over all its runs so far.
     fn total(&self) -> Carried {
         let rounds = u32::try_from(self.w.progress.rounds_driven()).unwrap_or(u32::MAX);
         let at = self.w.route.last().copied();
-        self.carried.plus(self.w.odometer, self.w.sim_s, rounds, at)
+        let targets = self.w.progress.totals_so_far();
+        self.carried
+            .plus((self.w.odometer, self.w.sim_s), rounds, at, &targets)
     }
 
     /// progress.json, for `--resume` (a failed write is said, the mission goes on).
@@ -294,8 +280,40 @@ impl<'a> Follower<'a> {
         }
     }
 
+    /// The planner's status kept for a restarted planner when what it
+    /// reached changed (a restarted one's round 0 is not its state).
+    fn keep_planner(&mut self, s: &PlannerStatus) {
+        let reached = (
+            s.round,
+            s.visited.points.len() + s.visited.regions.len(),
+            s.given_up.points.len() + s.given_up.regions.len(),
+            s.blocked.len(),
+        );
+        if s.round == 0 || self.planner_kept == Some(reached) {
+            return;
+        }
+        match s.keep(&self.a.out.join(super::resume::PLANNER_FILE)) {
+            Ok(()) => self.planner_kept = Some(reached),
+            Err(e) => self
+                .console
+                .say(&format!("  keeping the planner's status: {e}")),
+        }
+    }
+
     /// The merged ground cloud so far: only its new points are measured.
+    /// After a round's end it asks the detector for a detection.
     async fn resampled(&mut self, cloud: Cloud) {
+        let last = &self.w.progress.last;
+        if last.phase == "done"
+            && self
+                .w
+                .progress
+                .detected
+                .last()
+                .is_none_or(|(r, _)| *r < last.round)
+        {
+            self.guard.merged_cloud();
+        }
         let new = arrived_points(self.w.resampled.as_ref(), &cloud, self.prior.cloud.origin);
         if new.len() == cloud.len() {
             self.after = self.before.clone();
@@ -359,6 +377,7 @@ impl<'a> Follower<'a> {
         self.w
             .detections
             .completeness(arr.header.stamp, building_statuses(arr));
+        self.guard.detected();
         if let Some((round, mean)) = mean_completeness(arr)
             && self.w.progress.detection(round, mean)
         {
@@ -375,6 +394,8 @@ impl<'a> Follower<'a> {
             return;
         };
         let finished_round = self.w.progress.planner(&s);
+        self.guard.planner();
+        self.keep_planner(&s);
         if s.round > 0 {
             prof.stage(&match s.phase.as_str() {
                 "driving" | "exploring" | "carrying" => format!("round {} driving", s.round),
@@ -414,6 +435,9 @@ impl<'a> Follower<'a> {
         // A real robot stamps with its clock; the mission's time starts at
         // its first pose (vehicle_sim's clock starts at 0 itself).
         let first = *self.w.first_stamp.get_or_insert(t);
+        if t != self.last_stamp {
+            self.guard.clock();
+        }
         if !field && t + 1.0 < self.last_stamp {
             // vehicle_sim started again (its clock at 0): it gets the leg it
             // was driving once its reader has matched.
@@ -427,15 +451,16 @@ impl<'a> Follower<'a> {
         } else {
             self.clock_offset + t
         };
-        self.dog.robot_time(t, self.t0.elapsed().as_secs_f64());
-        if let Some(p) = odom_position(o)
-            && self
+        if let Some(p) = odom_position(o) {
+            self.guard.pose(p);
+            if self
                 .w
                 .route
                 .last()
                 .is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) > 1.0)
-        {
-            self.w.route.push(p);
+            {
+                self.w.route.push(p);
+            }
         }
     }
 
@@ -523,12 +548,6 @@ struct TimeLimit {
     printed_round: u32,
     routes: usize,
 }
-
-/// Wall seconds the robot's clock may stand before vehicle_sim is restarted
-/// (issue 50: named within 30 s).
-const STALL_S: f64 = 30.0;
-/// Restarts in a row without the clock moving before the mission stops.
-const STALL_RESTARTS: u32 = 3;
 
 /// Wall seconds until the first route is known (prior, classification,
 /// detection, targets, graph).
