@@ -51,10 +51,17 @@ struct Params {
     merge_store: String,
     /// Seconds between two batches written to `merge_store`.
     merge_flush_s: f64,
+    /// QoS of the /registered_scan subscription: `sensor` (best effort, as
+    /// robot drivers publish) or `reliable` (vehicle_sim: no scan lost).
+    scan_qos: String,
     transport: TransportConfig,
 }
 
 pub use crate::runtime::specs::LOCAL_EXPLORER as SPEC;
+
+/// Scans the subscription holds before the oldest is dropped: a burst of
+/// multi-MB scans arrives faster than they are merged (issue 50).
+const SCAN_DEPTH: usize = 64;
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
@@ -75,7 +82,10 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
     let region_sub = rt.subscription::<MarkerArray>("/active_region", qos::latched(1))?;
-    let scan_sub = rt.subscription::<PointCloud2>("/registered_scan", qos::sensor(50))?;
+    let scan_qos = qos::by_name(&p.scan_qos, SCAN_DEPTH).ok_or_else(|| {
+        RuntimeError::Node(format!("scan_qos {:?}: not sensor or reliable", p.scan_qos))
+    })?;
+    let scan_sub = rt.subscription::<PointCloud2>("/registered_scan", scan_qos)?;
     let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
     let pstatus_sub = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;
@@ -129,6 +139,25 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 perform(rt, &ex, c, &leg_pub, &status_pub, &resampled_pub).await?;
             }
         }
+    }
+    // The demo stops vehicle_sim before this node: scans still on their way
+    // are merged too, so every scan sent is in the store (issue 50 part 5).
+    // A robot that goes on scanning is cut off after 3 s.
+    let (mut late, until) = (0, std::time::Instant::now() + Duration::from_secs(3));
+    while std::time::Instant::now() < until
+        && let Ok(Some(m)) = tokio::time::timeout(Duration::from_millis(300), scan_s.next()).await
+    {
+        if let Ok(Ok(d)) = m.map(|(msg, _)| decode(&msg)) {
+            ex.handle(ExplorerEvent::Scan {
+                xyz: d.cloud.xyz,
+                labels: d.cloud.label,
+            });
+            late += 1;
+        }
+    }
+    if late > 0 {
+        rt.log
+            .info(&format!("merged {late} scan(s) that came as it stopped"));
     }
     rt.log.info(&ex.stop(kept.as_mut()));
     Ok(())

@@ -81,7 +81,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     ));
 
     let odom_pub = rt.publisher::<Odometry>("/state_estimation", qos::odometry())?;
-    let scan_pub = rt.publisher::<PointCloud2>("/registered_scan", qos::sensor(5))?;
+    // Reliable: a best-effort sample of a multi-MB scan is lost with any one
+    // of its fragments; best-effort readers (recorders, viewers) still match.
+    let scan_pub = rt.publisher::<PointCloud2>("/registered_scan", qos::reliable(64))?;
     // A reader that keeps one scan in N (the demo's recorder) would still be
     // sent all N by DDS; this topic, named as topic_tools' throttle names
     // its output, carries only the ones it keeps.
@@ -104,7 +106,8 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let rate = f64::from(p.lidar.rate_hz);
     let mut scan_due = ScanSchedule::new(rate, p.scan_min_move_m, p.stationary_scan_period_s);
     let mut clock = RobotClock::new(p.step_s, p.time_factor);
-    let (mut scans, burst) = (0u64, crate::runtime::faults::LargeScans::from_env());
+    let (mut scans, mut sent_scans, burst) =
+        (0u64, 0u64, crate::runtime::faults::LargeScans::from_env());
     let wall0 = Instant::now();
     while !rt.shutdown.requested() {
         while let Ok(g) = goals.try_recv() {
@@ -177,7 +180,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 let sent = throttle_pub.async_publish(msg.clone());
                 publish_logged(&rt.log, "/registered_scan_throttle", sent).await;
             }
-            publish_logged(&rt.log, "/registered_scan", scan_pub.async_publish(msg)).await;
+            // Counted as sent only when DDS took it: the demo's tests compare
+            // this count with the scans merged (issue 50 part 5).
+            if publish_logged(&rt.log, "/registered_scan", scan_pub.async_publish(msg)).await {
+                sent_scans += 1;
+            }
             scans += 1;
         }
         if pause > 0.0 {
@@ -188,10 +195,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     }
     let (working, waiting) = clock.split();
     rt.log.info(&format!(
-        "stopped after {:.1} simulated s ({working:.1} s driving or turning, {waiting:.1} s waiting for orders) in {:.1} wall s, {scans} scans, {:.1} m driven",
+        "stopped after {:.1} simulated s ({working:.1} s driving or turning, {waiting:.1} s waiting for orders) in {:.1} wall s, {sent_scans} scans, {:.1} m driven ({} not taken by DDS)",
         clock.now(),
         wall0.elapsed().as_secs_f64(),
-        vehicle.state.odometer
+        vehicle.state.odometer,
+        scans - sent_scans
     ));
     Ok(())
 }

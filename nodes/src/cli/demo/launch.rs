@@ -280,6 +280,10 @@ fn explorer_params(a: &DemoArgs) -> Vec<String> {
     let mut v = graph_params(a);
     v.push(format!("resample_voxel_m:={}", a.merge_voxel));
     v.push(format!("merge_store:={}", a.merge_store().display()));
+    if !a.field.field {
+        // vehicle_sim's writer is reliable: so is the reader, no scan lost.
+        v.push("scan_qos:=reliable".into());
+    }
     v
 }
 
