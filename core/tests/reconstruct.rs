@@ -35,12 +35,14 @@ fn city3d_001_gives_a_valid_model_close_to_its_points() {
         return;
     };
     assert_eq!(loaded.footprints.len(), 1);
-    let rec = reconstruct_cloud(
-        &cloud,
-        Some(&loaded.footprints),
-        &ReconstructParams::default(),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    // `SKYGROUND_RECON_PARAMS` (JSON) overrides the defaults, to compare settings.
+    let params: ReconstructParams = std::env::var("SKYGROUND_RECON_PARAMS")
+        .ok()
+        .map_or_else(ReconstructParams::default, |s| {
+            serde_json::from_str(&s).unwrap()
+        });
+    let rec = reconstruct_cloud(&cloud, Some(&loaded.footprints), &params)
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(rec.models.len(), 1, "skipped: {:?}", rec.skipped);
     let m = &rec.models[0];
     let check = m.shell.check();
@@ -49,10 +51,12 @@ fn city3d_001_gives_a_valid_model_close_to_its_points() {
     // over the building's own points (on its footprint).
     let (d, n) = points_to_models(&rec, &cloud.xyz).expect("distances");
     eprintln!(
-        "city3d_001: {} roof planes, {} faces, mean points → model distance {d:.3} m over {n} of {} points",
+        "city3d_001: {} roof planes, {} faces, mean points → model distance {d:.3} m over {n} of {} points; LoD {}, rejected LoD 2.2 codes {:?}",
         m.planes,
         m.shell.faces.len(),
-        cloud.len()
+        cloud.len(),
+        m.lod.as_str(),
+        m.quality.rejected_val3dity
     );
     let given =
         skyground_core::footprint::split(&cloud.xyz, &loaded.footprints, &Default::default())
