@@ -166,6 +166,7 @@ pub(crate) fn reconstruct_building(
     split_crossings(&mut part, &height);
     let mut shell = build_shell(&part, &height);
     shell.split_warped_roofs(WARP_TOL_M);
+    shell.weld(WELD_TOL_M);
     Ok(Model {
         id: inp.id,
         name: inp.name.to_string(),
@@ -185,6 +186,9 @@ pub(crate) fn reconstruct_building(
 /// A roof face farther than this from planar is split into triangles
 /// (half val3dity's 1 cm planarity tolerance, leaving room for the writers' 1 mm rounding).
 const WARP_TOL_M: f64 = 0.005;
+
+/// Corners closer than this are one vertex: val3dity's snapping tolerance.
+const WELD_TOL_M: f64 = 0.001;
 
 /// Fewest points a LoD 1.2 fallback takes its roof height from.
 const FALLBACK_MIN_POINTS: usize = 3;

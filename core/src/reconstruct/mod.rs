@@ -131,6 +131,17 @@ pub fn reconstruct_cloud(
             per.entry(id).or_default().push(*p);
         }
     }
+    // A footprint that others cover entirely (two cadastral records of one
+    // house) wins no point in `split`; it takes the points inside it instead.
+    if footprints.is_some() {
+        let empty: Vec<&Footprint> = fps.iter().filter(|f| !per.contains_key(&f.id)).collect();
+        for f in empty {
+            let inside = points_inside(&building, f);
+            if !inside.is_empty() {
+                per.insert(f.id, inside);
+            }
+        }
+    }
     let results: Vec<Result<Model, (u32, Skip)>> = fps
         .par_iter()
         .map(|f| {
@@ -168,6 +179,21 @@ pub fn reconstruct_cloud(
         }
     }
     Ok(out)
+}
+
+/// The points of `xyz` inside `f`'s polygon (x, y).
+fn points_inside(xyz: &[[f32; 3]], f: &Footprint) -> Vec<[f32; 3]> {
+    use geo::{Contains, Coord};
+    let Some(b) = f.bounds() else {
+        return Vec::new();
+    };
+    xyz.iter()
+        .filter(|p| {
+            let (x, y) = (f64::from(p[0]), f64::from(p[1]));
+            x >= b[0] && x <= b[2] && y >= b[1] && y <= b[3] && f.polygon.contains(&Coord { x, y })
+        })
+        .copied()
+        .collect()
 }
 
 /// The val3dity codes `shell` fails (ISO 19107 checks of [`crate::validity`],

@@ -145,6 +145,85 @@ impl Shell {
         self.faces = out;
     }
 
+    /// Merges vertices closer than `tol` m into one (the partition can give
+    /// one corner twice, a few ulps apart), drops the repeats this leaves in
+    /// a ring and the faces left with no area (their edges pair up on the
+    /// neighbours), and keeps only the vertices in use. val3dity counts
+    /// vertices within its snapping tolerance as one; unwelded, the corner
+    /// fails 101/102.
+    pub(crate) fn weld(&mut self, tol: f64) {
+        let cell = |p: [f64; 3]| p.map(|c| (c / tol).floor() as i64);
+        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut map: Vec<u32> = Vec::with_capacity(self.vertices.len());
+        let mut kept: Vec<[f64; 3]> = Vec::new();
+        for &p in &self.vertices {
+            let c = cell(p);
+            let mut found = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let Some(ids) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                            continue;
+                        };
+                        for &k in ids {
+                            let q = kept[k as usize];
+                            let d2 = (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f64>();
+                            if d2 <= tol * tol {
+                                found = Some(k);
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+            let k = found.unwrap_or_else(|| {
+                let k = u32::try_from(kept.len()).unwrap_or(u32::MAX);
+                kept.push(p);
+                grid.entry(c).or_default().push(k);
+                k
+            });
+            map.push(k);
+        }
+        let mut faces = Vec::with_capacity(self.faces.len());
+        for f in std::mem::take(&mut self.faces) {
+            let mut rings = Vec::with_capacity(f.rings.len());
+            for (i, r) in f.rings.iter().enumerate() {
+                let mut out: Vec<u32> = r.iter().map(|&v| map[v as usize]).collect();
+                out.dedup();
+                while out.len() > 1 && out.first() == out.last() {
+                    out.pop();
+                }
+                if out.len() >= 3 {
+                    rings.push(out);
+                } else if i == 0 {
+                    break;
+                }
+            }
+            if !rings.is_empty() {
+                faces.push(ModelFace {
+                    kind: f.kind,
+                    rings,
+                });
+            }
+        }
+        // Keep only the vertices the faces use, in first-use order.
+        let mut renum: HashMap<u32, u32> = HashMap::new();
+        let mut vertices = Vec::new();
+        for f in &mut faces {
+            for r in &mut f.rings {
+                for v in r.iter_mut() {
+                    let n = *renum.entry(*v).or_insert_with(|| {
+                        vertices.push(kept[*v as usize]);
+                        u32::try_from(vertices.len() - 1).unwrap_or(u32::MAX)
+                    });
+                    *v = n;
+                }
+            }
+        }
+        self.vertices = vertices;
+        self.faces = faces;
+    }
+
     /// The faces as triangles with their kind.
     pub fn triangles(&self) -> Vec<([[f64; 3]; 3], SurfaceType)> {
         let mut out = Vec::new();
@@ -420,6 +499,60 @@ mod tests {
         }
         let (region, code) = regions(&g, &mut labels, 1);
         (trace(&g, &region, code.len() as u32, 0.3), code)
+    }
+
+    /// A 2 m cube whose top corner 4 is given twice, 1e-12 m apart, as
+    /// the partition can give a corner; one wall uses the copy.
+    fn cube_with_a_twin_corner() -> Shell {
+        let mut vertices: Vec<[f64; 3]> = (0..8)
+            .map(|k| {
+                let [x, y] = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]][k % 4];
+                [x, y, if k < 4 { 0.0 } else { 2.0 }]
+            })
+            .collect();
+        vertices.push([1e-12, 0.0, 2.0]);
+        let face = |kind, ring: &[u32]| ModelFace {
+            kind,
+            rings: vec![ring.to_vec()],
+        };
+        use SurfaceType::{GroundSurface as G, RoofSurface as R, WallSurface as W};
+        Shell {
+            vertices,
+            faces: vec![
+                face(G, &[0, 3, 2, 1]),
+                face(R, &[4, 8, 5, 6, 7]),
+                face(W, &[0, 1, 5, 8]),
+                face(W, &[1, 2, 6, 5]),
+                face(W, &[2, 3, 7, 6]),
+                face(W, &[3, 0, 4, 7]),
+            ],
+        }
+    }
+
+    #[test]
+    fn welding_merges_a_twin_corner_into_a_valid_cube() {
+        let mut s = cube_with_a_twin_corner();
+        let before = super::super::validity_codes(&s);
+        assert!(before.contains(&102), "{before:?}");
+        assert!(!s.check().watertight());
+        s.weld(0.001);
+        assert_eq!(s.vertices.len(), 8);
+        assert!(s.faces.iter().all(|f| f.rings[0].len() == 4));
+        assert!(s.check().valid(), "{:?}", s.check());
+        assert_eq!(super::super::validity_codes(&s), Vec::<u16>::new());
+    }
+
+    #[test]
+    fn welding_drops_a_face_that_collapses_and_keeps_the_shell_closed() {
+        let mut s = cube_with_a_twin_corner();
+        // A sliver wall between the corner and its twin: no area once welded.
+        s.faces.push(ModelFace {
+            kind: SurfaceType::WallSurface,
+            rings: vec![vec![4, 0, 8]],
+        });
+        s.weld(0.001);
+        assert_eq!(s.faces.len(), 6);
+        assert!(s.check().valid(), "{:?}", s.check());
     }
 
     #[test]
