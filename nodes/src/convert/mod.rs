@@ -8,5 +8,6 @@ pub mod diagnostics;
 pub mod markers;
 pub mod path;
 pub mod pointcloud2;
+pub mod scans;
 pub mod targets;
 pub mod tf;

@@ -10,7 +10,8 @@
 
 use std::time::Duration;
 
-use crate::convert::pointcloud2::{EncodeOptions, decode, encode};
+use crate::convert::pointcloud2::{EncodeOptions, encode};
+use crate::convert::scans::{late_scans, scan_event, scan_qos};
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::{Cloud, class};
@@ -51,17 +52,12 @@ struct Params {
     merge_store: String,
     /// Seconds between two batches written to `merge_store`.
     merge_flush_s: f64,
-    /// QoS of the /registered_scan subscription: `sensor` (best effort, as
-    /// robot drivers publish) or `reliable` (vehicle_sim: no scan lost).
+    /// QoS of /registered_scan: `sensor` or `reliable` ([`scan_qos`]).
     scan_qos: String,
     transport: TransportConfig,
 }
 
 pub use crate::runtime::specs::LOCAL_EXPLORER as SPEC;
-
-/// Scans the subscription holds before the oldest is dropped: a burst of
-/// multi-MB scans arrives faster than they are merged (issue 50).
-const SCAN_DEPTH: usize = 64;
 
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
@@ -82,10 +78,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
     let region_sub = rt.subscription::<MarkerArray>("/active_region", qos::latched(1))?;
-    let scan_qos = qos::by_name(&p.scan_qos, SCAN_DEPTH).ok_or_else(|| {
-        RuntimeError::Node(format!("scan_qos {:?}: not sensor or reliable", p.scan_qos))
-    })?;
-    let scan_sub = rt.subscription::<PointCloud2>("/registered_scan", scan_qos)?;
+    let scan_sub = rt.subscription::<PointCloud2>("/registered_scan", scan_qos(&p.scan_qos)?)?;
     let odom_sub = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let vstatus_sub = rt.subscription::<DiagnosticArray>("/vehicle_status", qos::reliable(50))?;
     let pstatus_sub = rt.subscription::<DiagnosticArray>("/planner_status", qos::latched(1))?;
@@ -116,11 +109,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             },
             Some(m) = region_s.next() => received_regions(&rt.log, "/active_region", m)
                 .map(|(regions, _)| ExplorerEvent::ActiveRegion(regions.into_iter().next())).into_iter().collect(),
-            Some(m) = scan_s.next() => match m.map(|(msg, _)| decode(&msg)) {
-                Ok(Ok(d)) => vec![ExplorerEvent::Scan { xyz: d.cloud.xyz, labels: d.cloud.label }],
-                Ok(Err(e)) => { rt.log.warn(&format!("rejected /registered_scan: {e}")); vec![] }
-                Err(_) => vec![],
-            },
+            Some(m) = scan_s.next() => scan_event(&rt.log, m).into_iter().collect(),
             Some(m) = odom_s.next() => m.ok().and_then(|(o, _)| odom_position(&o)).map(ExplorerEvent::Position).into_iter().collect(),
             Some(m) = vstatus_s.next() => statuses(&rt.log, m, VehicleStatus::from_wire).into_iter().map(ExplorerEvent::Vehicle).collect(),
             Some(m) = pstatus_s.next() => statuses(&rt.log, m, PlannerStatus::from_wire).into_iter().map(ExplorerEvent::Planner).collect(),
@@ -140,24 +129,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             }
         }
     }
-    // The demo stops vehicle_sim before this node: scans still on their way
-    // are merged too, so every scan sent is in the store (issue 50 part 5).
-    // A robot that goes on scanning is cut off after 3 s.
-    let (mut late, until) = (0, std::time::Instant::now() + Duration::from_secs(3));
-    while std::time::Instant::now() < until
-        && let Ok(Some(m)) = tokio::time::timeout(Duration::from_millis(300), scan_s.next()).await
-    {
-        if let Ok(Ok(d)) = m.map(|(msg, _)| decode(&msg)) {
-            ex.handle(ExplorerEvent::Scan {
-                xyz: d.cloud.xyz,
-                labels: d.cloud.label,
-            });
-            late += 1;
-        }
-    }
-    if late > 0 {
-        rt.log
-            .info(&format!("merged {late} scan(s) that came as it stopped"));
+    // Scans still on their way are merged too (issue 50 part 5).
+    for e in late_scans(&rt.log, &mut scan_s, Duration::from_secs(3)).await {
+        ex.handle(e);
     }
     rt.log.info(&ex.stop(kept.as_mut()));
     Ok(())
@@ -175,10 +149,9 @@ fn keep_merge(
     let (kept, s) = ex
         .keep_merge_in(std::path::Path::new(dir), every_s)
         .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?;
-    let n = s.points.len();
+    let (n, scans) = (s.points.len(), s.scans);
     rt.log.info(&format!(
-        "merge store {dir}: going on from {n} points, {} scans",
-        s.scans
+        "merge store {dir}: going on from {n} points, {scans} scans"
     ));
     Ok(Some(kept))
 }
