@@ -413,11 +413,11 @@ fn a_sparse_survey_keeps_its_roofs() {
 /// unclassified), on every labelled file the shipped model never saw: the
 /// issue's 5 % where met. The CSF settings were chosen on sample_c.las,
 /// ahn3_delft_1 and the reference scene (docs/density.md): their rows are
-/// held out for the forest's ground only. The 1,065-point Autzen snippet
-/// (0.25 pts per m², PDAL's `1.2-with-color`) is held at its measured
-/// 5.43 % less a margin: its 15 missed ground points stand alone on a
-/// hillside, 46–138 ft from the nearest point called ground and 5–50 ft
-/// over it; no neighbourhood judges them (docs/classification.md).
+/// held out for the forest's ground only. PDAL's snippets are held out for
+/// everything: in the 1,065-point Autzen one (`1.2-with-color`, 3.4 × 4.6
+/// km) every point stands alone, and the slope test for lone points
+/// (`classify::lone`, its slope measured on the training files) takes
+/// the hillside ground the forest called vegetation (docs/classification.md).
 #[test]
 fn ground_on_files_nobody_tuned_it_on_is_within_five_percent() {
     let classifier = SceneClassifier::new(CsfParams::default(), shipped()).unwrap();
@@ -430,7 +430,10 @@ fn ground_on_files_nobody_tuned_it_on_is_within_five_percent() {
         ("lidr_mixedconifer.laz", false, 0.05),
         ("pdal_4_6_crop.las", true, 0.05),
         ("pdal_sample_c_thin.las", true, 0.05),
-        ("pdal_1.2-with-color.las", true, 0.06),
+        ("pdal_1.2-with-color.las", true, 0.05),
+        ("lazperf_1815.las", true, 0.05),
+        ("pdal_wontcompress3.las", true, 0.05),
+        ("pdal_autzen.las", true, 0.05),
     ];
     let mut scored = 0;
     for (name, conformance, floor) in floors {

@@ -43,6 +43,10 @@ pub struct AtGrade {
     /// Points the ground filter left standing that the forest calls
     /// ground: now ground.
     pub forest_ground: usize,
+    /// Points with no other within the forest's largest sphere and no
+    /// ground near, that the terrain's slope calls ground
+    /// ([`super::lone::lone_ground`]): now ground.
+    pub lone_ground: usize,
 }
 
 impl AtGrade {
@@ -62,10 +66,14 @@ impl AtGrade {
                 self.forest_ground
             )
         });
-        match (joined, forest) {
-            (Some(a), Some(b)) => Some(format!("{a}\n{b}")),
-            (a, b) => a.or(b),
-        }
+        let lone = (self.lone_ground > 0).then(|| {
+            format!(
+                "{} lone point(s) (no other within the forest's reach, no ground near: a sparse survey) lie within the steepest terrain slope of the ground round them: now ground",
+                self.lone_ground
+            )
+        });
+        let lines: Vec<String> = [joined, forest, lone].into_iter().flatten().collect();
+        (!lines.is_empty()).then(|| lines.join("\n"))
     }
 }
 

@@ -8,6 +8,7 @@
 //! - [`pipeline`]: [`classify`] → LAS codes.
 //! - [`blocks`]: the forest's votes block by block on large clouds.
 //! - [`scene`]: [`SceneClassifier`]: CSF ground + forest on a raw cloud; [`GroundReport`].
+//! - [`lone`]: [`lone_ground`]: where the forest has no neighbour to read, the terrain's slope decides.
 //! - [`roofs`]: [`check_roofs`]: large planes are roofs, roofless objects vegetation.
 //! - [`report`]: [`ClassReport`] (confusion matrix, precision / recall / F1).
 //! - [`coherence`]: [`label_coherence`]: how far the reference labels agree with their neighbours'.
@@ -21,6 +22,7 @@ pub mod disputes;
 pub mod error;
 pub mod grade;
 pub mod hag;
+pub mod lone;
 pub mod model;
 pub mod pipeline;
 pub mod report;
@@ -34,6 +36,7 @@ pub use disputes::{PairShape, shapes_by_pairing};
 pub use error::ClassifyError;
 pub use grade::{AtGrade, join_terrain};
 pub use hag::hag_from_ground_points;
+pub use lone::lone_ground;
 pub use model::{Model, Smoothing};
 pub use pipeline::{classify, classify_at};
 pub use report::{ClassMetrics, ClassReport, is_scored};

@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use super::error::ClassifyError;
 use super::grade::AtGrade;
+use super::lone::{REACH_CELLS, lone_ground};
 use super::model::Model;
 use super::pipeline::classify_at;
 use crate::cloud::{Cloud, ColumnLength, class};
@@ -153,7 +154,7 @@ impl SceneClassifier {
             return Err(ClassifyError::NonFinite { index });
         }
         let spacing = ground.density.spacing_m;
-        let (labels, at_grade) = classify_at(
+        let (mut labels, mut at_grade) = classify_at(
             xyz,
             &ground.hag,
             &ground.is_ground,
@@ -161,6 +162,9 @@ impl SceneClassifier {
             &self.model,
             spacing,
         )?;
+        let reach = REACH_CELLS * ground.params.cloth_resolution_for(&ground.density);
+        let radius = self.model.feature_params.radius_large_m;
+        at_grade.lone_ground = lone_ground(xyz, &mut labels, radius, reach);
         // Terrain the cloth hung below is ground for every later step (the
         // ground report, the ground graph), though its height above the
         // terrain model stays as the cloth measured it.
