@@ -13,7 +13,8 @@
 //! be watertight. This clipper keeps every vertex (`collinear_vertices_are_kept`).
 //! geo 0.33's earcut keeps the collinear vertex of that simple ring too
 //! (`geo_earcut_keeps_the_collinear_vertex_too`), so that reason is not shown
-//! there; whether geo's earcut can replace this file is open (issue 51).
+//! there; on real city models the two agree and ours is 1.2–1.5× faster
+//! (`benches/earcut.rs`, docs/performance.md "Polygon triangulation").
 
 mod earcut;
 mod plane;

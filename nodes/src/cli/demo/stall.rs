@@ -12,9 +12,9 @@ use skyground_core::mission::watchdog::{Verdict, Watchdog, Watched};
 use super::launch::Proc;
 use crate::cli::profile::read_proc;
 
-/// Wall seconds a node may owe its progress before it is restarted
-/// (issue 50: named within 30 s).
-const STALL_S: f64 = 30.0;
+/// Wall seconds a node may owe its progress before it is restarted: with
+/// the watch's 5-s check, a silent node is named within 30 s (issue 50).
+const STALL_S: f64 = 25.0;
 /// Restarts of one node in a row without its progress before the mission stops.
 const STALL_RESTARTS: u32 = 3;
 /// CPU seconds over one 5-s check that count as a node working without
