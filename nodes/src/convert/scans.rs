@@ -8,11 +8,13 @@ use skyground_core::mission::explorer::ExplorerEvent;
 use skyground_msgs::sensor_msgs::PointCloud2;
 
 use super::pointcloud2::decode;
-use crate::runtime::{Logger, RuntimeError, qos};
+use crate::runtime::{Logger, NodeRuntime, RuntimeError, qos};
+use crate::transport::{CloudPublisher, TransportConfig};
 
-/// Scans a subscription holds before the oldest is dropped: a burst of
-/// multi-MB scans arrives faster than they are merged (issue 50).
-const SCAN_DEPTH: usize = 64;
+/// Scans a subscription holds before the oldest is dropped: ~20 s of the
+/// simulator's ~50 scans/s, as the explorer takes none while it plans a
+/// region (64 lost 19 of the reference demo's 9,966 scans; issue 50).
+const SCAN_DEPTH: usize = 1024;
 
 /// The QoS named by the explorer's `scan_qos`: `sensor` (best effort, as
 /// robot drivers publish) or `reliable` (vehicle_sim's writer: no scan lost).
@@ -23,6 +25,60 @@ pub fn scan_qos(name: &str) -> Result<ros2_client::QosProfile, RuntimeError> {
         _ => Err(RuntimeError::Node(format!(
             "scan_qos {name:?}: not sensor or reliable"
         ))),
+    }
+}
+
+/// vehicle_sim's /registered_scan writer: reliable (a best-effort multi-MB
+/// scan is lost with any one fragment), on a DDS writer of its own so that
+/// scans wait for the first reader and the node, before it exits, for every
+/// scan's acknowledgement.
+pub struct ScanWriter {
+    w: CloudPublisher,
+    since: Instant,
+    wait: Duration,
+    open: bool,
+}
+
+impl ScanWriter {
+    /// The writer; scans are cast once a reader matched, or after `wait`.
+    pub fn new(rt: &mut NodeRuntime, wait: Duration) -> Result<Self, RuntimeError> {
+        let keep = TransportConfig {
+            history_tiles: 1,
+            ack_timeout_s: 3.0,
+            ..TransportConfig::default()
+        };
+        let w = CloudPublisher::new(rt, "/registered_scan", qos::reliable(64), keep)?;
+        Ok(Self {
+            w,
+            since: Instant::now(),
+            wait,
+            open: false,
+        })
+    }
+
+    /// Whether to cast scans now: a volatile reader matched later would
+    /// never get the ones written before it (issue 50: scans sent = merged).
+    pub fn ready(&mut self, log: &Logger) -> bool {
+        if !self.open && (self.w.newly_matched() || self.since.elapsed() >= self.wait) {
+            self.open = true;
+            if self.since.elapsed() >= self.wait {
+                log.warn(&format!(
+                    "no reader of /registered_scan within {:?}",
+                    self.wait
+                ));
+            }
+        }
+        self.open
+    }
+
+    /// Writes one scan whole.
+    pub async fn write(&self, msg: PointCloud2) -> Result<(), RuntimeError> {
+        self.w.write(msg).await
+    }
+
+    /// Waits (up to 3 s) until every reliable reader acknowledged every scan.
+    pub async fn wait_acks(&self) -> bool {
+        self.w.wait_acks().await
     }
 }
 

@@ -27,6 +27,7 @@ use tokio::sync::mpsc;
 
 use crate::convert::diagnostics::array;
 use crate::convert::path::{odometry, read_paths, read_spots};
+use crate::convert::scans::ScanWriter;
 use crate::convert::tf::{sensor_mount, tf_message, transform};
 use crate::runtime::{NodeRuntime, RuntimeError, publish_logged, qos};
 
@@ -79,11 +80,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     ));
 
     let odom_pub = rt.publisher::<Odometry>("/state_estimation", qos::odometry())?;
-    // Reliable: a best-effort multi-MB scan is lost with any one fragment.
-    let scan_pub = rt.publisher::<PointCloud2>("/registered_scan", qos::reliable(64))?;
-    // A reader that keeps one scan in N (the demo's recorder) would still be
-    // sent all N by DDS; this topic, named as topic_tools' throttle names
-    // its output, carries only the ones it keeps.
+    let mut scan_pub = ScanWriter::new(rt, Duration::from_secs(10))?;
+    // A reader keeping one scan in N (the recorder) is still sent all N by
+    // DDS; this topic, named as topic_tools' throttle does, carries the one.
     let throttle_pub = rt.publisher::<PointCloud2>("/registered_scan_throttle", qos::sensor(5))?;
     let clock_pub = rt.publisher::<Clock>("/clock", qos::sensor(1))?;
     let status_pub = rt.publisher::<DiagnosticArray>("/vehicle_status", qos::reliable(10))?;
@@ -166,7 +165,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             publish_logged(&rt.log, "/tf", tf_pub.async_publish(tf_message(pose))).await;
         }
         let sensor = vehicle.sensor_position();
-        if scan_due.due(sim, sensor) {
+        if scan_pub.ready(&rt.log) && scan_due.due(sim, sensor) {
             let pose = Pose::new(sensor, vehicle.state.yaw);
             let points =
                 scan(&caster, &p.lidar, &pose, scans).map_err(|e| err(format!("lidar: {e}")))?;
@@ -178,7 +177,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 publish_logged(&rt.log, "/registered_scan_throttle", sent).await;
             }
             // Counted only when DDS took it: tests compare it with the scans merged.
-            let sent = scan_pub.async_publish(msg);
+            let sent = scan_pub.write(msg);
             sent_scans += u64::from(publish_logged(&rt.log, "/registered_scan", sent).await);
             scans += 1;
         }
@@ -189,8 +188,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         }
     }
     let (working, waiting) = clock.split();
+    let acked = ["not all", "all"][usize::from(scan_pub.wait_acks().await)];
     rt.log.info(&format!(
-        "stopped after {:.1} simulated s ({working:.1} s driving or turning, {waiting:.1} s waiting for orders) in {:.1} wall s, {sent_scans} scans, {:.1} m driven ({} not taken by DDS)",
+        "stopped after {:.1} simulated s ({working:.1} s driving or turning, {waiting:.1} s waiting for orders) in {:.1} wall s, {sent_scans} scans, {:.1} m driven ({} not taken by DDS; {acked} acknowledged)",
         clock.now(),
         wall0.elapsed().as_secs_f64(),
         vehicle.state.odometer,

@@ -3,9 +3,10 @@
 use std::time::{Duration, Instant};
 
 use crate::convert::pointcloud2::tiles;
+use futures::{FutureExt, StreamExt};
 use ros2_client::QosProfile;
 use rustdds::no_key::DataWriterCdr;
-use rustdds::{QosPolicies, TopicDescription};
+use rustdds::{DataWriterStatus, QosPolicies, StatusEvented, TopicDescription};
 use serde::Deserialize;
 use skyground_msgs::sensor_msgs::PointCloud2;
 
@@ -122,6 +123,17 @@ impl CloudPublisher {
         true
     }
 
+    /// Whether a reader matched since the last call (reads the writer's
+    /// status events without waiting).
+    pub fn newly_matched(&self) -> bool {
+        let mut events = self.writer.as_async_status_stream();
+        let mut matched = false;
+        while let Some(Some(e)) = events.next().now_or_never() {
+            matched |= matches!(e, DataWriterStatus::PublicationMatched { .. });
+        }
+        matched
+    }
+
     /// Publishes one cloud, tiled and paced.
     pub async fn publish(&self, msg: PointCloud2) -> Result<PublishStats, RuntimeError> {
         let t0 = Instant::now();
@@ -147,7 +159,16 @@ impl CloudPublisher {
         })
     }
 
-    async fn wait_acks(&self) -> bool {
+    /// Writes one message whole (a scan), without waiting for readers.
+    pub async fn write(&self, msg: PointCloud2) -> Result<(), RuntimeError> {
+        (self.writer.async_write(msg, None).await)
+            .map_err(|e| RuntimeError::Node(format!("DDS refused the message: {e}")))
+    }
+
+    /// Waits until every reader acknowledged all written, at most
+    /// `ack_timeout_s`: a node about to exit calls it so that what DDS took
+    /// reaches its readers (false: some reader did not acknowledge).
+    pub async fn wait_acks(&self) -> bool {
         let limit = Duration::from_secs_f64(self.config.ack_timeout_s.max(0.001));
         matches!(
             tokio::time::timeout(limit, self.writer.async_wait_for_acknowledgments()).await,
