@@ -2,9 +2,9 @@
 //! city models made by others (delft.json, zurich_subset_lod2.json):
 //! `cargo bench -p skyground-core --bench earcut`. Before timing it prints,
 //! per triangulator, the surfaces whose triangles leave out one of the
-//! surface's vertices (a T-junction in a solid: not watertight) or whose
-//! area is off by more than 0.1 %. Issue 51 asks for geo's unless this
-//! shows ours is needed.
+//! surface's vertices, or put one inside a triangle's edge (T-junctions in
+//! a solid: not watertight), or whose area is off by more than 0.1 %.
+//! Issue 51 asks for geo's unless this shows ours is needed.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -119,9 +119,32 @@ fn geo_polygon((pts, rings): &Surface) -> Polygon<f64> {
     Polygon::new(ls(&rings[0]), rings[1..].iter().map(ls).collect())
 }
 
-/// (surfaces with a vertex left out, surfaces with the area off, triangles).
-fn check(all: &[Surface], tris: impl Fn(&Surface) -> Vec<[[f64; 2]; 3]>) -> (usize, usize, usize) {
-    let (mut dropped, mut off, mut count) = (0, 0, 0);
+/// Twice the signed area of `pqr`.
+fn orient(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
+    (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+}
+
+/// Whether a vertex of the surface lies inside an edge of a triangle: a
+/// T-junction (the neighbouring surface's edge has no partner there).
+fn has_t_junction(pts: &[[f64; 2]], tris: &[[[f64; 2]; 3]]) -> bool {
+    pts.iter().any(|p| {
+        tris.iter().any(|t| {
+            (0..3).any(|k| {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let len2 = (b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2);
+                let within = (p[0] - a[0]) * (p[0] - b[0]) + (p[1] - a[1]) * (p[1] - b[1]) < 0.0;
+                within && orient(a, b, *p).abs() <= 1e-9 * len2.max(1e-12)
+            })
+        })
+    })
+}
+
+/// (surfaces with a vertex left out, with a T-junction, with the area off, triangles).
+fn check(
+    all: &[Surface],
+    tris: impl Fn(&Surface) -> Vec<[[f64; 2]; 3]>,
+) -> (usize, usize, usize, usize) {
+    let (mut dropped, mut tj, mut off, mut count) = (0, 0, 0, 0);
     for s in all {
         let t = tris(s);
         count += t.len();
@@ -135,8 +158,11 @@ fn check(all: &[Surface], tris: impl Fn(&Surface) -> Vec<[[f64; 2]; 3]>) -> (usi
         if pts.iter().any(|p| !t.iter().any(|t| t.contains(p))) {
             dropped += 1;
         }
+        if has_t_junction(pts, &t) {
+            tj += 1;
+        }
     }
-    (dropped, off, count)
+    (dropped, tj, off, count)
 }
 
 fn ours(s: &Surface) -> Vec<[[f64; 2]; 3]> {
@@ -166,9 +192,9 @@ fn benches(c: &mut Criterion) {
             eprintln!("SKIPPED {file}: not found under {}", data.display());
             continue;
         }
-        for (name, (d, o, n)) in [("ours", check(&all, ours)), ("geo", check(&all, geos))] {
+        for (name, (d, tj, o, n)) in [("ours", check(&all, ours)), ("geo", check(&all, geos))] {
             eprintln!(
-                "{file}: {} surfaces; {name}: {n} triangles, {d} surfaces with a vertex left out, {o} with the area off > 0.1 %",
+                "{file}: {} surfaces; {name}: {n} triangles, {d} surfaces with a vertex left out, {tj} with a T-junction, {o} with the area off > 0.1 %",
                 all.len()
             );
         }

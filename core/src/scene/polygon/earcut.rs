@@ -343,24 +343,56 @@ mod tests {
         assert!((area(&pts, &tris) - 2.0).abs() < 1e-12);
     }
 
-    /// Issue 51: the reason given for this file (geo's earcut dropping
-    /// collinear vertices) does not hold for geo 0.33 on the simplest ring:
-    /// both keep the vertex (1, 0). What still stands between this file and
-    /// geo's earcut is open (holes, degenerate rings, a bench).
-    #[test]
-    fn geo_earcut_keeps_the_collinear_vertex_too() {
-        use geo::{LineString, Polygon, TriangulateEarcut};
-        let pts = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
-        let ring = LineString::from(pts.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>());
-        let raw = Polygon::new(ring, vec![]).earcut_triangles_raw();
-        let used = |k: usize| {
-            raw.triangle_indices
-                .iter()
-                .any(|&i| raw.vertices[i] == pts[k])
+    /// Vertices of `pts` lying inside an edge of `tris`: T-junctions, which
+    /// leave a solid open along that edge.
+    fn t_junctions(pts: &[[f64; 2]], tris: &[[[f64; 2]; 3]]) -> usize {
+        let on_edge = |p: &[f64; 2]| {
+            tris.iter().any(|t| {
+                (0..3).any(|k| {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    let within =
+                        (p[0] - a[0]) * (p[0] - b[0]) + (p[1] - a[1]) * (p[1] - b[1]) < 0.0;
+                    orient(a, b, *p).abs() < 1e-12 && within
+                })
+            })
         };
-        assert!(used(1), "geo's earcut dropped the collinear vertex");
-        let ours = triangulate_2d(&pts, &[vec![0, 1, 2, 3, 4]]);
-        assert!(ours.iter().any(|t| t.contains(&1)));
+        pts.iter().filter(|p| on_edge(p)).count()
+    }
+
+    /// Issue 51 asked for geo's earcut unless a measurement shows ours is
+    /// needed. This is it: the reference scene's podium roof (a rectangle
+    /// with its two towers' feet as holes, `scene::reference::solids`). geo
+    /// 0.33 drops the hole corners that fall on a line with others, leaving
+    /// T-junctions (swapped in, the reference podium and slab on pillars got
+    /// 4 boundary edges each: not closed); ours keeps every vertex.
+    #[test]
+    fn geo_earcut_leaves_t_junctions_at_hole_corners_and_ours_does_not() {
+        use geo::{LineString, Polygon, TriangulateEarcut};
+        let rect =
+            |x: f64, y: f64, w: f64, d: f64| vec![[x, y], [x + w, y], [x + w, y + d], [x, y + d]];
+        let rings = [
+            rect(0.0, 0.0, 10.0, 10.0),
+            rect(2.0, 2.0, 3.0, 3.0),
+            rect(7.0, 2.0, 2.0, 5.0),
+        ];
+        let pts: Vec<[f64; 2]> = rings.iter().flatten().copied().collect();
+        let ls = |r: &Vec<[f64; 2]>| {
+            LineString::from(r.iter().map(|p| (p[0], p[1])).collect::<Vec<_>>())
+        };
+        let raw =
+            Polygon::new(ls(&rings[0]), rings[1..].iter().map(ls).collect()).earcut_triangles_raw();
+        let geo: Vec<[[f64; 2]; 3]> = (raw.triangle_indices.chunks_exact(3))
+            .map(|t| [0, 1, 2].map(|k| raw.vertices[t[k]]))
+            .collect();
+        assert!(
+            t_junctions(&pts, &geo) > 0,
+            "geo's earcut has no T-junction here now: swap to it (issue 51)"
+        );
+        let index_rings = [(0..4).collect(), (4..8).collect(), (8..12).collect()];
+        let ours: Vec<[usize; 3]> = triangulate_2d(&pts, &index_rings);
+        let ours_at: Vec<[[f64; 2]; 3]> = ours.iter().map(|t| t.map(|i| pts[i])).collect();
+        assert_eq!(t_junctions(&pts, &ours_at), 0);
+        assert!((area(&pts, &ours) - (100.0 - 9.0 - 10.0)).abs() < 1e-9);
     }
 }
 

@@ -7,14 +7,14 @@
 //! triangles covering roughly the polygon (a vertex with no valid ear is
 //! clipped anyway), and rings with no area give none.
 //!
-//! Not geo's `TriangulateEarcut`: its earcut drops collinear vertices
-//! (`filter_points`), which leaves T-junctions where a wall meets a roof
-//! edge, so the reconstructed solids (`reconstruct::solid`) would no longer
-//! be watertight. This clipper keeps every vertex (`collinear_vertices_are_kept`).
-//! geo 0.33's earcut keeps the collinear vertex of that simple ring too
-//! (`geo_earcut_keeps_the_collinear_vertex_too`), so that reason is not shown
-//! there; on real city models the two agree and ours is 1.2–1.5× faster
-//! (`benches/earcut.rs`, docs/performance.md "Polygon triangulation").
+//! Not geo's `TriangulateEarcut`: on a rectangle with two rectangular holes
+//! (the reference scene's podium roof) geo 0.33 leaves a hole corner out of
+//! every triangle, a T-junction that opens the solid
+//! (`geo_earcut_leaves_a_hole_corner_out_and_ours_keeps_it`; swapped in, the
+//! reference podium and slab on pillars got 4 boundary edges each). This
+//! clipper keeps every vertex (`collinear_vertices_are_kept`). On the real
+//! city models of `benches/earcut.rs` the two agree to within one surface
+//! (docs/performance.md "Polygon triangulation").
 
 mod earcut;
 mod plane;
