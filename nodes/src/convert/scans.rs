@@ -3,9 +3,11 @@
 
 use std::time::{Duration, Instant};
 
-use futures::{Stream, StreamExt};
+use futures::StreamExt;
+use ros2_client::Subscription;
 use skyground_core::mission::explorer::ExplorerEvent;
 use skyground_msgs::sensor_msgs::PointCloud2;
+use tokio::sync::mpsc::UnboundedReceiver;
 
 use super::pointcloud2::decode;
 use crate::runtime::{Logger, NodeRuntime, RuntimeError, qos};
@@ -84,7 +86,7 @@ impl ScanWriter {
 
 /// The explorer's event for one received scan; none for a read error or a
 /// malformed cloud (said in the log).
-pub fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<ExplorerEvent> {
+fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<ExplorerEvent> {
     let (msg, _) = m.ok()?;
     match decode(&msg) {
         Ok(d) => Some(ExplorerEvent::Scan {
@@ -98,23 +100,41 @@ pub fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<
     }
 }
 
-/// The scans still arriving on `scans` after a stop was asked, until none
-/// comes for 0.3 s or `within` has passed (a robot that goes on scanning):
-/// the demo stops vehicle_sim first, so every scan it sent is merged.
-pub async fn late_scans<S, I, E>(
+/// Every scan of `sub`, taken as it arrives by a task of its own into an
+/// unbounded queue: nothing the explorer does in between (a region planned,
+/// its 13 M-point merge published at ~20 s paced by acknowledgements) stops
+/// their reception, so the subscription's history never overflows (126 of
+/// the reference demo's 9,966 scans were dropped there before; issue 50).
+pub fn scan_feed(log: Logger, sub: Subscription<PointCloud2>) -> UnboundedReceiver<ExplorerEvent> {
+    let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
+    tokio::spawn(async move {
+        let scans = sub.async_stream();
+        futures::pin_mut!(scans);
+        while let Some(m) = scans.next().await {
+            if let Some(e) = scan_event(&log, m)
+                && tx.send(e).is_err()
+            {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// The scans still arriving after a stop was asked, until none comes for
+/// 0.3 s or `within` has passed (a robot that goes on scanning): the demo
+/// stops vehicle_sim first, so every scan it sent is merged.
+pub async fn late_scans(
     log: &Logger,
-    scans: &mut S,
+    scans: &mut UnboundedReceiver<ExplorerEvent>,
     within: Duration,
-) -> Vec<ExplorerEvent>
-where
-    S: Stream<Item = Result<(PointCloud2, I), E>> + Unpin,
-{
+) -> Vec<ExplorerEvent> {
     let until = Instant::now() + within;
     let mut events = Vec::new();
     while Instant::now() < until
-        && let Ok(Some(m)) = tokio::time::timeout(Duration::from_millis(300), scans.next()).await
+        && let Ok(Some(e)) = tokio::time::timeout(Duration::from_millis(300), scans.recv()).await
     {
-        events.extend(scan_event(log, m));
+        events.push(e);
     }
     if !events.is_empty() {
         log.info(&format!("{} scan(s) came as it stopped", events.len()));

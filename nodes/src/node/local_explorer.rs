@@ -11,7 +11,7 @@
 use std::time::Duration;
 
 use crate::convert::pointcloud2::{EncodeOptions, encode};
-use crate::convert::scans::{late_scans, scan_event, scan_qos};
+use crate::convert::scans::{late_scans, scan_feed, scan_qos};
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::cloud::{Cloud, class};
@@ -86,11 +86,11 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let status_pub = rt.publisher::<DiagnosticArray>("/explorer_status", qos::latched(1))?;
     let resampled_pub = CloudPublisher::new(rt, "/resampled_cloud", qos::latched(1), p.transport)?;
     let region_s = region_sub.async_stream();
-    let scan_s = scan_sub.async_stream();
+    let mut scans = scan_feed(rt.log.clone(), scan_sub);
     let odom_s = odom_sub.async_stream();
     let vstatus_s = vstatus_sub.async_stream();
     let pstatus_s = pstatus_sub.async_stream();
-    futures::pin_mut!(region_s, scan_s, odom_s, vstatus_s, pstatus_s);
+    futures::pin_mut!(region_s, odom_s, vstatus_s, pstatus_s);
     let mut tick = tokio::time::interval(Duration::from_millis(500));
     rt.log.info("waiting for /active_region");
     loop {
@@ -109,7 +109,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             },
             Some(m) = region_s.next() => received_regions(&rt.log, "/active_region", m)
                 .map(|(regions, _)| ExplorerEvent::ActiveRegion(regions.into_iter().next())).into_iter().collect(),
-            Some(m) = scan_s.next() => scan_event(&rt.log, m).into_iter().collect(),
+            Some(e) = scans.recv() => vec![e],
             Some(m) = odom_s.next() => m.ok().and_then(|(o, _)| odom_position(&o)).map(ExplorerEvent::Position).into_iter().collect(),
             Some(m) = vstatus_s.next() => statuses(&rt.log, m, VehicleStatus::from_wire).into_iter().map(ExplorerEvent::Vehicle).collect(),
             Some(m) = pstatus_s.next() => statuses(&rt.log, m, PlannerStatus::from_wire).into_iter().map(ExplorerEvent::Planner).collect(),
@@ -130,7 +130,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         }
     }
     // Scans still on their way are merged too (issue 50 part 5).
-    for e in late_scans(&rt.log, &mut scan_s, Duration::from_secs(3)).await {
+    for e in late_scans(&rt.log, &mut scans, Duration::from_secs(3)).await {
         ex.handle(e);
     }
     rt.log.info(&ex.stop(kept.as_mut()));
