@@ -13,9 +13,8 @@ use super::pointcloud2::decode;
 use crate::runtime::{Logger, NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
 
-/// Scans a subscription holds before the oldest is dropped: ~20 s of the
-/// simulator's ~50 scans/s, as the explorer takes none while it plans a
-/// region (64 lost 19 of the reference demo's 9,966 scans; issue 50).
+/// Scans the subscription holds before the oldest is dropped; the explorer
+/// takes them as they come ([`scan_feed`]), so this only bounds a burst.
 const SCAN_DEPTH: usize = 1024;
 
 /// The QoS named by the explorer's `scan_qos`: `sensor` (best effort, as
