@@ -8,10 +8,14 @@
 
 use skyground_core::cloud::read_cloud;
 use skyground_core::crs::SourceFrame;
+use skyground_core::footprint::Footprint;
 use skyground_core::footprint::ReadOptions;
 use skyground_core::io::read_footprints;
 use skyground_core::prior::join_tiles;
-use skyground_core::reconstruct::{Lod, Model, ReconstructParams, Skip, reconstruct_cloud};
+use skyground_core::reconstruct::party::{PartyWall, ground_plan, party_walls};
+use skyground_core::reconstruct::{
+    Lod, Model, ReconstructParams, Reconstruction, Skip, reconstruct_cloud,
+};
 
 mod common;
 use common::real_file;
@@ -82,6 +86,7 @@ fn every_delft_building_the_survey_covers_gets_a_valid_model_with_its_bag_id() {
     rmse.sort_by(f64::total_cmp);
     let median = rmse[rmse.len() / 2];
     eprintln!("delft: median RMSE roof points → roof faces {median:.3} m");
+    party_report("delft", &fps, &rec);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("models.city.json");
     skyground_core::io::cityjson::models::write_cityjson(&out, &rec).unwrap();
@@ -366,8 +371,55 @@ fn every_building_of_the_multi_building_city_files_gets_a_valid_model() {
         if cj == "invalid" {
             failures.push(format!("{name}: cjval finds models.city.json invalid"));
         }
+        if name == "3dfier_testarea.json" {
+            party_report(&name, &fps, &rec);
+        }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Issue 48 part 3: how the models of neighbouring footprints meet along
+/// the stretch of boundary the footprints share, printed per file.
+fn party_report(name: &str, fps: &[Footprint], rec: &Reconstruction) -> Vec<PartyWall> {
+    let plans: Vec<_> = rec
+        .models
+        .iter()
+        .map(|m| (m.id, ground_plan(&m.shell)))
+        .collect();
+    let walls = party_walls(fps, &plans);
+    let stat = |f: &dyn Fn(&PartyWall) -> f64| -> (f64, f64, f64) {
+        let mut v: Vec<f64> = walls.iter().map(f).collect();
+        v.sort_by(f64::total_cmp);
+        let med = v.get(v.len() / 2).copied().unwrap_or(0.0);
+        (med, v.last().copied().unwrap_or(0.0), v.iter().sum())
+    };
+    let length = stat(&|w| w.models.length_m).2;
+    let (fo, fg) = (
+        stat(&|w| w.footprints.max_offset_m),
+        stat(&|w| w.footprints.gap_m2),
+    );
+    let fov = stat(&|w| w.footprints.overlap_m2);
+    let (g, o) = (stat(&|w| w.models.gap_m2), stat(&|w| w.models.overlap_m2));
+    let (d, x) = (
+        stat(&|w| w.models.max_offset_m),
+        stat(&|w| w.models.intersection_m2),
+    );
+    let off = walls
+        .iter()
+        .filter(|w| w.models.max_offset_m > 0.001)
+        .count();
+    eprintln!(
+        "{name}: party walls: {} pairs, {length:.1} m shared; footprints: max offset {:.4} m, gap {:.4} m², overlap {:.4} m²",
+        walls.len(),
+        fo.1,
+        fg.2,
+        fov.2
+    );
+    eprintln!(
+        "{name}: party walls, models: gap median {:.3} max {:.3} total {:.2} m²; overlap median {:.3} max {:.3} total {:.2} m²; wall offset median {:.3} max {:.3} m ({off} pairs over 1 mm); plans intersect max {:.4} m²",
+        g.0, g.1, g.2, o.0, o.1, o.2, d.0, d.1, x.1
+    );
+    walls
 }
 
 /// cjval's verdict on `path` ("valid", "invalid"; "SKIPPED" without cjval).

@@ -12,6 +12,8 @@
 //!   onto the wall points along them; without wall points they keep the
 //!   footprint's line, so a wall the cloud missed stays approximate;
 //! - `prism`: the LoD 1.2 fallback where no roof plane is found;
+//! - [`party`]: how neighbours' models meet along the boundary their
+//!   footprints share (gaps, overlaps);
 //! - `solid`: roof faces, vertical faces and the base as one closed shell
 //!   ([`Shell::check`] counts edge uses);
 //! - the models are written by [`crate::io`] (CityJSON, OBJ);
@@ -24,6 +26,7 @@ mod error;
 pub mod evaluate;
 mod params;
 mod partition;
+pub mod party;
 mod prism;
 pub mod quality;
 mod solid;
