@@ -11,6 +11,8 @@
 //! - `walls`: boundary segments between parts of different height move
 //!   onto the wall points along them; without wall points they keep the
 //!   footprint's line, so a wall the cloud missed stays approximate;
+//! - `exterior`: a given footprint's outline replaces the traced one
+//!   exactly, so the models of footprints sharing a wall share it;
 //! - `prism`: the LoD 1.2 fallback where no roof plane is found;
 //! - [`party`]: how neighbours' models meet along the boundary their
 //!   footprints share (gaps, overlaps);
@@ -24,6 +26,7 @@ mod building;
 mod compare;
 mod error;
 pub mod evaluate;
+mod exterior;
 mod params;
 mod partition;
 pub mod party;
