@@ -12,7 +12,7 @@ use skyground_core::footprint::Footprint;
 use skyground_core::footprint::ReadOptions;
 use skyground_core::io::read_footprints;
 use skyground_core::prior::join_tiles;
-use skyground_core::reconstruct::party::{PartyWall, ground_plan, party_walls};
+use skyground_core::reconstruct::party::{PartyWall, ground_plan, party_walls, shared_stretches};
 use skyground_core::reconstruct::{
     Lod, Model, ReconstructParams, Reconstruction, Skip, reconstruct_cloud,
 };
@@ -86,7 +86,7 @@ fn every_delft_building_the_survey_covers_gets_a_valid_model_with_its_bag_id() {
     rmse.sort_by(f64::total_cmp);
     let median = rmse[rmse.len() / 2];
     eprintln!("delft: median RMSE roof points → roof faces {median:.3} m");
-    party_report("delft", &fps, &rec);
+    assert_party_walls_meet("delft", &fps, &rec);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("models.city.json");
     skyground_core::io::cityjson::models::write_cityjson(&out, &rec).unwrap();
@@ -372,15 +372,21 @@ fn every_building_of_the_multi_building_city_files_gets_a_valid_model() {
             failures.push(format!("{name}: cjval finds models.city.json invalid"));
         }
         if name == "3dfier_testarea.json" {
-            party_report(&name, &fps, &rec);
+            assert_party_walls_meet(&name, &fps, &rec);
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-/// Issue 48 part 3: how the models of neighbouring footprints meet along
-/// the stretch of boundary the footprints share, printed per file.
-fn party_report(name: &str, fps: &[Footprint], rec: &Reconstruction) -> Vec<PartyWall> {
+/// Issue 48 part 3: where two footprints share a stretch of boundary, the
+/// two models' ground plans meet on it, with neither a gap nor an overlap
+/// wider than 1 mm (the welding tolerance: the plans are the footprints'
+/// rings, which meet exactly, so only welding can move them apart).
+/// Measured on the reconstruction the caller already made; the figures are
+/// printed per file.
+fn assert_party_walls_meet(name: &str, fps: &[Footprint], rec: &Reconstruction) {
+    const TOL_M: f64 = 0.001;
+    let started = std::time::Instant::now();
     let plans: Vec<_> = rec
         .models
         .iter()
@@ -406,7 +412,7 @@ fn party_report(name: &str, fps: &[Footprint], rec: &Reconstruction) -> Vec<Part
     );
     let off = walls
         .iter()
-        .filter(|w| w.models.max_offset_m > 0.001)
+        .filter(|w| w.models.max_offset_m > TOL_M)
         .count();
     eprintln!(
         "{name}: party walls: {} pairs, {length:.1} m shared; footprints: max offset {:.4} m, gap {:.4} m², overlap {:.4} m²",
@@ -416,10 +422,39 @@ fn party_report(name: &str, fps: &[Footprint], rec: &Reconstruction) -> Vec<Part
         fov.2
     );
     eprintln!(
-        "{name}: party walls, models: gap median {:.3} max {:.3} total {:.2} m²; overlap median {:.3} max {:.3} total {:.2} m²; wall offset median {:.3} max {:.3} m ({off} pairs over 1 mm); plans intersect max {:.4} m²",
-        g.0, g.1, g.2, o.0, o.1, o.2, d.0, d.1, x.1
+        "{name}: party walls, models: gap median {:.3} max {:.3} total {:.2} m²; overlap median {:.3} max {:.3} total {:.2} m²; wall offset median {:.4} max {:.4} m ({off} pairs over 1 mm); plans intersect max {:.4} m²; measured in {:.2} s",
+        g.0,
+        g.1,
+        g.2,
+        o.0,
+        o.1,
+        o.2,
+        d.0,
+        d.1,
+        x.1,
+        started.elapsed().as_secs_f64()
     );
-    walls
+    // Every shared stretch whose two footprints got a model is measured.
+    let modelled = |id: u32| rec.models.iter().any(|m| m.id == id);
+    let expected = shared_stretches(fps)
+        .iter()
+        .filter(|s| modelled(s.a) && modelled(s.b))
+        .count();
+    assert_eq!(walls.len(), expected, "{name}");
+    for w in &walls {
+        let bound = TOL_M * w.models.length_m;
+        assert!(
+            w.models.max_offset_m <= TOL_M
+                && w.models.gap_m2 <= bound
+                && w.models.overlap_m2 <= bound
+                && w.models.intersection_m2 <= bound,
+            "{name}: models {} and {} along their shared wall: {:?} (footprints: {:?})",
+            w.a,
+            w.b,
+            w.models,
+            w.footprints
+        );
+    }
 }
 
 /// cjval's verdict on `path` ("valid", "invalid"; "SKIPPED" without cjval).
