@@ -85,7 +85,18 @@ fn every_delft_building_the_survey_covers_gets_a_valid_model_with_its_bag_id() {
     let mut rmse: Vec<f64> = rec.models.iter().filter_map(|m| m.quality.rmse_m).collect();
     rmse.sort_by(f64::total_cmp);
     let median = rmse[rmse.len() / 2];
-    eprintln!("delft: median RMSE roof points → roof faces {median:.3} m");
+    let mut iou: Vec<f64> = rec
+        .models
+        .iter()
+        .filter_map(|m| m.quality.footprint_iou)
+        .collect();
+    iou.sort_by(f64::total_cmp);
+    let lod12 = rec.models.iter().filter(|m| m.lod == Lod::Lod12).count();
+    eprintln!(
+        "delft: median RMSE roof points → roof faces {median:.3} m; {lod12} LoD 1.2; footprint IoU median {:.3}, lowest {:.3}",
+        iou[iou.len() / 2],
+        iou[0]
+    );
     assert_party_walls_meet("delft", &fps, &rec);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("models.city.json");
