@@ -416,6 +416,8 @@ fn assert_party_walls_meet(name: &str, fps: &[Footprint], rec: &Reconstruction) 
         stat(&|w| w.footprints.gap_m2),
     );
     let fov = stat(&|w| w.footprints.overlap_m2);
+    let fc = stat(&|w| w.footprints.missing_corners as f64).2;
+    let mc = stat(&|w| w.models.missing_corners as f64).2;
     let (g, o) = (stat(&|w| w.models.gap_m2), stat(&|w| w.models.overlap_m2));
     let (d, x) = (
         stat(&|w| w.models.max_offset_m),
@@ -426,14 +428,14 @@ fn assert_party_walls_meet(name: &str, fps: &[Footprint], rec: &Reconstruction) 
         .filter(|w| w.models.max_offset_m > TOL_M)
         .count();
     eprintln!(
-        "{name}: party walls: {} pairs, {length:.1} m shared; footprints: max offset {:.4} m, gap {:.4} m², overlap {:.4} m²",
+        "{name}: party walls: {} pairs, {length:.1} m shared; footprints: max offset {:.4} m, gap {:.4} m², overlap {:.4} m², {fc} corners one lacks",
         walls.len(),
         fo.1,
         fg.2,
         fov.2
     );
     eprintln!(
-        "{name}: party walls, models: gap median {:.3} max {:.3} total {:.2} m²; overlap median {:.3} max {:.3} total {:.2} m²; wall offset median {:.4} max {:.4} m ({off} pairs over 1 mm); plans intersect max {:.4} m²; measured in {:.2} s",
+        "{name}: party walls, models: gap median {:.3} max {:.3} total {:.2} m²; overlap median {:.3} max {:.3} total {:.2} m²; wall offset median {:.4} max {:.4} m ({off} pairs over 1 mm); plans intersect max {:.4} m²; {mc} footprint corners on a shared wall missing from a model; measured in {:.2} s",
         g.0,
         g.1,
         g.2,
@@ -458,7 +460,8 @@ fn assert_party_walls_meet(name: &str, fps: &[Footprint], rec: &Reconstruction) 
             w.models.max_offset_m <= TOL_M
                 && w.models.gap_m2 <= bound
                 && w.models.overlap_m2 <= bound
-                && w.models.intersection_m2 <= bound,
+                && w.models.intersection_m2 <= bound
+                && w.models.missing_corners <= w.footprints.missing_corners,
             "{name}: models {} and {} along their shared wall: {:?} (footprints: {:?})",
             w.a,
             w.b,

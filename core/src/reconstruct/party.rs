@@ -18,6 +18,10 @@ const MIN_SHARED_M: f64 = 0.1;
 /// Edges sharing a stretch are parallel within this sine (~3°).
 const MAX_SINE: f64 = 0.05;
 
+/// A plan's vertex this close (m) to a footprint corner is that corner:
+/// val3dity's snapping tolerance, the most welding moves one.
+pub const CORNER_TOL_M: f64 = 0.001;
+
 /// Spacing of the samples along a stretch (m).
 const STEP_M: f64 = 0.05;
 
@@ -68,6 +72,10 @@ pub struct PartyGap {
     pub max_offset_m: f64,
     /// Area both plans cover anywhere (m²), by polygon intersection.
     pub intersection_m2: f64,
+    /// Corners of either footprint on the stretch that one of the plans
+    /// has no vertex at (within [`CORNER_TOL_M`]): the two do not share
+    /// the stretch vertex for vertex.
+    pub missing_corners: usize,
 }
 
 /// One pair of neighbouring footprints and how their models meet.
@@ -156,13 +164,54 @@ pub fn party_walls(footprints: &[Footprint], plans: &[(u32, MultiPolygon<f64>)])
         .filter_map(|s| {
             let (fa, fb) = (fp(s.a)?, fp(s.b)?);
             let (ma, mb) = (plan(s.a)?, plan(s.b)?);
+            let corners = corners_on(s, fa, fb);
+            let missing = |pa: &MultiPolygon<f64>, pb: &MultiPolygon<f64>| {
+                missing(&corners, pa) + missing(&corners, pb)
+            };
             Some(PartyWall {
                 a: s.a,
                 b: s.b,
-                footprints: measure(s, fa, fb),
-                models: measure(s, ma, mb),
+                footprints: PartyGap {
+                    missing_corners: missing(fa, fb),
+                    ..measure(s, fa, fb)
+                },
+                models: PartyGap {
+                    missing_corners: missing(ma, mb),
+                    ..measure(s, ma, mb)
+                },
             })
         })
+        .collect()
+}
+
+/// The corners of `fa` and `fb` on the stretch `s`.
+fn corners_on(s: &SharedStretch, fa: &MultiPolygon<f64>, fb: &MultiPolygon<f64>) -> Vec<[f64; 2]> {
+    let mut out: Vec<[f64; 2]> = Vec::new();
+    for c in vertices(fa).into_iter().chain(vertices(fb)) {
+        let on = s
+            .pieces
+            .iter()
+            .any(|p| crate::geom::segment::distance(c, p.from, p.to) <= SHARED_TOL_M);
+        if on && !out.iter().any(|o| dist(*o, c) <= CORNER_TOL_M) {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// How many of `corners` `plan` has no vertex at.
+fn missing(corners: &[[f64; 2]], plan: &MultiPolygon<f64>) -> usize {
+    let v = vertices(plan);
+    corners
+        .iter()
+        .filter(|c| !v.iter().any(|q| dist(**c, *q) <= CORNER_TOL_M))
+        .count()
+}
+
+fn vertices(mp: &MultiPolygon<f64>) -> Vec<[f64; 2]> {
+    mp.0.iter()
+        .flat_map(|p| std::iter::once(p.exterior()).chain(p.interiors()))
+        .flat_map(|ls| ls.coords().map(|c| [c.x, c.y]))
         .collect()
 }
 
@@ -474,5 +523,24 @@ mod tests {
         );
         assert_eq!(walls.len(), 1);
         assert!(walls[0].models.gap_m2 < 1e-9 && walls[0].models.overlap_m2 < 1e-9);
+        assert_eq!(walls[0].models.missing_corners, 0);
+    }
+
+    #[test]
+    fn a_corner_of_one_footprint_inside_the_others_edge_is_missing_there() {
+        // The second house has a corner half-way up the shared wall (a
+        // T-junction): the walls meet, but not vertex for vertex.
+        let a = fp(1, 0.0, 5.0, 6.0);
+        let b = Footprint {
+            id: 2,
+            name: "2".into(),
+            polygon: MultiPolygon::new(vec![polygon![
+                (x: 5.0, y: 0.0), (x: 10.0, y: 0.0), (x: 10.0, y: 6.0), (x: 5.0, y: 6.0), (x: 5.0, y: 3.0)
+            ]]),
+        };
+        let plans = [(1, a.polygon.clone()), (2, b.polygon.clone())];
+        let w = party_walls(&[a, b], &plans);
+        assert_eq!(w[0].footprints.missing_corners, 1, "{w:?}");
+        assert!(w[0].footprints.gap_m2 < 1e-9 && w[0].footprints.max_offset_m < 1e-9);
     }
 }
