@@ -3,6 +3,7 @@
 use geo::{Contains, Coord, MultiPolygon};
 
 use super::error::Skip;
+use super::exterior::follow_footprint;
 use super::params::ReconstructParams;
 use super::partition::{regions, trace};
 use super::solid::{Shell, build_shell, outline, split_crossings};
@@ -163,6 +164,11 @@ pub(crate) fn reconstruct_building(
         Some([-n[0] / n[2], -n[1] / n[2], -pl.d / n[2]])
     };
     snap_ridges(&mut part, &plane_of, 1.5 * cell);
+    // A given footprint is where the building stands: its outline is kept
+    // exactly, so neighbours sharing a wall share it in their models too.
+    if inp.given {
+        follow_footprint(&mut part, inp.footprint);
+    }
     split_crossings(&mut part, &height);
     let mut shell = build_shell(&part, &height);
     shell.split_warped_roofs(WARP_TOL_M);

@@ -11,7 +11,11 @@
 //! - `walls`: boundary segments between parts of different height move
 //!   onto the wall points along them; without wall points they keep the
 //!   footprint's line, so a wall the cloud missed stays approximate;
+//! - `exterior`: a given footprint's outline replaces the traced one
+//!   exactly, so the models of footprints sharing a wall share it;
 //! - `prism`: the LoD 1.2 fallback where no roof plane is found;
+//! - [`party`]: how neighbours' models meet along the boundary their
+//!   footprints share (gaps, overlaps);
 //! - `solid`: roof faces, vertical faces and the base as one closed shell
 //!   ([`Shell::check`] counts edge uses);
 //! - the models are written by [`crate::io`] (CityJSON, OBJ);
@@ -22,8 +26,10 @@ mod building;
 mod compare;
 mod error;
 pub mod evaluate;
+mod exterior;
 mod params;
 mod partition;
+pub mod party;
 mod prism;
 pub mod quality;
 mod solid;

@@ -129,8 +129,33 @@ impl Shell {
                 continue;
             }
             let ids: Vec<u32> = f.rings.iter().flatten().copied().collect();
-            let refs: Vec<&[[f64; 3]]> = rings.iter().map(|r| r.as_slice()).collect();
-            let tris = crate::scene::polygon::triangulate_3d(&refs);
+            // In plan, not on the best-fit plane: a roof is a polygon in plan,
+            // and a node on a straight wall (three corners in a line in
+            // plan, at warped heights) is then no ear, where on the tilted
+            // plane it gave a vertical sliver lying in that wall (306).
+            let plan: Vec<[f64; 2]> = flat.iter().map(|p| [p[0], p[1]]).collect();
+            let mut index_rings = Vec::with_capacity(rings.len());
+            let mut start = 0;
+            for r in &rings {
+                index_rings.push((start..start + r.len()).collect::<Vec<_>>());
+                start += r.len();
+            }
+            let mut tris = crate::scene::polygon::triangulate_2d(&plan, &index_rings);
+            // Triangles turn counter-clockwise in plan; a ring turning the
+            // other way keeps its own direction.
+            let ccw = index_rings.first().is_some_and(|r| {
+                (0..r.len())
+                    .map(|k| {
+                        let (a, b) = (plan[r[k]], plan[r[(k + 1) % r.len()]]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum::<f64>()
+                    > 0.0
+            });
+            flip_slivers(&plan, &mut tris);
+            if !ccw {
+                tris.iter_mut().for_each(|t| t.reverse());
+            }
             if tris.is_empty() {
                 out.push(f);
                 continue;
@@ -240,6 +265,53 @@ impl Shell {
             }
         }
         out
+    }
+}
+
+/// A triangle this close to flat in plan (its height over its longest
+/// edge, m) is a sliver: a node on a straight wall, a few ulps off the line.
+const SLIVER_M: f64 = 1e-6;
+
+/// Flips away the slivers of a plan triangulation (counter-clockwise): a
+/// triangle a-b-c with b on a-c and its neighbour a-c-d across a-c become
+/// a-b-d and b-c-d. A sliver at warped heights stands vertical in the wall
+/// along a-c and crosses it (306).
+fn flip_slivers(plan: &[[f64; 2]], tris: &mut [[usize; 3]]) {
+    let orient = |a: usize, b: usize, c: usize| {
+        let (p, q, r) = (plan[a], plan[b], plan[c]);
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    };
+    for _ in 0..tris.len() {
+        let mut flipped = false;
+        for i in 0..tris.len() {
+            let t = tris[i];
+            let len = |a: usize, b: usize| (plan[a][0] - plan[b][0]).hypot(plan[a][1] - plan[b][1]);
+            // The longest edge is c-a, b the vertex opposite it.
+            let k = (0..3)
+                .max_by(|&x, &y| len(t[x], t[(x + 1) % 3]).total_cmp(&len(t[y], t[(y + 1) % 3])))
+                .unwrap_or(0);
+            let (c, a, b) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            let long = len(c, a);
+            if long <= 0.0 || orient(a, b, c).abs() > SLIVER_M * long {
+                continue;
+            }
+            let Some((j, d)) = tris.iter().enumerate().find_map(|(j, u)| {
+                (0..3)
+                    .find(|&m| u[m] == a && u[(m + 1) % 3] == c)
+                    .map(|m| (j, u[(m + 2) % 3]))
+            }) else {
+                continue;
+            };
+            if j == i || orient(a, b, d) <= 0.0 || orient(b, c, d) <= 0.0 {
+                continue;
+            }
+            tris[i] = [a, b, d];
+            tris[j] = [b, c, d];
+            flipped = true;
+        }
+        if !flipped {
+            break;
+        }
     }
 }
 
@@ -527,6 +599,47 @@ mod tests {
                 face(W, &[3, 0, 4, 7]),
             ],
         }
+    }
+
+    #[test]
+    fn a_warped_roof_splits_into_triangles_none_of_them_vertical() {
+        // A roof whose first corner lies on the straight edge between its
+        // last and second in plan, 0.5 m below them: on the tilted best-fit
+        // plane it is an ear, whose triangle would stand vertical in the wall.
+        let mut s = Shell {
+            vertices: vec![
+                [1.0, 0.0, -0.5],
+                [2.0, 0.0, 0.0],
+                [1.0, 2.0, 2.0],
+                [0.0, 0.0, 0.0],
+            ],
+            faces: vec![ModelFace {
+                kind: SurfaceType::RoofSurface,
+                rings: vec![vec![0, 1, 2, 3]],
+            }],
+        };
+        s.split_warped_roofs(0.005);
+        assert_eq!(s.faces.len(), 2);
+        for f in &s.faces {
+            let p: Vec<[f64; 3]> = f.rings[0].iter().map(|&v| s.vertices[v as usize]).collect();
+            let plan = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+            assert!(plan > 0.1, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn a_sliver_across_a_node_on_a_straight_edge_is_flipped_away() {
+        // b sits on a-c a few ulps off the line; a-b-c and a-c-d become
+        // a-b-d and b-c-d.
+        let plan = [[0.0, 0.0], [1.0, 1e-15], [2.0, 0.0], [1.0, 2.0]];
+        let mut tris = [[0, 1, 2], [0, 2, 3]];
+        flip_slivers(&plan, &mut tris);
+        assert_eq!(tris, [[0, 1, 3], [1, 2, 3]]);
+        // A real triangle stays.
+        let mut fat = [[0, 2, 3]];
+        flip_slivers(&plan, &mut fat);
+        assert_eq!(fat, [[0, 2, 3]]);
     }
 
     #[test]
