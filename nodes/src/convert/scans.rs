@@ -29,6 +29,11 @@ pub fn scan_qos(name: &str) -> Result<ros2_client::QosProfile, RuntimeError> {
     }
 }
 
+/// Scans larger than this are paced by their acknowledgements: above a
+/// 16-beam LiDAR's whole revolution (28,800 points, 0.7 MB), below one of a
+/// 64-beam's.
+pub const PACED_SCAN_BYTES: usize = 1 << 20;
+
 /// vehicle_sim's /registered_scan writer: reliable (a best-effort multi-MB
 /// scan is lost with any one fragment), on a DDS writer of its own so that
 /// scans wait for the first reader and the node, before it exits, for every
@@ -72,9 +77,18 @@ impl ScanWriter {
         self.open
     }
 
-    /// Writes one scan whole.
+    /// Writes one scan whole; one over [`PACED_SCAN_BYTES`] then waits (up
+    /// to 3 s) for its acknowledgements: RustDDS sends 256-byte fragments and
+    /// asks again for at most 256 lost ones at a time, so a burst of
+    /// multi-MB scans that overflowed the reader's socket buffer took the
+    /// rest of a mission to repair (issue 50: 49 of 168 scans arrived).
     pub async fn write(&self, msg: PointCloud2) -> Result<(), RuntimeError> {
-        self.w.write(msg).await
+        let large = msg.data.len() > PACED_SCAN_BYTES;
+        self.w.write(msg).await?;
+        if large {
+            self.w.wait_acks().await;
+        }
+        Ok(())
     }
 
     /// Waits (up to 3 s) until every reliable reader acknowledged every scan.
