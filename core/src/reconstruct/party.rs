@@ -259,7 +259,7 @@ fn rings(mp: &MultiPolygon<f64>) -> Vec<Ring> {
             }
             // An exterior counter-clockwise, or a hole clockwise, has the
             // polygon on its left.
-            let ccw = signed_area(&pts) > 0.0;
+            let ccw = crate::scene::reference::solids::ring_area(&pts) > 0.0;
             out.push(Ring {
                 pts,
                 inside_left: ccw == (k == 0),
@@ -267,17 +267,6 @@ fn rings(mp: &MultiPolygon<f64>) -> Vec<Ring> {
         }
     }
     out
-}
-
-fn signed_area(pts: &[[f64; 2]]) -> f64 {
-    let n = pts.len();
-    (0..n)
-        .map(|k| {
-            let (p, q) = (pts[k], pts[(k + 1) % n]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum::<f64>()
-        * 0.5
 }
 
 /// The pieces of `a`'s edges within [`SHARED_TOL_M`] of one of `b`'s.
