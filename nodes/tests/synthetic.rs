@@ -54,6 +54,31 @@ fn clean(o: &Output, dir: &Path) {
     assert!(parts.is_empty(), "left behind: {parts:?}\n{}", text(o));
 }
 
+/// Writes `points` as a LAS 1.2 file `name` in `dir`, runs `skyground CMD
+/// --in FILE --out dir/out`, and checks it neither panicked nor left a
+/// `.part`; returns the input, the output path and the run.
+fn run_on_las12(
+    cmd: &str,
+    dir: &Path,
+    name: &str,
+    points: &[Pt],
+    out: &str,
+) -> (PathBuf, PathBuf, Output) {
+    let input = dir.join(name);
+    std::fs::write(&input, las12(points)).expect("write input");
+    let out = dir.join(out);
+    let o = skyground(&[
+        cmd,
+        "--in",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    clean(&o, dir);
+    assert!(o.status.success(), "{}", text(&o));
+    (input, out, o)
+}
+
 fn walk(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();
     for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
@@ -182,18 +207,7 @@ fn classify_copies_a_las_1_2_with_return_7_as_las_1_4_keeping_the_returns() {
             class: 1,
         })
         .collect();
-    let input = dir.join("returns7.las");
-    std::fs::write(&input, las12(&points)).expect("write input");
-    let out = dir.join("out.las");
-    let o = skyground(&[
-        "classify",
-        "--in",
-        input.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    clean(&o, &dir);
-    assert!(o.status.success(), "{}", text(&o));
+    let (input, out, _) = run_on_las12("classify", &dir, "returns7.las", &points, "out.las");
     let bytes = std::fs::read(&out).expect("the classified copy");
     assert_eq!((bytes[24], bytes[25]), (1, 4), "version of the copy");
     assert!(bytes[104] & 0x3f >= 6, "point format {}", bytes[104] & 0x3f);
@@ -348,18 +362,7 @@ fn reconstruct_on_a_cloud_labelled_only_unclassified_uses_every_point() {
             class: 1,
         })
         .collect();
-    let input = dir.join("unclassified.las");
-    std::fs::write(&input, las12(&points)).unwrap();
-    let out = dir.join("models");
-    let o = skyground(&[
-        "reconstruct",
-        "--in",
-        input.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    clean(&o, &dir);
-    assert!(o.status.success(), "{}", text(&o));
+    let (_, out, o) = run_on_las12("reconstruct", &dir, "unclassified.las", &points, "models");
     let doc: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("models.city.json")).unwrap()).unwrap();
     let buildings = doc["CityObjects"].as_object().map_or(0, |o| {

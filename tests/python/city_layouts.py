@@ -84,6 +84,8 @@ def model(pieces, crs="https://www.opengis.net/def/crs/EPSG/0/2056", extra_objec
     """A CityJSON 2.0 document of `pieces` (objects, real vertices) and extra
     objects indexing `extra_vertices` (real), with a millimetre transform."""
     all_real, objects = [], {}
+    if extra_objects:
+        pieces = list(pieces) + [(extra_objects, extra_vertices)]
     for part, real in pieces:
         base = len(all_real)
         for o in part.values():
@@ -91,13 +93,6 @@ def model(pieces, crs="https://www.opengis.net/def/crs/EPSG/0/2056", extra_objec
                 g["boundaries"] = _remap(g["boundaries"], _Offset(base))
         objects.update(part)
         all_real += real
-    if extra_objects:
-        base = len(all_real)
-        for o in extra_objects.values():
-            for g in o.get("geometry", []):
-                g["boundaries"] = _remap(g["boundaries"], _Offset(base))
-        objects.update(extra_objects)
-        all_real += extra_vertices
     origin = [min(p[k] for p in all_real) for k in range(3)]
     origin = [float(int(v // 1)) for v in origin]
     scale = [0.001, 0.001, 0.001]

@@ -19,6 +19,16 @@ def detect(tmp_path, name, *files):
     return summary, plan
 
 
+def plan_with_closed_crowns(tmp_path, out):
+    """`skyground plan` on `out` with vegetation blocking its whole column."""
+    params = tmp_path / "column.yaml"
+    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: true\n")
+    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--params-file", params, "--json"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
 def test_adjacent_tiles_are_one_survey(tmp_path):
     import laspy
 
@@ -182,11 +192,7 @@ def test_plan_opens_the_streets_under_tree_crowns(tmp_path):
     assert band["graph_params"]["canopy_is_obstacle"] is False
     assert band["if_crowns_block_only_in_band"] is None
     assert "canopy_is_obstacle" not in p.stderr, p.stderr
-    params = tmp_path / "column.yaml"
-    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: true\n")
-    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--params-file", params, "--json"],
-                       capture_output=True, text=True, timeout=600)
-    assert p.returncode == 0, p.stderr
+    p = plan_with_closed_crowns(tmp_path, out)
     whole = json.loads(p.stdout)
     open_ = whole["if_crowns_block_only_in_band"]
     # Measured: 1,109 nodes with whole columns, 3,702 by default (docs/density.md).
@@ -203,11 +209,7 @@ def test_no_crown_hint_where_no_target_is_cut_off(tmp_path):
     for ground no target needs."""
     out = tmp_path / "forest"
     run("detect", "--in", real_file("lidr_mixedconifer.laz"), "--out", out, "--classify", "--json")
-    params = tmp_path / "column.yaml"
-    params.write_text("global_planner:\n  ros__parameters:\n    graph:\n      canopy_is_obstacle: true\n")
-    p = subprocess.run([str(BIN / "skyground"), "plan", "--in", out, "--params-file", params, "--json"],
-                       capture_output=True, text=True, timeout=600)
-    assert p.returncode == 0, p.stderr
+    p = plan_with_closed_crowns(tmp_path, out)
     plan = json.loads(p.stdout)
     assert plan["target_points"] + plan["target_regions"] == 0, plan
     # Measured before the hint was limited: 28 nodes, 780 with crowns open.

@@ -46,3 +46,27 @@ pub(crate) fn pens(pens: &[([f32; 2], [f32; 2])]) -> (Vec<[f32; 3]>, Vec<u8>) {
     }
     (xyz, labels)
 }
+
+/// The corners of the unit cube: the bottom 0–3 counter-clockwise from the
+/// origin, then the top 4–7 above them.
+pub(crate) const UNIT_CUBE: [[f64; 3]; 8] = [
+    [0., 0., 0.],
+    [1., 0., 0.],
+    [1., 1., 0.],
+    [0., 1., 0.],
+    [0., 0., 1.],
+    [1., 0., 1.],
+    [1., 1., 1.],
+    [0., 1., 1.],
+];
+
+/// The six faces of a box numbered as [`UNIT_CUBE`], each counter-clockwise
+/// seen from outside.
+pub(crate) const BOX_FACES: [[usize; 4]; 6] = [
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+    [0, 1, 5, 4],
+    [1, 2, 6, 5],
+    [2, 3, 7, 6],
+    [3, 0, 4, 7],
+];

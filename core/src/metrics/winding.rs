@@ -22,28 +22,10 @@ mod tests {
 
     #[test]
     fn unit_cube_inside_and_outside() {
-        let v = |x: f64, y: f64, z: f64| [x, y, z];
-        let c = [
-            v(0., 0., 0.),
-            v(1., 0., 0.),
-            v(1., 1., 0.),
-            v(0., 1., 0.),
-            v(0., 0., 1.),
-            v(1., 0., 1.),
-            v(1., 1., 1.),
-            v(0., 1., 1.),
-        ];
-        let quads = [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ];
-        let tris: Vec<[[f64; 3]; 3]> = quads
+        use crate::geom::fixtures::{BOX_FACES, UNIT_CUBE as C};
+        let tris: Vec<[[f64; 3]; 3]> = BOX_FACES
             .iter()
-            .flat_map(|q| [[c[q[0]], c[q[1]], c[q[2]]], [c[q[0]], c[q[2]], c[q[3]]]])
+            .flat_map(|q| [[C[q[0]], C[q[1]], C[q[2]]], [C[q[0]], C[q[2]], C[q[3]]]])
             .collect();
         assert!((winding_number([0.5, 0.5, 0.5], &tris) - 1.0).abs() < 1e-9);
         assert!(winding_number([1.5, 0.5, 0.5], &tris).abs() < 1e-9);

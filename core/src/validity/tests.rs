@@ -3,17 +3,10 @@ use std::collections::BTreeSet;
 
 /// The six outward faces of the cube whose corners start at vertex `o`.
 fn cube_faces(o: usize) -> Vec<Surface> {
-    [
-        [0, 3, 2, 1],
-        [4, 5, 6, 7],
-        [0, 1, 5, 4],
-        [1, 2, 6, 5],
-        [2, 3, 7, 6],
-        [3, 0, 4, 7],
-    ]
-    .iter()
-    .map(|f| vec![f.iter().map(|&i| i + o).collect()])
-    .collect()
+    crate::geom::fixtures::BOX_FACES
+        .iter()
+        .map(|f| vec![f.iter().map(|&i| i + o).collect()])
+        .collect()
 }
 
 /// The corners of the axis-aligned cube of side `s` at `min`.

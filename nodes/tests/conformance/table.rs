@@ -30,13 +30,7 @@ pub fn markdown(results: &[Done], wall_s: f64, cpu_s: Option<f64>) -> String {
                 format!("**FAIL {kind:?}**: {}", short(why, r))
             }
         };
-        let name = r
-            .job
-            .file
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        rows.entry(name)
+        rows.entry(file_name(r))
             .or_default()
             .insert(r.job.command.name(), cell);
     }
@@ -69,17 +63,20 @@ pub fn markdown(results: &[Done], wall_s: f64, cpu_s: Option<f64>) -> String {
 /// names the file), cut to a cell's length.
 fn short(m: &str, r: &Done) -> String {
     let full = r.job.file.display().to_string();
-    let name = r
-        .job
-        .file
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let m = m.replace(&full, &name);
+    let m = m.replace(&full, &file_name(r));
     let cut: String = m.chars().take(160).collect();
     if cut.len() < m.len() {
         format!("{cut}…")
     } else {
         cut
     }
+}
+
+/// The run's input file name, without its folder.
+fn file_name(r: &Done) -> String {
+    r.job
+        .file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
