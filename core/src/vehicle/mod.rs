@@ -1,9 +1,11 @@
-//! The simulated ground vehicle: kinematics, terrain following and collision
-//! checks against the scene (docs/design.md step 8). ROS-free: `vehicle_sim` drives it.
+//! The simulated vehicles: the ground robot (kinematics, terrain following
+//! and collision checks against the scene, docs/design.md step 8) and the
+//! [`multirotor`]. ROS-free: `vehicle_sim` drives them.
 
 mod clock;
 mod config;
 mod incline;
+pub mod multirotor;
 mod probe;
 mod schedule;
 mod start;
