@@ -4,9 +4,11 @@
 //! `lidar` hold the inputs and the simulated world; then `ground` (CSF),
 //! `features`, `forest` and `classify` (step 1), `footprint` (2), `slice`,
 //! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),
-//! `explore` (7), `vehicle` (8) and `metrics` (9); `validity` checks a
+//! `explore` (7), `vehicle` (8: the ground robot and the multirotor),
+//! `airspace` (where the drone may fly) and `metrics` (9); `validity` checks a
 //! CityJSON Solid as val3dity does (ISO 19107, its error codes).
 
+pub mod airspace;
 pub mod classify;
 pub mod cloud;
 pub mod crs;
