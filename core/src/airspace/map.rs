@@ -39,6 +39,9 @@ pub struct Airspace {
     grid: GridFrame,
     top: Vec<f32>,
     building: Vec<bool>,
+    /// Per cell, the lowest height the body centre may be at: the prior's
+    /// solid grown by the distances kept (see [`floor`]).
+    floor: Vec<f32>,
     fence: Option<Geofence>,
 }
 
@@ -94,6 +97,9 @@ impl Airspace {
                 .fold(f32::INFINITY, f32::min);
         }
         fill_gaps(&grid, &mut top, floor);
+        let other = body_radius + rules.margin_m;
+        let kept = (rules.facade_min_m.max(other), other);
+        let floor = grown_floor(&grid, &top, &building, kept);
         Ok(Self {
             rules,
             body_radius,
@@ -101,6 +107,7 @@ impl Airspace {
             grid,
             top,
             building,
+            floor,
             fence: None,
         })
     }
@@ -136,6 +143,12 @@ impl Airspace {
         {
             return Err(Violation::OutsideFence { at: p });
         }
+        let c = self.grid.clamped_cell(x, y);
+        if p[2] >= self.floor[c.1 * self.grid.nx + c.0] {
+            return Ok(());
+        }
+        // Under the grown floor: the exact search names what is near (and
+        // lets the pad's own ground pass).
         self.too_close(p).map_or(Ok(()), Err)
     }
 
@@ -165,7 +178,7 @@ impl Airspace {
     }
 
     /// The nearest obstacle that is closer to `p` than the rules keep from it.
-    fn too_close(&self, p: [f32; 3]) -> Option<Violation> {
+    pub(super) fn too_close(&self, p: [f32; 3]) -> Option<Violation> {
         let other = self.body_radius + self.rules.margin_m;
         let near_building = self.rules.facade_min_m.max(other);
         let dx = p[0] - self.home[0];
@@ -250,4 +263,39 @@ fn fill_gaps(grid: &GridFrame, top: &mut [f32], floor: f32) {
     for t in top.iter_mut().filter(|t| t.is_nan()) {
         *t = floor;
     }
+}
+
+/// Per cell, the lowest height at which a point is at least `kept.0` from
+/// every building column and `kept.1` from every other column of the
+/// height map (columns are solid from the ground to their top): the upper
+/// envelope of the columns grown by a ball, max over the cells within reach
+/// of `top + √(r² − d²)`, `d` the horizontal distance between the cells.
+/// One lookup then answers what the search over the neighbours would.
+fn grown_floor(grid: &GridFrame, top: &[f32], building: &[bool], kept: (f32, f32)) -> Vec<f32> {
+    use rayon::prelude::*;
+    let reach = kept.0.max(kept.1);
+    let w = (f64::from(reach) / grid.cell).ceil() as i64;
+    let cell = grid.cell as f32;
+    (0..grid.len())
+        .into_par_iter()
+        .map(|c| {
+            let (i, j) = ((c % grid.nx) as i64, (c / grid.nx) as i64);
+            let mut floor = f32::NEG_INFINITY;
+            for dj in -w..=w {
+                for di in -w..=w {
+                    let Some(n) = grid.index(i + di, j + dj) else {
+                        continue;
+                    };
+                    let r = if building[n] { kept.0 } else { kept.1 };
+                    // Nearest distance between two cells' squares.
+                    let gap = |d: i64| (d.abs() - 1).max(0) as f32 * cell;
+                    let d2 = gap(di).powi(2) + gap(dj).powi(2);
+                    if d2 < r * r {
+                        floor = floor.max(top[n] + (r * r - d2).sqrt());
+                    }
+                }
+            }
+            floor
+        })
+        .collect()
 }

@@ -161,3 +161,22 @@ fn cells_the_survey_left_empty_are_filled_from_their_highest_neighbours() {
         "the hole is not a way into the building"
     );
 }
+
+#[test]
+fn the_grown_floor_answers_as_the_search_over_the_neighbours_does() {
+    let a = airspace();
+    let mut rng = crate::rng::Rng::keyed(7, 0);
+    let mut refused = 0;
+    for _ in 0..20_000 {
+        let p = [
+            (rng.unit() * 59.0 + 0.5) as f32,
+            (rng.unit() * 59.0 + 0.5) as f32,
+            (rng.unit() * 16.0) as f32,
+        ];
+        let by_floor = a.check(p).is_ok();
+        let by_search = a.too_close(p).is_none();
+        assert_eq!(by_floor, by_search, "{p:?}");
+        refused += usize::from(!by_floor);
+    }
+    assert!(refused > 2_000, "the sample reaches the refused space: {refused}");
+}
