@@ -5,7 +5,8 @@
 //! `features`, `forest` and `classify` (step 1), `footprint` (2), `slice`,
 //! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),
 //! `explore` (7), `vehicle` (8: the ground robot and the multirotor),
-//! `airspace` (where the drone may fly) and `metrics` (9); `validity` checks a
+//! `airspace` (where the drone may fly), `sorties` (the drone's viewpoints
+//! and flights) and `metrics` (9); `validity` checks a
 //! CityJSON Solid as val3dity does (ISO 19107, its error codes).
 
 pub mod airspace;
@@ -37,6 +38,7 @@ pub mod route;
 pub mod scene;
 pub mod skeleton;
 pub mod slice;
+pub mod sorties;
 pub mod targets;
 pub mod validity;
 pub mod vehicle;

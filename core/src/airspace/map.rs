@@ -177,6 +177,33 @@ impl Airspace {
         Ok(())
     }
 
+    /// Whether the straight line from `a` to `b` passes over every column
+    /// of the height map, leaving out its last `skip_end_m` (the target's
+    /// own surface).
+    pub fn line_of_sight(&self, a: [f32; 3], b: [f32; 3], skip_end_m: f32) -> bool {
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let step = 0.5 * self.rules.cell_m;
+        let n = ((len - skip_end_m).max(0.0) / step).floor() as usize;
+        (1..=n).all(|s| {
+            let t = s as f32 * step / len;
+            let p: [f32; 3] = std::array::from_fn(|k| a[k] + t * d[k]);
+            self.grid
+                .cell_of(f64::from(p[0]), f64::from(p[1]))
+                .is_none_or(|(i, j)| self.top[j * self.grid.nx + i] <= p[2])
+        })
+    }
+
+    /// The highest top of the height map, m.
+    pub fn highest_top(&self) -> f32 {
+        self.top.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+    }
+
+    /// The take-off point (the body centre on the pad).
+    pub fn home(&self) -> [f32; 3] {
+        self.home
+    }
+
     /// The nearest obstacle that is closer to `p` than the rules keep from it.
     pub(super) fn too_close(&self, p: [f32; 3]) -> Option<Violation> {
         let other = self.body_radius + self.rules.margin_m;

@@ -178,5 +178,8 @@ fn the_grown_floor_answers_as_the_search_over_the_neighbours_does() {
         assert_eq!(by_floor, by_search, "{p:?}");
         refused += usize::from(!by_floor);
     }
-    assert!(refused > 2_000, "the sample reaches the refused space: {refused}");
+    assert!(
+        refused > 2_000,
+        "the sample reaches the refused space: {refused}"
+    );
 }
