@@ -545,10 +545,13 @@ fn bad_inputs_give_typed_errors_or_skips() {
     let _ = Area::unsigned_area(&geo::MultiPolygon::<f64>::new(vec![]));
 }
 
-/// Footprints derived with the height-jump split on (3 m).
+/// Footprints derived with the height-jump split on (3 m), with the
+/// enclosure share that keeps a tower on its podium (the valley split's
+/// default, 0.1, lets the reference scene's tower go).
 fn derive_with_height_split(pts: &[[f32; 3]]) -> Vec<Footprint> {
     let params = DeriveParams {
         height_jump_m: 3.0,
+        min_open_share: 0.25,
         ..DeriveParams::default()
     };
     derive(pts, &params).unwrap()
@@ -731,4 +734,68 @@ fn the_model_keyword_and_files_that_cannot_be_used() {
         missing.to_string().contains("/nonexistent/panden.geojson"),
         "{missing}"
     );
+}
+
+/// Points 0.25 m apart over a row of `n` houses 6 m wide (x) and 10 m deep
+/// (y), each with a 45° gable roof whose ridge runs along y (`across`: a
+/// valley between neighbours) or one ridge along the whole row (no cue).
+fn gabled_row(n: usize, across: bool) -> Vec<[f32; 3]> {
+    let mut pts = Vec::new();
+    for i in 0..(n * 24) {
+        for j in 0..40 {
+            let (x, y) = (0.125 + 0.25 * i as f32, 0.125 + 0.25 * j as f32);
+            let z = if across {
+                9.0 - (x % 6.0 - 3.0).abs()
+            } else {
+                11.0 - (y - 5.0).abs()
+            };
+            pts.push([x, y, z]);
+        }
+    }
+    pts
+}
+
+#[test]
+fn rows_of_gabled_houses_split_at_their_valleys_only() {
+    let rect = |x0: f64| {
+        geo::MultiPolygon::new(vec![geo::Polygon::new(
+            geo::LineString::from(vec![
+                (x0, 0.0),
+                (x0 + 6.0, 0.0),
+                (x0 + 6.0, 10.0),
+                (x0, 10.0),
+                (x0, 0.0),
+            ]),
+            vec![],
+        )])
+    };
+    let p = DeriveParams::default();
+    let across = derive(&gabled_row(3, true), &p).unwrap();
+    let ious: Vec<f64> = (0..3)
+        .map(|k| {
+            let t = rect(6.0 * k as f64);
+            across
+                .iter()
+                .map(|d| iou(&d.polygon, &t))
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    println!(
+        "3 houses, ridges across the row: {} derived, IoU {ious:.3?}",
+        across.len()
+    );
+    assert_eq!(across.len(), 3);
+    assert!(ious.iter().all(|&v| v > 0.85), "{ious:?}");
+    // One ridge along the row: the points show no party wall, no cut.
+    let along = derive(&gabled_row(3, false), &p).unwrap();
+    assert_eq!(along.len(), 1);
+    // Off, the row stays one block.
+    let off = DeriveParams { valley_m: 0.0, ..p };
+    assert_eq!(derive(&gabled_row(3, true), &off).unwrap().len(), 1);
+    // A bad depth is refused.
+    let bad = DeriveParams {
+        valley_m: f64::NAN,
+        ..DeriveParams::default()
+    };
+    assert!(derive(&gabled_row(1, true), &bad).is_err());
 }
