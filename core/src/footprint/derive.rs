@@ -35,6 +35,8 @@ pub fn derive(
     let cell_area = r.frame.cell * r.frame.cell;
     let cuts = Cuts {
         jump: params.height_jump_m,
+        valley: params.valley_m,
+        valley_dilate: params.valley_dilate_cells as usize,
         min_part_cells: (params.min_part_m2 / cell_area).ceil() as usize,
         min_open: params.min_open_share,
     };

@@ -7,7 +7,7 @@
 //!   [`Loaded::skipped`], `polygon` makes the rest valid.
 //! - [`footprints_of_scene`] (`scene`): the true footprints of a scene.
 //! - [`split`] (`split`): a building id per point.
-//! - [`derive`] (`derive`, `raster`, `trace`, `inset`): footprints from building points when none are given.
+//! - [`derive`] (`derive`, `raster`, `valley`, `trace`, `inset`): footprints from building points when none are given.
 //! - [`iou`], [`match_footprints`] (`compare`): evaluation.
 
 mod compare;
@@ -22,6 +22,7 @@ mod scene;
 mod split;
 mod trace;
 mod types;
+mod valley;
 
 pub use compare::{FootprintMatch, Segmentation, iou, match_footprints, segmentation};
 pub use derive::derive;

@@ -69,6 +69,14 @@ pub struct DeriveParams {
     /// roof's own slope either side belong to different buildings (the
     /// eave or ridge step between two houses of a row); 0 turns this split off.
     pub height_jump_m: f64,
+    /// A cell lower by more than this (m) than the roof two cells away on
+    /// both sides (along x or y) lies in the valley between two pitched
+    /// roofs, the party wall of a row of gabled houses: such valleys
+    /// separate buildings; 0 turns this split off.
+    pub valley_m: f64,
+    /// Valley cells are grown by this many cells, so that a gutter line
+    /// broken by noise still separates its two roofs.
+    pub valley_dilate_cells: u32,
     /// A height-split part smaller than this (m²) is merged back into its
     /// neighbour (a dormer, chimney or noisy roof patch, not a house).
     pub min_part_m2: f64,
@@ -89,8 +97,10 @@ impl Default for DeriveParams {
             min_area_m2: 10.0,
             min_height_m: 2.5,
             height_jump_m: 0.0,
-            min_part_m2: 20.0,
-            min_open_share: 0.25,
+            valley_m: 0.2,
+            valley_dilate_cells: 1,
+            min_part_m2: 35.0,
+            min_open_share: 0.1,
             simplify_m: 0.4,
         }
     }
@@ -141,6 +151,14 @@ impl DeriveParams {
             0.0,
             1e4,
             "value ≥ 0 m (0 = off)",
+        )?;
+        check("valley_m", self.valley_m, 0.0, 1e3, "value ≥ 0 m (0 = off)")?;
+        check(
+            "valley_dilate_cells",
+            f64::from(self.valley_dilate_cells),
+            0.0,
+            5.0,
+            "0 ≤ value ≤ 5 cells",
         )?;
         check(
             "min_part_m2",

@@ -101,7 +101,9 @@ impl Raster {
 
     /// Component label per cell (0 = empty), 4-connected; with a step
     /// `cuts.jump > 0`, neighbours across a roof-height step ([`Self::step`])
-    /// larger than it are cut apart, then parts smaller than
+    /// larger than it are cut apart; with `cuts.valley > 0`, cells in a
+    /// valley between roofs ([`super::valley::barrier`]) join no one until
+    /// the parts are formed, then the part nearest them; then parts smaller than
     /// `cuts.min_part_cells` or touching open ground on less than
     /// `cuts.min_open` of their edges are merged into the neighbour they
     /// share most edges with.
@@ -109,8 +111,11 @@ impl Raster {
         let (nx, ny) = (self.frame.nx, self.frame.ny);
         let n = nx * ny;
         let mut uf = UnionFind::new(n);
+        let barrier = super::valley::barrier(self, cuts.valley, cuts.valley_dilate);
         let joins = |a: usize, b: usize, before: Option<usize>, after: Option<usize>| {
-            cuts.jump <= 0.0 || self.step(a, b, before, after) <= cuts.jump
+            !barrier[a]
+                && !barrier[b]
+                && (cuts.jump <= 0.0 || self.step(a, b, before, after) <= cuts.jump)
         };
         for j in 0..ny {
             for i in 0..nx {
@@ -133,7 +138,8 @@ impl Raster {
                 }
             }
         }
-        if cuts.jump > 0.0 {
+        super::valley::absorb(self, &barrier, &mut uf);
+        if cuts.jump > 0.0 || cuts.valley > 0.0 {
             self.merge_small_and_enclosed(&mut uf, cuts);
         }
         let mut label = vec![0u32; n];
@@ -234,6 +240,11 @@ impl Raster {
 pub struct Cuts {
     /// Roof-height step (m) that separates two buildings; 0: no cuts.
     pub jump: f64,
+    /// Depth (m) of a valley between two roofs that separates two
+    /// buildings; 0: no valley cuts.
+    pub valley: f64,
+    /// Valley cells are grown by this many cells (bridging a noisy gutter).
+    pub valley_dilate: usize,
     /// Parts with fewer cells join their neighbour (dormers, chimneys, noise).
     pub min_part_cells: usize,
     /// Parts touching open ground on less than this share of their edges
@@ -242,7 +253,7 @@ pub struct Cuts {
 }
 
 /// Disjoint sets over cell indices.
-struct UnionFind {
+pub struct UnionFind {
     parent: Vec<usize>,
 }
 
@@ -253,7 +264,8 @@ impl UnionFind {
         }
     }
 
-    fn find(&mut self, mut x: usize) -> usize {
+    /// The root of `x`'s set.
+    pub fn find(&mut self, mut x: usize) -> usize {
         while self.parent[x] != x {
             self.parent[x] = self.parent[self.parent[x]];
             x = self.parent[x];
@@ -261,7 +273,8 @@ impl UnionFind {
         x
     }
 
-    fn union(&mut self, a: usize, b: usize) {
+    /// Joins the sets of `a` and `b`.
+    pub fn union(&mut self, a: usize, b: usize) {
         let (ra, rb) = (self.find(a), self.find(b));
         if ra != rb {
             self.parent[ra.max(rb)] = ra.min(rb);
