@@ -5,7 +5,8 @@
 //! `features`, `forest` and `classify` (step 1), `footprint` (2), `slice`,
 //! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),
 //! `explore` (7), `vehicle` (8) and `metrics` (9); `validity` checks a
-//! CityJSON Solid as val3dity does (ISO 19107, its error codes).
+//! CityJSON Solid as val3dity does (ISO 19107, its error codes); `work`
+//! counts long computations' steps, for the launcher's watchdog.
 
 pub mod classify;
 pub mod cloud;
@@ -38,3 +39,4 @@ pub mod slice;
 pub mod targets;
 pub mod validity;
 pub mod vehicle;
+pub mod work;
