@@ -137,7 +137,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     Ok(())
 }
 
-/// The store named by `merge_store` (flushed every `every_s`), its merge taken into `ex`.
+/// The store named by `merge_store` (flushed every `every_s`), its merge (batches, then journal) taken into `ex`.
 fn keep_merge(
     rt: &NodeRuntime,
     (dir, every_s): (&str, f64),
@@ -146,13 +146,10 @@ fn keep_merge(
     if dir.is_empty() {
         return Ok(None);
     }
-    let (kept, s) = ex
+    let (kept, _) = ex
         .keep_merge_in(std::path::Path::new(dir), every_s)
         .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?;
-    let (n, scans) = (
-        s.points.len() + s.journal.points.len(),
-        s.scans + s.journal.ids.len(),
-    );
+    let (n, scans) = (ex.resampled().len(), ex.scans());
     rt.log.info(&format!(
         "merge store {dir}: going on from {n} points, {scans} scans"
     ));
