@@ -6,8 +6,9 @@
 //! `skeleton` and `missing` (3), `targets` (4), `graph` (5), `route` (6),
 //! `explore` (7), `vehicle` (8: the ground robot and the multirotor),
 //! `airspace` (where the drone may fly), `sorties` (the drone's viewpoints
-//! and flights) and `metrics` (9); `validity` checks a
-//! CityJSON Solid as val3dity does (ISO 19107, its error codes).
+//! and flights) and `metrics` (9); `validity` checks a CityJSON Solid as
+//! val3dity does (ISO 19107, its error codes); `work` counts long
+//! computations' steps, for the launcher's watchdog.
 
 pub mod airspace;
 pub mod classify;
@@ -42,3 +43,4 @@ pub mod sorties;
 pub mod targets;
 pub mod validity;
 pub mod vehicle;
+pub mod work;

@@ -7,10 +7,11 @@
 //! - [`ExploreParams`] (`params`), [`ExploreError`] (`error`), [`SurfaceSamples`] (`surface`);
 //! - `voxels`: known occupancy and line of sight; `select`: greedy cover + tour;
 //! - [`Explorer`] (`explorer`); [`VoxelMerge`], [`resample`] (`voxel_merge`): voxel de-duplication;
-//! - [`MergeStore`] (`store`): the merged cloud on disk as it grows.
+//! - [`MergeStore`] (`store`): the merged cloud on disk as it grows; `journal`: every scan's new points between two batches.
 
 mod error;
 mod explorer;
+mod journal;
 mod params;
 mod select;
 mod store;
@@ -20,6 +21,7 @@ mod voxels;
 
 pub use error::ExploreError;
 pub use explorer::Explorer;
+pub use journal::{JOURNAL_FILE, Journaled};
 pub use params::ExploreParams;
 pub use store::{KeptMerge, MergeStore, STATE_FILE, StoreError, Stored, read_store};
 pub use surface::SurfaceSamples;

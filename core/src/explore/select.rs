@@ -63,6 +63,7 @@ fn greedy(p: &Problem<'_>, mut rng: Option<&mut Rng>) -> (Vec<usize>, usize) {
     let mut chosen = Vec::new();
     let mut total = 0usize;
     loop {
+        crate::work::step();
         let gains: Vec<u32> = p
             .sees
             .iter()

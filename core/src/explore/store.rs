@@ -1,16 +1,23 @@
 //! The merged cloud kept on disk as it grows: one LAZ batch of new voxel
 //! points at a time, then a small state file naming how many batches,
-//! points and scans are whole. Both are written atomically, so a mission
-//! killed at any moment leaves every batch its state names intact, and the
-//! next run (a respawned explorer, `demo --resume`, the report) reads them
-//! back in the order they were merged.
+//! points and scans (by id) are whole. Both are written atomically, so a
+//! mission killed at any moment leaves every batch its state names intact,
+//! and the next run (a respawned explorer, `demo --resume`, the report)
+//! reads them back in the order they were merged. Between two batches every
+//! scan received is in the journal ([`super::journal`]) at once: the
+//! store read back is the batches, then the journal's records.
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::journal::{self, Journal, Journaled};
 use crate::cloud::{Cloud, CloudIoError, class, read_cloud, write_cloud};
 use crate::file::{self, FileError};
+
+/// A journal this large is written out as a batch before its period is up,
+/// so it stays bounded whatever the scans' rate and size.
+const JOURNAL_MAX_BYTES: u64 = 64 << 20;
 
 /// Name of the state file inside the store's folder.
 pub const STATE_FILE: &str = "state.json";
@@ -64,6 +71,9 @@ struct State {
     batches: Vec<usize>,
     /// Scans whose every point is in the batches.
     scans: usize,
+    /// Their ids (header stamps, see `mission::scan_ids`), in merge order.
+    #[serde(default)]
+    scan_ids: Vec<u64>,
 }
 
 const FORMAT: &str = "skyground-merge-1";
@@ -76,8 +86,20 @@ pub struct Stored {
     pub points: Vec<[f32; 3]>,
     /// Points the store holds in all.
     pub total: usize,
-    /// Scans whose points are all in the store.
+    /// Scans whose points are all in the batches.
     pub scans: usize,
+    /// Their ids, in merge order.
+    pub ids: Vec<u64>,
+    /// What the journal holds beyond the batches (scans received after the
+    /// last one): merged after `points`.
+    pub journal: Journaled,
+}
+
+impl Stored {
+    /// Every scan id held: the batches', then the journal's.
+    pub fn all_ids(&self) -> impl Iterator<Item = u64> + '_ {
+        self.ids.iter().chain(&self.journal.ids).copied()
+    }
 }
 
 /// An append-only store of merged points in a folder of its own.
@@ -106,6 +128,7 @@ impl MergeStore {
                 voxel_m,
                 batches: Vec::new(),
                 scans: 0,
+                scan_ids: Vec::new(),
             },
         };
         let stored = read_batches(dir, &state, 0)?;
@@ -119,9 +142,9 @@ impl MergeStore {
     }
 
     /// Appends `new` points (those merged since the last call) as one batch
-    /// and records that `scans` scans are now whole in the store.
-    pub fn append(&mut self, new: &[[f32; 3]], scans: usize) -> Result<(), StoreError> {
-        if new.is_empty() && scans == self.state.scans {
+    /// and records that the scans `ids` are now whole in the store too.
+    pub fn append(&mut self, new: &[[f32; 3]], ids: &[u64]) -> Result<(), StoreError> {
+        if new.is_empty() && ids.is_empty() {
             return Ok(());
         }
         let mut next = self.state.clone();
@@ -130,7 +153,8 @@ impl MergeStore {
             write_cloud(&batch_path(&self.dir, next.batches.len()), &c)?;
             next.batches.push(new.len());
         }
-        next.scans = scans;
+        next.scans += ids.len();
+        next.scan_ids.extend_from_slice(ids);
         let json = serde_json::to_vec_pretty(&next).map_err(|e| StoreError::State {
             path: self.dir.join(STATE_FILE),
             reason: e.to_string(),
@@ -151,56 +175,79 @@ impl MergeStore {
     }
 }
 
-/// A merge kept in its store: what was merged since the last flush goes
-/// out as one batch, at most every `every_s` seconds unless forced.
+/// A merge kept in its store: each scan's new points go to the journal as
+/// it is merged, and what was merged since the last batch goes out as one
+/// batch at most every `every_s` seconds unless forced (or the journal grew
+/// past [`JOURNAL_MAX_BYTES`]).
 #[derive(Debug)]
 pub struct KeptMerge {
     store: MergeStore,
-    /// How many of the merge's points are in the store.
-    flushed: usize,
+    journal: Journal,
+    /// How many of the merge's points and ids are in the batches.
+    flushed: (usize, usize),
+    /// How many are in the batches or the journal.
+    journaled: (usize, usize),
     last_s: f64,
     every_s: f64,
 }
 
 impl KeptMerge {
-    /// Opens the store (see [`MergeStore::open`]) and what it holds, to be
-    /// merged before any new scan; `merged_after_resume` follows.
+    /// Opens the store (see [`MergeStore::open`]) and what it holds (the
+    /// batches, then the journal), to be merged before any new scan;
+    /// [`KeptMerge::resumed`] follows.
     pub fn open(dir: &Path, voxel_m: f32, every_s: f64) -> Result<(KeptMerge, Stored), StoreError> {
-        let (store, stored) = MergeStore::open(dir, voxel_m)?;
+        let (store, mut stored) = MergeStore::open(dir, voxel_m)?;
+        stored.journal = unflushed(dir, &stored.ids)?;
+        let journal = Journal::open(dir, stored.journal.bytes)?;
         let kept = KeptMerge {
             store,
-            flushed: 0,
+            journal,
+            flushed: (0, 0),
+            journaled: (0, 0),
             last_s: f64::NEG_INFINITY,
             every_s,
         };
         Ok((kept, stored))
     }
 
-    /// The merge now holds `len` points, all of them from the store.
-    pub fn merged_after_resume(&mut self, len: usize) {
-        self.flushed = len;
+    /// The merge now holds `batches` (points, ids) from the store's batches
+    /// and `all` with the journal's too.
+    pub fn resumed(&mut self, batches: (usize, usize), all: (usize, usize)) {
+        self.flushed = batches;
+        self.journaled = all;
     }
 
-    /// Writes the points of `merged` not yet stored when `every_s` has
-    /// passed since the last write at `now_s` (or `force`); the number written.
+    /// Journals what `merged` and `ids` hold beyond the journal, then writes
+    /// a batch of what is not in one when `every_s` has passed since the last
+    /// at `now_s` (or `force`, or the journal is full); the points batched.
     pub fn flush(
         &mut self,
         merged: &[[f32; 3]],
-        scans: usize,
+        ids: &[u64],
         now_s: f64,
         force: bool,
     ) -> Result<usize, StoreError> {
-        let new = merged.get(self.flushed..).unwrap_or(&[]);
-        if !(force || now_s - self.last_s >= self.every_s) {
+        let new_pts = merged.get(self.journaled.0..).unwrap_or(&[]);
+        let new_ids = ids.get(self.journaled.1..).unwrap_or(&[]);
+        if !(new_pts.is_empty() && new_ids.is_empty()) {
+            self.journal.append(new_ids, new_pts)?;
+            self.journaled = (merged.len(), ids.len());
+        }
+        let full = self.journal.bytes() > JOURNAL_MAX_BYTES;
+        if !(force || full || now_s - self.last_s >= self.every_s) {
             return Ok(0);
         }
-        self.store.append(new, scans)?;
-        self.flushed += new.len();
+        let new = merged.get(self.flushed.0..).unwrap_or(&[]);
+        let new_ids = ids.get(self.flushed.1..).unwrap_or(&[]);
+        self.store.append(new, new_ids)?;
+        self.flushed = (merged.len(), ids.len());
         self.last_s = now_s;
+        // After the state: a kill in between leaves a journal the state ends with (see `unflushed`).
+        self.journal.truncate()?;
         Ok(new.len())
     }
 
-    /// The store's counts: points and whole scans.
+    /// The store's counts: points and whole scans in its batches.
     pub fn stored(&self) -> (usize, usize) {
         (self.store.points(), self.store.scans())
     }
@@ -210,10 +257,27 @@ impl KeptMerge {
 /// that has those already; batches wholly before them are not read), or
 /// `None` when there is none.
 pub fn read_store(dir: &Path, skip: usize) -> Result<Option<Stored>, StoreError> {
-    match read_state(dir)? {
-        Some(s) => read_batches(dir, &s, skip).map(Some),
-        None => Ok(None),
+    let state = read_state(dir)?;
+    let mut stored = match &state {
+        Some(s) => read_batches(dir, s, skip)?,
+        None => Stored::default(),
+    };
+    stored.journal = unflushed(dir, &stored.ids)?;
+    Ok((state.is_some() || !stored.journal.ids.is_empty()).then_some(stored))
+}
+
+/// The journal's records not yet in a batch: a journal whose ids end the
+/// state's was written out before a kill came between the state and its
+/// truncation (it is all or nothing: truncated after every batch).
+fn unflushed(dir: &Path, batch_ids: &[u64]) -> Result<Journaled, StoreError> {
+    let j = journal::read(dir)?;
+    if !j.ids.is_empty() && batch_ids.ends_with(&j.ids) {
+        return Ok(Journaled {
+            bytes: 0,
+            ..Journaled::default()
+        });
     }
+    Ok(j)
 }
 
 /// A batch as written: merged points are building points.
@@ -274,6 +338,8 @@ fn read_batches(dir: &Path, s: &State, skip: usize) -> Result<Stored, StoreError
         points,
         total,
         scans: s.scans,
+        ids: s.scan_ids.clone(),
+        journal: Journaled::default(),
     })
 }
 
@@ -292,12 +358,13 @@ mod tests {
         let d = tmp("order");
         let (mut s, first) = MergeStore::open(&d, 0.05).unwrap();
         assert_eq!(first, Stored::default());
-        s.append(&[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], 3).unwrap();
-        s.append(&[], 4).unwrap();
-        s.append(&[[-7.25, 8.5, 0.125]], 6).unwrap();
+        s.append(&[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], &[1, 2, 3])
+            .unwrap();
+        s.append(&[], &[4]).unwrap();
+        s.append(&[[-7.25, 8.5, 0.125]], &[5, 6]).unwrap();
         assert_eq!((s.points(), s.scans()), (3, 6));
         let back = read_store(&d, 0).unwrap().unwrap();
-        assert_eq!(back.scans, 6);
+        assert_eq!((back.scans, back.ids.clone()), (6, vec![1, 2, 3, 4, 5, 6]));
         let want = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [-7.25, 8.5, 0.125]];
         assert_eq!(back.points.len(), 3);
         for (a, b) in back.points.iter().zip(want) {
@@ -308,7 +375,7 @@ mod tests {
         // Opened again (a respawned explorer), it goes on after what it holds.
         let (mut s2, again) = MergeStore::open(&d, 0.05).unwrap();
         assert_eq!(again, back);
-        s2.append(&[[0.0; 3]], 7).unwrap();
+        s2.append(&[[0.0; 3]], &[7]).unwrap();
         assert_eq!(read_store(&d, 0).unwrap().unwrap().points.len(), 4);
         std::fs::remove_dir_all(&d).unwrap();
     }
@@ -317,8 +384,8 @@ mod tests {
     fn a_reader_that_has_the_first_points_gets_the_rest() {
         let d = tmp("skip");
         let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
-        s.append(&[[1.0; 3], [2.0; 3]], 2).unwrap();
-        s.append(&[[3.0; 3]], 3).unwrap();
+        s.append(&[[1.0; 3], [2.0; 3]], &[1, 2]).unwrap();
+        s.append(&[[3.0; 3]], &[3]).unwrap();
         for (skip, want) in [(0, 3), (1, 2), (2, 1), (3, 0), (9, 0)] {
             let back = read_store(&d, skip).unwrap().unwrap();
             assert_eq!(
@@ -339,27 +406,65 @@ mod tests {
     }
 
     #[test]
-    fn a_kept_merge_writes_at_most_every_period_unless_forced() {
+    fn a_kept_merge_journals_every_scan_and_batches_at_most_every_period_unless_forced() {
         let d = tmp("kept");
         let (mut k, _) = KeptMerge::open(&d, 0.05, 10.0).unwrap();
-        let mut merged = vec![[1.0; 3]];
-        assert_eq!(k.flush(&merged, 1, 0.0, false).unwrap(), 1);
+        let (mut merged, mut ids) = (vec![[1.0; 3]], vec![11]);
+        assert_eq!(k.flush(&merged, &ids, 0.0, false).unwrap(), 1);
         merged.push([2.0; 3]);
-        assert_eq!(k.flush(&merged, 2, 5.0, false).unwrap(), 0, "too soon");
-        assert_eq!(k.flush(&merged, 2, 5.0, true).unwrap(), 1, "forced");
+        ids.push(12);
+        assert_eq!(k.flush(&merged, &ids, 5.0, false).unwrap(), 0, "too soon");
+        // Not in a batch, but in the journal: read back all the same.
+        let back = read_store(&d, 0).unwrap().unwrap();
+        assert_eq!(
+            (back.ids.clone(), back.journal.ids.clone()),
+            (vec![11], vec![12])
+        );
+        assert_eq!(back.journal.points, [[2.0; 3]]);
+        assert_eq!(k.flush(&merged, &ids, 5.0, true).unwrap(), 1, "forced");
+        assert_eq!(
+            read_store(&d, 0).unwrap().unwrap().journal,
+            Journaled::default(),
+            "truncated"
+        );
         merged.push([3.0; 3]);
-        assert_eq!(k.flush(&merged, 3, 15.1, false).unwrap(), 1);
+        ids.push(13);
+        assert_eq!(k.flush(&merged, &ids, 15.1, false).unwrap(), 1);
         assert_eq!(k.stored(), (3, 3));
+        ids.push(14); // a scan with no new point
+        assert_eq!(k.flush(&merged, &ids, 16.0, false).unwrap(), 0);
+        drop(k);
+        // Killed there: a respawned explorer gets the batches, then the journal.
         let (mut k, back) = KeptMerge::open(&d, 0.05, 10.0).unwrap();
         assert_eq!((back.points.len(), back.scans), (3, 3));
-        k.merged_after_resume(back.points.len());
+        assert_eq!(back.all_ids().collect::<Vec<_>>(), [11, 12, 13, 14]);
+        k.resumed((3, 3), (3, 4));
         merged.push([4.0; 3]);
+        ids.push(15);
         assert_eq!(
-            k.flush(&merged, 4, 0.0, true).unwrap(),
+            k.flush(&merged, &ids, 0.0, true).unwrap(),
             1,
             "only the new point"
         );
-        assert_eq!(read_store(&d, 0).unwrap().unwrap().points.len(), 4);
+        let all = read_store(&d, 0).unwrap().unwrap();
+        assert_eq!((all.points.len(), all.ids), (4, vec![11, 12, 13, 14, 15]));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_journal_already_batched_when_killed_is_not_replayed() {
+        let d = tmp("replayed");
+        let (mut k, _) = KeptMerge::open(&d, 0.05, 10.0).unwrap();
+        k.flush(&[[1.0; 3]], &[1], 0.0, false).unwrap();
+        k.flush(&[[1.0; 3], [2.0; 3]], &[1, 2], 1.0, false).unwrap();
+        let journal = std::fs::read(d.join(crate::explore::JOURNAL_FILE)).unwrap();
+        k.flush(&[[1.0; 3], [2.0; 3]], &[1, 2], 2.0, true).unwrap();
+        // As if killed between the state naming the batch and the truncation.
+        std::fs::write(d.join(crate::explore::JOURNAL_FILE), journal).unwrap();
+        let back = read_store(&d, 0).unwrap().unwrap();
+        assert_eq!((back.ids, back.journal.ids), (vec![1, 2], vec![]));
+        let (_, back) = KeptMerge::open(&d, 0.05, 10.0).unwrap();
+        assert_eq!(back.all_ids().count(), 2);
         std::fs::remove_dir_all(&d).unwrap();
     }
 
@@ -367,14 +472,14 @@ mod tests {
     fn a_batch_written_after_its_state_was_not_is_left_out() {
         let d = tmp("torn");
         let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
-        s.append(&[[1.0; 3]], 1).unwrap();
+        s.append(&[[1.0; 3]], &[1]).unwrap();
         // As if killed between writing batch 1 and the state naming it.
         write_cloud(&batch_path(&d, 1), &batch_cloud(vec![[2.0; 3]; 5])).unwrap();
         let back = read_store(&d, 0).unwrap().unwrap();
         assert_eq!((back.points.len(), back.scans), (1, 1));
         // The next append overwrites the torn batch.
         let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
-        s.append(&[[3.0; 3], [4.0; 3]], 2).unwrap();
+        s.append(&[[3.0; 3], [4.0; 3]], &[2]).unwrap();
         assert_eq!(read_store(&d, 0).unwrap().unwrap().points.len(), 3);
         std::fs::remove_dir_all(&d).unwrap();
     }
@@ -383,7 +488,7 @@ mod tests {
     fn another_voxel_a_bad_state_and_a_short_batch_are_refused() {
         let d = tmp("bad");
         let (mut s, _) = MergeStore::open(&d, 0.05).unwrap();
-        s.append(&[[1.0; 3], [2.0; 3]], 1).unwrap();
+        s.append(&[[1.0; 3], [2.0; 3]], &[1]).unwrap();
         let e = MergeStore::open(&d, 0.02).unwrap_err().to_string();
         assert!(e.contains("0.05") && e.contains("0.02"), "{e}");
         write_cloud(&batch_path(&d, 0), &batch_cloud(vec![[2.0; 3]])).unwrap();

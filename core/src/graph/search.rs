@@ -69,6 +69,10 @@ impl GroundGraph {
         }
         while let Some(Entry(d, u)) = heap.pop() {
             let u = u as usize;
+            if u.is_multiple_of(256) {
+                // Long searches on city graphs show the watchdog they advance.
+                crate::work::step();
+            }
             if d > dist[u] {
                 continue;
             }

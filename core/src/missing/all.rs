@@ -79,6 +79,7 @@ pub fn detect_all_on(
     let mut buildings =
         jobs.par_iter()
             .map(|(id, pts)| {
+                crate::work::step();
                 detect_building_on(*id, pts, fp.get(id).copied(), None, terrain, params)
                     .unwrap_or_else(|_| {
                         // validate() passed above, so this is unreachable in practice.

@@ -150,6 +150,7 @@ fn analyse(
         .par_iter()
         .enumerate()
         .map(|(k, level)| {
+            crate::work::step();
             let mut tested: Vec<(MultiPolygon<f64>, usize)> = Vec::new();
             let mut footprint_done = false;
             for (p, (_, contour)) in level.parts.iter().enumerate() {

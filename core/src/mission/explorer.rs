@@ -58,6 +58,9 @@ pub enum ExplorerEvent {
     Planner(PlannerStatus),
     /// A registered scan (labels when it carries them).
     Scan {
+        /// Its id (its header stamp, see [`super::scan_ids`]); a second scan
+        /// with an id already merged is left out.
+        id: u64,
         /// Points.
         xyz: Vec<[f32; 3]>,
         /// Their classes.
@@ -118,6 +121,9 @@ pub struct ExplorerMachine {
     published_rounds: Vec<u32>,
     merged: VoxelMerge,
     scans: usize,
+    /// Ids of the scans merged, in order, and as a set (a repeat is left out).
+    ids: Vec<u64>,
+    seen: std::collections::HashSet<u64>,
     out: Vec<ExplorerCommand>,
 }
 
@@ -141,6 +147,8 @@ impl ExplorerMachine {
             published_rounds: Vec::new(),
             merged,
             scans: 0,
+            ids: Vec::new(),
+            seen: std::collections::HashSet::new(),
             out: Vec::new(),
         })
     }
@@ -167,8 +175,15 @@ impl ExplorerMachine {
         for p in &stored.points {
             self.merged.add(*p);
         }
-        self.scans += stored.scans;
-        kept.merged_after_resume(self.merged.len());
+        self.take_ids(&stored.ids);
+        // A v1 store counted scans without ids.
+        self.scans += stored.scans.saturating_sub(stored.ids.len());
+        let batches = (self.merged.len(), self.ids.len());
+        for p in &stored.journal.points {
+            self.merged.add(*p);
+        }
+        self.take_ids(&stored.journal.ids);
+        kept.resumed(batches, (self.merged.len(), self.ids.len()));
         if !self.merged.is_empty() {
             // The detector and the demo learn the merge so far as they would at a route's end.
             self.out.push(ExplorerCommand::Resampled);
@@ -191,9 +206,24 @@ impl ExplorerMachine {
         )
     }
 
-    /// Writes what was merged since the last batch to `kept` when due (see [`KeptMerge::flush`]).
+    /// Journals the scans merged since the last call in `kept`, and writes
+    /// a batch when due (see [`KeptMerge::flush`]).
     pub fn keep(&self, kept: &mut KeptMerge, now_s: f64, force: bool) -> Result<usize, StoreError> {
-        kept.flush(self.merged.points(), self.scans, now_s, force)
+        kept.flush(self.merged.points(), &self.ids, now_s, force)
+    }
+
+    /// Ids of the scans merged, in order.
+    pub fn ids(&self) -> &[u64] {
+        &self.ids
+    }
+
+    fn take_ids(&mut self, ids: &[u64]) {
+        for &id in ids {
+            if self.seen.insert(id) {
+                self.ids.push(id);
+                self.scans += 1;
+            }
+        }
     }
 
     /// The ground graph regions are explored on (once one was requested).
@@ -218,7 +248,15 @@ impl ExplorerMachine {
                 self.requested = r;
             }
             ExplorerEvent::Planner(s) => self.on_planner(s),
-            ExplorerEvent::Scan { xyz, labels } => {
+            ExplorerEvent::Scan { id, xyz, labels } => {
+                if !self.seen.insert(id) {
+                    self.out.push(ExplorerCommand::Error(format!(
+                        "scan {} came again: left out",
+                        super::scan_ids::format(id)
+                    )));
+                    return std::mem::take(&mut self.out);
+                }
+                self.ids.push(id);
                 self.scans += 1;
                 for (i, q) in xyz.iter().enumerate() {
                     let l = labels.as_ref().map(|l| l.get(i));

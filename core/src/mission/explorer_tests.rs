@@ -197,10 +197,23 @@ fn scans_count_for_the_region_and_building_points_join_the_resampled_cloud() {
     let mut xyz = wall.clone();
     xyz.push([goal[0], goal[1], 0.0]);
     labels.push(class::GROUND);
-    e.handle(ExplorerEvent::Scan {
+    let scan = ExplorerEvent::Scan {
+        id: 42,
         xyz,
         labels: Some(labels),
-    });
+    };
+    e.handle(scan.clone());
+    let merged = e.resampled().len();
+    // The same scan again (by id): left out, said, not counted.
+    let again = e.handle(scan);
+    assert!(
+        matches!(&again[..], [ExplorerCommand::Error(s)] if s.contains("0.000000042 came again")),
+        "{again:?}"
+    );
+    assert_eq!(
+        (e.scans(), e.ids(), e.resampled().len()),
+        (1, &[42][..], merged)
+    );
     e.handle(ExplorerEvent::Position(goal));
     let out = e.handle(vehicle(goal, VehicleEvent::Arrived));
     match states(&out)[..] {

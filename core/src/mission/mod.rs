@@ -11,6 +11,7 @@
 //! - `explorer`: when a region starts and ends, when scans count;
 //! - `detector`: when detection re-runs on the merged cloud;
 //! - `progress`: what a launcher follows of the rounds, and when the loop ends;
+//! - `scan_ids`: scans told apart by their stamps, sent against merged;
 //! - `watchdog`: the robot's clock watched, a stalled vehicle restarted;
 //! - `waiting`: when a planner that lacks an input says so, and what DDS matched;
 //! - `quality`: what a mission did per building, as a city model's attributes.
@@ -24,6 +25,7 @@ pub mod planner;
 pub mod progress;
 pub mod protocol;
 pub mod quality;
+pub mod scan_ids;
 pub mod waiting;
 pub mod watchdog;
 

@@ -9,10 +9,11 @@
 //! - completeness_detector: a detection comes after a merged cloud arrived.
 //!
 //! A node that works without showing it (a long replan or detection on a
-//! large scene) shows its CPU time advancing instead: the launcher calls
-//! that progress too, so only a silent, idle node (stopped, or blocked in
-//! its event loop) is restarted. After `max_restarts` restarts of one node
-//! in a row without its progress, the mission stops.
+//! large scene) shows its work count ([`crate::work`]) advancing instead:
+//! the launcher calls that [`Watchdog::working`]. CPU time is not progress:
+//! a node spinning in a busy loop, as one stopped or blocked in its event
+//! loop, shows none and is restarted. After `max_restarts` restarts of one
+//! node in a row without its progress, the mission stops.
 
 /// A node whose progress is watched.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -134,7 +135,7 @@ impl Watchdog {
         self.expect(node, wall_s);
     }
 
-    /// `node` works without showing it (its CPU time advances, as in a
+    /// `node` works without showing it (its work count advances, as in a
     /// long replan): when it owes progress, it owes it from `wall_s`, and
     /// its restarts in a row end.
     pub fn working(&mut self, node: Watched, wall_s: f64) {
@@ -316,5 +317,20 @@ mod tests {
             Watched::CompletenessDetector.name(),
             "completeness_detector"
         );
+    }
+
+    #[test]
+    fn a_long_replan_that_counts_its_work_is_kept_and_a_spinning_one_restarted() {
+        let p = Watched::GlobalPlanner;
+        let mut w = Watchdog::new(25.0, 3);
+        // A 2-minute replan: no status, its work count moving every 2 s.
+        w.beat(p, 0.0);
+        for t in (2..120).step_by(2) {
+            w.working(p, f64::from(t));
+            assert_eq!(w.check(f64::from(t) + 1.0), Verdict::Fine, "at {t} s");
+        }
+        // Spinning (CPU, no work step) after its last step at 118 s: named 25 s on.
+        assert_eq!(w.check(142.0), Verdict::Fine);
+        assert!(matches!(w.check(143.5), Verdict::Restart { node, .. } if node == p));
     }
 }

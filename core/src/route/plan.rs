@@ -55,6 +55,7 @@ pub fn plan(
     let mut stops = Vec::new();
     let mut kept_trees = Vec::new();
     for ((stop, nodes), tree) in snapped.stops.into_iter().zip(trees) {
+        crate::work::step();
         if tree.dist[start_node].is_finite() {
             stops.push((stop, nodes));
             kept_trees.push(tree);

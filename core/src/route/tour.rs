@@ -70,6 +70,7 @@ pub fn tsp(costs: &Costs, max_passes: u32) -> Vec<usize> {
     let mut order = Vec::with_capacity(n);
     let mut prev = None;
     for _ in 0..n {
+        crate::work::step();
         let Some(next) = (0..n)
             .filter(|&i| left[i])
             .min_by(|&a, &b| costs.cost(prev, a).total_cmp(&costs.cost(prev, b)))
@@ -149,6 +150,7 @@ fn two_opt(costs: &Costs, order: &mut [usize]) -> bool {
     let n = order.len();
     let mut improved = false;
     for i in 0..n {
+        crate::work::step();
         for j in i + 1..n {
             let before = if i == 0 { None } else { Some(order[i - 1]) };
             let old_in = costs.cost(before, order[i]);
@@ -178,6 +180,7 @@ fn or_opt(costs: &Costs, order: &mut Vec<usize>) -> bool {
     for len in 1..=3usize {
         let mut i = 0;
         while i + len <= order.len() {
+            crate::work::step();
             if let Some((pos, rev)) = best_move(costs, order, i, len) {
                 let seg: Vec<usize> = order.drain(i..i + len).collect();
                 let at = if pos > i { pos - len } else { pos };

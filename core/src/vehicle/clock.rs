@@ -38,6 +38,14 @@ impl RobotClock {
         }
     }
 
+    /// The clock set to `sim_s` (a restarted simulator going on after its
+    /// last stamp, so stamps never repeat), at its waiting pace.
+    pub fn starting_at(mut self, sim_s: f64) -> Self {
+        self.sim_s = sim_s;
+        self.anchor = (0.0, sim_s, 1.0);
+        self
+    }
+
     /// Simulated seconds so far.
     pub fn now(&self) -> f64 {
         self.sim_s
@@ -115,5 +123,17 @@ mod tests {
         assert!((wall - 3.5).abs() < 0.06, "{wall}");
         let (work, wait) = c.split();
         assert!((work - 10.0).abs() < 1e-9 && (wait - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_clock_started_later_goes_on_from_there_at_wall_speed() {
+        let mut c = RobotClock::new(0.02, 20.0).starting_at(500.0);
+        let mut wall = 0.0;
+        run(&mut c, false, 50, 0.0, &mut wall);
+        assert!((c.now() - 501.0).abs() < 1e-9);
+        assert!(
+            (wall - 1.0).abs() < 1e-6,
+            "no sleep for the 500 s before: {wall}"
+        );
     }
 }

@@ -6,6 +6,8 @@ use std::time::{Duration, Instant};
 use futures::StreamExt;
 use ros2_client::Subscription;
 use skyground_core::mission::explorer::ExplorerEvent;
+use skyground_core::mission::scan_ids::{self, SentLog};
+use skyground_core::vehicle::RobotClock;
 use skyground_msgs::sensor_msgs::PointCloud2;
 use tokio::sync::mpsc::UnboundedReceiver;
 
@@ -43,11 +45,23 @@ pub struct ScanWriter {
     since: Instant,
     wait: Duration,
     open: bool,
+    /// The log of the ids sent, and the last id it held at start.
+    log: Option<SentLog>,
+    last: Option<u64>,
 }
 
 impl ScanWriter {
-    /// The writer; scans are cast once a reader matched, or after `wait`.
-    pub fn new(rt: &mut NodeRuntime, wait: Duration) -> Result<Self, RuntimeError> {
+    /// The writer; scans are cast once a reader matched, or after `wait`;
+    /// the id of every scan DDS takes is appended to `scan_log` ("": none).
+    pub fn new(rt: &mut NodeRuntime, wait: Duration, scan_log: &str) -> Result<Self, RuntimeError> {
+        let err = |e: skyground_core::file::FileError| RuntimeError::Node(format!("scan_log: {e}"));
+        let (log, last) = if scan_log.is_empty() {
+            (None, None)
+        } else {
+            let path = std::path::Path::new(scan_log);
+            let last = scan_ids::read_log(path).map_err(err)?.into_iter().max();
+            (Some(SentLog::open(path).map_err(err)?), last)
+        };
         let keep = TransportConfig {
             history_tiles: 1,
             ack_timeout_s: 3.0,
@@ -59,7 +73,22 @@ impl ScanWriter {
             since: Instant::now(),
             wait,
             open: false,
+            log,
+            last,
         })
+    }
+
+    /// `clock` going on a step after the last scan the log held (a
+    /// restarted or resumed vehicle_sim, so that stamps, the ids, never repeat).
+    pub fn go_on(&self, clock: RobotClock, step_s: f64, log: &Logger) -> RobotClock {
+        let Some(last) = self.last else {
+            return clock;
+        };
+        let at = scan_ids::secs(last) + step_s;
+        log.info(&format!(
+            "robot time goes on at {at:.2} s, after the last scan sent"
+        ));
+        clock.starting_at(at)
     }
 
     /// Whether to cast scans now: a volatile reader matched later would
@@ -84,7 +113,12 @@ impl ScanWriter {
     /// rest of a mission to repair (issue 50: 49 of 168 scans arrived).
     pub async fn write(&self, msg: PointCloud2) -> Result<(), RuntimeError> {
         let large = msg.data.len() > PACED_SCAN_BYTES;
+        let id = scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec);
         self.w.write(msg).await?;
+        if let Some(log) = &self.log {
+            log.sent(id)
+                .map_err(|e| RuntimeError::Node(format!("scan_log: {e}")))?;
+        }
         if large {
             self.w.wait_acks().await;
         }
@@ -103,6 +137,8 @@ fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<Expl
     let (msg, _) = m.ok()?;
     match decode(&msg) {
         Ok(d) => Some(ExplorerEvent::Scan {
+            // Its stamp is its id (see skyground_core::mission::scan_ids).
+            id: scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec),
             xyz: d.cloud.xyz,
             labels: d.cloud.label,
         }),

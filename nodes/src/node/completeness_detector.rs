@@ -17,7 +17,7 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 
 use crate::convert::detection::{completeness_array, detection_markers, missing_message};
 use crate::convert::diagnostics::statuses;
-use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos, work_beat};
 use crate::transport::{CloudPublisher, CloudSubscription, Received, TransportConfig};
 
 #[derive(Debug, Deserialize)]
@@ -49,6 +49,7 @@ struct Setup {
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
+    work_beat::beat(rt, "completeness_detector")?;
     p.scene.detect.validate()?;
     // Read before anything starts: a footprint file that cannot be used
     // stops the node with the reason, never a silent fall-back to deriving.

@@ -1,15 +1,13 @@
 //! global_planner: /classified_cloud + /target_points + /target_regions +
-//! /state_estimation → a ground graph, one route over every reachable
-//! target (docs/design.md steps 5–6) → /global_path, then the route leg by leg on
-//! /local_path; regions are handed to local_explorer on /active_region and
-//! taken back when /explorer_status says it is done. Progress (what was
-//! visited, the region handed over, the spots found blocked) is on the latched
-//! /planner_status, so a restarted planner goes on and the explorer's graph
-//! drops the same spots. When targets remain beyond the piece of ground the
-//! robot stands on, the spot to carry it to goes out on the latched /set_down.
-//! The executive is `skyground_core::mission::planner`; what the planner
-//! says while it lacks an input is `mission::waiting`.
-
+//! /state_estimation → a ground graph, one route over every reachable target
+//! (docs/design.md steps 5–6) → /global_path, then the route leg by leg on
+//! /local_path; regions go to local_explorer on /active_region and are taken
+//! back when /explorer_status says done. Progress (stops visited, the region
+//! handed over, spots found blocked) is on the latched /planner_status, so a
+//! restarted planner goes on and the explorer's graph drops the same spots.
+//! Targets beyond the robot's piece of ground: the spot to carry it to goes
+//! out on the latched /set_down. Executive: `mission::planner`; what it says
+//! while it lacks an input: `mission::waiting`; work count on /work_progress.
 use std::time::{Duration, Instant};
 
 use futures::StreamExt;
@@ -30,7 +28,7 @@ use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::{received_regions, regions_to_markers};
 use crate::convert::path::{odom_position, path, point_stamped};
 use crate::convert::targets::{stamp_key, target_points};
-use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, faults, qos, work_beat};
 use crate::transport::{CloudSubscription, TransportConfig, next_cloud_of};
 
 #[derive(Debug, Deserialize)]
@@ -71,6 +69,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
     p.graph.validate()?;
     p.route.validate()?;
+    work_beat::beat(rt, "global_planner")?;
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut target_sub = CloudSubscription::new(rt, "/target_points", qos::latched(64), tile)?;
@@ -171,6 +170,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
 }
 
 async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
+    faults::spin_if_asked("global_planner", matches!(c, PlannerCommand::GlobalPath(_)));
     let h = rt.header("map");
     let sent = match c {
         PlannerCommand::Info(s) => return rt.log.info(&s),

@@ -2,12 +2,11 @@
 //! hands over on /active_region (docs/design.md step 7): viewpoints on the
 //! ground graph inside it, scored by the missing wall they would see, visited
 //! in a short tour on /local_path until the gain per metre runs out; then
-//! "done" on /explorer_status. Every building point the vehicle scans is
-//! merged (voxel de-duplicated) into /resampled_cloud and kept on disk as
-//! it grows (`merge_store`). The region's index and
-//! round, and the spots the planner found blocked, come on /planner_status.
-//! The executive is `skyground_core::mission::explorer`.
-
+//! "done" on /explorer_status. Every building point scanned is merged (voxel
+//! de-duplicated) into /resampled_cloud and kept on disk as it grows
+//! (`merge_store`). The region's index and round, and the spots the planner
+//! found blocked, come on /planner_status. Executive:
+//! `skyground_core::mission::explorer`; work count on /work_progress.
 use std::time::Duration;
 
 use crate::convert::pointcloud2::{EncodeOptions, encode};
@@ -29,7 +28,7 @@ use skyground_msgs::visualization_msgs::MarkerArray;
 use crate::convert::diagnostics::{array, statuses};
 use crate::convert::markers::received_regions;
 use crate::convert::path::{odom_position, path};
-use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos, work_beat};
 use crate::transport::{CloudPublisher, CloudSubscription, TransportConfig, with_buildings};
 
 #[derive(Debug, Deserialize)]
@@ -62,6 +61,7 @@ pub use crate::runtime::specs::LOCAL_EXPLORER as SPEC;
 /// Runs the node until asked to stop.
 pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let p: Params = rt.params()?;
+    work_beat::beat(rt, "local_explorer")?;
     p.graph.validate()?;
     let mut ex = ExplorerMachine::new(ExplorerConfig {
         graph: p.graph,
@@ -137,7 +137,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     Ok(())
 }
 
-/// The store named by `merge_store` (flushed every `every_s`), its merge taken into `ex`.
+/// The store named by `merge_store` (flushed every `every_s`), its merge (batches, then journal) taken into `ex`.
 fn keep_merge(
     rt: &NodeRuntime,
     (dir, every_s): (&str, f64),
@@ -146,10 +146,10 @@ fn keep_merge(
     if dir.is_empty() {
         return Ok(None);
     }
-    let (kept, s) = ex
+    let (kept, _) = ex
         .keep_merge_in(std::path::Path::new(dir), every_s)
         .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?;
-    let (n, scans) = (s.points.len(), s.scans);
+    let (n, scans) = (ex.resampled().len(), ex.scans());
     rt.log.info(&format!(
         "merge store {dir}: going on from {n} points, {scans} scans"
     ));

@@ -25,10 +25,9 @@ use skyground_msgs::std_msgs::Header;
 use skyground_msgs::tf2_msgs::TFMessage;
 use tokio::sync::mpsc;
 
-use crate::convert::diagnostics::array;
 use crate::convert::path::{odometry, read_paths, read_spots};
-use crate::convert::scans::ScanWriter;
 use crate::convert::tf::{sensor_mount, tf_message, transform};
+use crate::convert::{diagnostics::array, scans::ScanWriter};
 use crate::runtime::{NodeRuntime, RuntimeError, publish_logged, qos};
 
 #[derive(Debug, Deserialize)]
@@ -51,6 +50,7 @@ struct Params {
     stationary_scan_period_s: f64,
     /// Every this many scans one also goes to /registered_scan_throttle (0: none).
     throttle_every: u64,
+    scan_log: String,
     vehicle: VehicleConfig,
     lidar: LidarConfig,
 }
@@ -80,7 +80,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     ));
 
     let odom_pub = rt.publisher::<Odometry>("/state_estimation", qos::odometry())?;
-    let mut scan_pub = ScanWriter::new(rt, Duration::from_secs(10))?;
+    let mut scan_pub = ScanWriter::new(rt, Duration::from_secs(10), &p.scan_log)?;
     // A reader keeping one scan in N (the recorder) is still sent all N by
     // DDS; this topic, named as topic_tools' throttle does, carries the one.
     let throttle_pub = rt.publisher::<PointCloud2>("/registered_scan_throttle", qos::sensor(5))?;
@@ -101,9 +101,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let mut clock_due = Every::new(p.clock_rate_hz);
     let rate = f64::from(p.lidar.rate_hz);
     let mut scan_due = ScanSchedule::new(rate, p.scan_min_move_m, p.stationary_scan_period_s);
-    let mut clock = RobotClock::new(p.step_s, p.time_factor);
-    let (mut scans, mut sent_scans, burst) =
-        (0u64, 0u64, crate::runtime::faults::LargeScans::from_env());
+    let mut clock = scan_pub.go_on(RobotClock::new(p.step_s, p.time_factor), p.step_s, &rt.log);
+    let (mut scans, mut sent_scans) = (0u64, 0u64);
+    let burst = crate::runtime::faults::LargeScans::from_env();
     let wall0 = Instant::now();
     while !rt.shutdown.requested() {
         while let Ok(g) = goals.try_recv() {
@@ -176,7 +176,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 let sent = throttle_pub.async_publish(msg.clone());
                 publish_logged(&rt.log, "/registered_scan_throttle", sent).await;
             }
-            // Counted only when DDS took it: tests compare it with the scans merged.
+            // Counted (and its id logged) only when DDS took it: the demo compares them with the scans merged.
             let sent = scan_pub.write(msg);
             sent_scans += u64::from(publish_logged(&rt.log, "/registered_scan", sent).await);
             scans += 1;

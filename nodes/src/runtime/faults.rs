@@ -3,10 +3,36 @@
 //! FIRST + COUNT − 1 are sent with every point repeated until each holds
 //! POINTS points (multi-MB samples, fragmented by DDS). The repeats fall in
 //! the voxels their originals do, so the merge is the same; only the
-//! transport is tried. For tests; nothing else reads it.
+//! transport is tried. `SKYGROUND_SPIN=NODE@MARKER` makes a node spin
+//! once ([`spin_if_asked`]). For tests; nothing else reads them.
 
 /// The variable that asks for the burst.
 pub const LARGE_SCANS_ENV: &str = "SKYGROUND_LARGE_SCANS";
+
+/// The variable that makes a node spin: `SKYGROUND_SPIN=NODE@MARKER`.
+pub const SPIN_ENV: &str = "SKYGROUND_SPIN";
+
+/// A node spinning without progress, made on purpose (issue 50): when
+/// `now` and [`SPIN_ENV`] names `node` and its MARKER file is not there
+/// yet, the marker is made (so the restarted node works) and the calling
+/// thread spins for good: CPU 100 %, no work step, no status. For tests.
+pub fn spin_if_asked(node: &str, now: bool) {
+    let Some(spec) = std::env::var(SPIN_ENV).ok().filter(|_| now) else {
+        return;
+    };
+    let Some((who, marker)) = spec.split_once('@') else {
+        return;
+    };
+    let first = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(marker);
+    if who == node && first.is_ok() {
+        loop {
+            std::hint::spin_loop();
+        }
+    }
+}
 
 /// Which scans are made large, and how large.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

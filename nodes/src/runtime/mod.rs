@@ -16,6 +16,7 @@ pub mod shutdown;
 pub mod specs;
 pub mod tools;
 pub mod watch;
+pub mod work_beat;
 
 pub use args::RosArgs;
 pub use forward::forward;

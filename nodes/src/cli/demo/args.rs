@@ -104,6 +104,11 @@ impl DemoArgs {
         self.out.join("merge")
     }
 
+    /// vehicle_sim's log of the scan ids DDS took (`scan_log`), one stamp a line.
+    pub fn scan_log(&self) -> PathBuf {
+        self.out.join("scans_sent.txt")
+    }
+
     /// These arguments, or with `--resume DIR` the ones DIR's mission was
     /// started with (output DIR), with this `--timeout` and `--no-netns`;
     /// `started_in` is the folder its relative paths were given in.

@@ -91,6 +91,11 @@ pub(super) fn start_all(
     )?;
     (recorder.args, recorder.earlier) = (record, earlier);
     let mut procs = vec![recorder];
+    if driver.0 == "vehicle_sim" {
+        driver
+            .1
+            .push(format!("scan_log:={}", a.scan_log().display()));
+    }
     if !fresh {
         detector.push("wait_resampled:=true".into());
         if let (Some(p), "vehicle_sim") = (carried.position, driver.0) {

@@ -149,7 +149,8 @@ async fn stop_and_report(
     prof.stage("stopping the nodes");
     launch::stop_all(procs, prof).await;
     // The explorer wrote its last batch as it stopped.
-    let merge = report::take_store(&a.merge_store(), prior, &mut outcome)?;
+    let merge = report::take_store((&a.merge_store(), &a.scan_log()), prior, &mut outcome)?;
+    eprintln!("  {}", report::ids_line(&merge.ids));
     let (finished, why) = (outcome.finished, outcome.why.clone());
     let inputs = report::Inputs {
         a,
@@ -191,6 +192,7 @@ fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
         launch::remove_bag(&a.out.join("mission.mcap"));
         // A new mission starts a new merge (the explorer would go on from one left here).
         launch::remove_merge(&a.merge_store())?;
+        let _ = std::fs::remove_file(a.scan_log());
         let _ = std::fs::remove_file(a.out.join(resume::PROGRESS_FILE));
         resume::Command::now()
             .write(&a.out)

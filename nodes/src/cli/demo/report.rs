@@ -10,6 +10,7 @@ use skyground_core::crs::{Crs, LinearUnit, SourceFrame};
 use skyground_core::footprint::{Footprint, footprints_of_scene};
 use skyground_core::metrics::{Evaluation, Measured, compare};
 use skyground_core::mission::Mission;
+use skyground_core::mission::scan_ids::{self, IdCheck};
 use skyground_core::plot::{BuildingGain, mission_picture};
 use skyground_core::reconstruct::{BeforeAfter, ModelEvaluation, PRIOR_OFF_M};
 use skyground_core::scene::Cropped;
@@ -48,12 +49,14 @@ pub(super) struct Inputs<'a> {
 }
 
 /// The merge store's counts when the report is made.
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize)]
 pub(super) struct Merge {
     /// Points in the store (every ground point merged).
     pub points: usize,
     /// Scans the explorer received whose points are all in the store.
     pub scans: usize,
+    /// Scan ids vehicle_sim sent (DDS took) against those in the store.
+    pub ids: IdCheck,
     /// Points the store held that the last /resampled_cloud had not carried
     /// (a mission stopped mid-round): measured here.
     pub since_last_publish: usize,
@@ -64,21 +67,34 @@ pub(super) struct Merge {
 /// points are measured into `outcome.after` and appended to its resampled
 /// cloud, so the report and resampled.laz hold every scan merged.
 pub(super) fn take_store(
-    dir: &Path,
+    (dir, scan_log): (&Path, &Path),
     prior: &Survey,
     outcome: &mut Outcome,
 ) -> Result<Merge, RuntimeError> {
+    let sent =
+        scan_ids::read_log(scan_log).map_err(|e| RuntimeError::Node(format!("scan log: {e}")))?;
     let w = &mut outcome.watch;
     let had = w.resampled.as_ref().map_or(0, Cloud::len);
     // The store appends in the order the explorer published: `had` is its prefix.
     let Some(stored) = skyground_core::explore::read_store(dir, had)
         .map_err(|e| RuntimeError::Node(format!("merge store: {e}")))?
     else {
-        return Ok(Merge::default());
+        return Ok(Merge {
+            ids: scan_ids::check(&sent, &[], MISSING_LISTED),
+            ..Merge::default()
+        });
     };
-    let since = stored.points.len();
+    let ids: Vec<u64> = stored.all_ids().collect();
+    let (total, scans) = (
+        stored.total + stored.journal.points.len(),
+        stored.scans + stored.journal.ids.len(),
+    );
+    // Scans received after the last batch (an explorer killed at the end) are in the journal.
+    let mut points = stored.points;
+    points.extend(stored.journal.points);
+    let since = points.len();
     if since > 0 {
-        let mut new = Cloud::from_xyz(stored.points);
+        let mut new = Cloud::from_xyz(points);
         new.origin = prior.cloud.origin;
         outcome.after.add(&prior.scene, &prior.gt, &new);
         let r = w
@@ -87,11 +103,15 @@ pub(super) fn take_store(
         r.xyz.extend_from_slice(&new.xyz);
     }
     Ok(Merge {
-        points: stored.total,
-        scans: stored.scans,
+        points: total,
+        scans,
+        ids: scan_ids::check(&sent, &ids, MISSING_LISTED),
         since_last_publish: since,
     })
 }
+
+/// Missing scan ids the report lists at most.
+const MISSING_LISTED: usize = 20;
 
 /// The models before and after, and what changed between them.
 struct Models {
@@ -288,15 +308,45 @@ fn mission_markdown(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> String
     md
 }
 
+/// Scans sent against merged, by id, in a sentence.
+pub(super) fn ids_line(c: &IdCheck) -> String {
+    if c.sent == 0 {
+        return format!(
+            "Scans by id (header stamp): {} merged (no log of scans sent: a robot, not vehicle_sim, drove).",
+            c.merged
+        );
+    }
+    let mut line = format!(
+        "Scans by id (header stamp): {} sent, {} merged, {} missing",
+        c.sent, c.merged, c.missing
+    );
+    if !c.missing_ids.is_empty() {
+        line += &format!(
+            " ({}{})",
+            c.missing_ids.join(", "),
+            if c.missing > c.missing_ids.len() {
+                ", …"
+            } else {
+                ""
+            }
+        );
+    }
+    if c.unsent + c.repeated > 0 {
+        line += &format!("; {} merged never sent, {} repeated", c.unsent, c.repeated);
+    }
+    line + "."
+}
+
 /// The merge store and the bag, per topic.
 fn merge_markdown(r: &Inputs) -> String {
     let g = &r.merge;
     let mut md = format!(
-        "\n## What was kept\n\nRuns of this mission: {} (`--resume DIR` goes on from `command.json`, `progress.json` and `merge/`). Merged scans on disk (`merge/`, a LAZ batch at a time): {} points from {} scans; {} of those points arrived after the last /resampled_cloud and were measured here. Clouds: `{}`, `{}`.\n\n| bag topic | messages | MB (serialized) |\n|---|---:|---:|\n",
+        "\n## What was kept\n\nRuns of this mission: {} (`--resume DIR` goes on from `command.json`, `progress.json` and `merge/`). Merged scans on disk (`merge/`, a LAZ batch at a time and a journal between batches): {} points from {} scans; {} of those points arrived after the last /resampled_cloud and were measured here. {} Clouds: `{}`, `{}`.\n\n| bag topic | messages | MB (serialized) |\n|---|---:|---:|\n",
         r.outcome.total.runs,
         g.points,
         g.scans,
         g.since_last_publish,
+        ids_line(&g.ids),
         r.a.cloud_file("aerial").display(),
         r.a.cloud_file("resampled").display()
     );

@@ -10,17 +10,12 @@ use std::time::Instant;
 use skyground_core::mission::watchdog::{Verdict, Watchdog, Watched};
 
 use super::launch::Proc;
-use crate::cli::profile::read_proc;
 
 /// Wall seconds a node may owe its progress before it is restarted: with
 /// the watch's 5-s check, a silent node is named within 30 s (issue 50).
 const STALL_S: f64 = 25.0;
 /// Restarts of one node in a row without its progress before the mission stops.
 const STALL_RESTARTS: u32 = 3;
-/// CPU seconds over one 5-s check that count as a node working without
-/// showing it (a long replan or detection): a stopped node or one blocked
-/// in its event loop uses next to none.
-const BUSY_CPU_S: f64 = 1.0;
 /// A move from the last pose counted shorter than this is standing, longer
 /// a set-down (m).
 const MOVE_M: (f32, f32) = (0.5, 5.0);
@@ -33,8 +28,8 @@ pub(super) struct Guard {
     merge_state: PathBuf,
     scans: Option<u64>,
     last_pose: Option<[f32; 3]>,
-    /// CPU seconds of each watched node at the last check.
-    cpu: BTreeMap<&'static str, f64>,
+    /// Each watched node's last work count (/work_progress) since it started.
+    steps: BTreeMap<Watched, u64>,
 }
 
 impl Guard {
@@ -45,7 +40,7 @@ impl Guard {
             merge_state: merge_store.join(skyground_core::explore::STATE_FILE),
             scans: None,
             last_pose: None,
-            cpu: BTreeMap::new(),
+            steps: BTreeMap::new(),
         }
     }
 
@@ -87,12 +82,10 @@ impl Guard {
         self.dog.progress(Watched::CompletenessDetector);
     }
 
-    /// Every 5 s: the explorer's merged scans and each node's CPU time read,
-    /// then the verdict. A stalled node is killed (the respawn starts it
+    /// Every 5 s: the explorer's merged scans read, then the verdict. A stalled node is killed (the respawn starts it
     /// again with its state); `Some(why)` stops the mission.
     pub fn check(&mut self, procs: &mut [Proc], say: &mut dyn FnMut(&str)) -> Option<String> {
         self.merged_scans();
-        self.busy(procs);
         match self.dog.check(self.now()) {
             Verdict::Fine => None,
             Verdict::Restart { node, for_s } => {
@@ -105,6 +98,8 @@ impl Guard {
                 if let Some(p) = procs.iter_mut().find(|p| p.name == node.name()) {
                     let _ = p.child.start_kill();
                 }
+                // The next process counts from 0: its first count is no progress.
+                self.steps.remove(&node);
                 None
             }
             Verdict::GiveUp { node, restarts } => Some(format!(
@@ -127,25 +122,21 @@ impl Guard {
         }
     }
 
-    /// A node that used CPU since the last check works without showing it:
-    /// it owes its progress from now.
-    fn busy(&mut self, procs: &[Proc]) {
-        let now = self.now();
-        for node in &Watched::ALL[1..] {
-            let Some(pid) = procs
-                .iter()
-                .find(|p| p.name == node.name())
-                .and_then(|p| p.child.id())
-            else {
-                continue;
-            };
-            let Some(cpu) = read_proc(pid).map(|f| f.cpu_s) else {
-                continue;
-            };
-            let before = self.cpu.insert(node.name(), cpu);
-            if before.is_some_and(|b| cpu - b >= BUSY_CPU_S) {
-                self.dog.working(*node, now);
-            }
+    /// `node`'s work count (on /work_progress every 2 s, from inside its
+    /// long computations): one that moved is a node at work without showing
+    /// it otherwise (a long replan or detection), so it owes its progress
+    /// from now. CPU time is not progress: a node spinning in a busy loop
+    /// uses all of it and does no work step.
+    pub fn work(&mut self, node: &str, steps: u64) {
+        let Some(w) = Watched::ALL.into_iter().find(|w| w.name() == node) else {
+            return;
+        };
+        if self
+            .steps
+            .insert(w, steps)
+            .is_some_and(|before| steps > before)
+        {
+            self.dog.working(w, self.now());
         }
     }
 }

@@ -27,7 +27,7 @@ use crate::cli::profile::Profile;
 use crate::convert::diagnostics::from_status;
 use crate::convert::markers::markers_to_regions;
 use crate::convert::path::odom_position;
-use crate::runtime::{NodeRuntime, RuntimeError, qos};
+use crate::runtime::{NodeRuntime, RuntimeError, qos, work_beat};
 use crate::transport::{CloudSubscription, Received};
 
 /// What the demo learns from the topics as the mission runs.
@@ -75,10 +75,10 @@ struct Follower<'a> {
     guard: Guard,
     /// What the planner had reached when its status was last kept for a restart.
     planner_kept: Option<(u32, usize, usize, usize)>,
-    /// The last /state_estimation stamp, and the robot time before a
-    /// restarted vehicle_sim's clock began again at 0.
+    /// The last /state_estimation stamp.
     last_stamp: f64,
-    clock_offset: f64,
+    /// vehicle_sim's starts so far (a new one is handed its leg).
+    sim_starts: u32,
     /// The leg the vehicle drives (as the planner or explorer sent it), and
     /// when to hand it to a restarted vehicle_sim.
     leg: Option<RosPath>,
@@ -106,8 +106,10 @@ pub(super) async fn follow(
     // The leg being driven, kept to hand to a restarted vehicle_sim.
     let legs = rt.subscription::<RosPath>("/local_path", qos::reliable(10))?;
     let leg_pub = rt.publisher::<RosPath>("/local_path", qos::reliable(10))?;
-    let l_s = legs.async_stream();
-    futures::pin_mut!(l_s);
+    // Each node's work count: a long computation's progress, to the watchdog.
+    let work = rt.subscription::<DiagnosticArray>(work_beat::TOPIC, qos::sensor(16))?;
+    let (l_s, w_s) = (legs.async_stream(), work.async_stream());
+    futures::pin_mut!(l_s, w_s);
     let (c_s, p_s, v_s, r_s, o_s, m_s) = (
         completeness.async_stream(),
         planner.async_stream(),
@@ -147,6 +149,9 @@ pub(super) async fn follow(
             },
             Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
             Some(Ok((leg, _))) = l_s.next() => f.leg = Some(leg),
+            Some(Ok((arr, _))) = w_s.next() => if let Some((node, steps)) = work_beat::read(&arr) {
+                f.guard.work(node, steps);
+            },
             _ = respawn_tick.tick() => if !rt.shutdown.requested() { f.respawn(procs, exe, &leg_pub).await? },
             _ = tick.tick() => if let Some(stalled) = f.tick(procs, prof) {
                 why = stalled;
@@ -206,7 +211,7 @@ impl<'a> Follower<'a> {
             guard: Guard::new(t0, &a.merge_store()),
             planner_kept: None,
             last_stamp: 0.0,
-            clock_offset: 0.0,
+            sim_starts: 0,
             leg: None,
             resend_at: Vec::new(),
         }
@@ -221,6 +226,13 @@ impl<'a> Follower<'a> {
         leg_pub: &ros2_client::Publisher<RosPath>,
     ) -> Result<(), RuntimeError> {
         respawn(procs, exe, &self.a.out, self.w.route.last().copied())?;
+        let starts = procs.iter().find(|p| p.name == "vehicle_sim");
+        if let Some(n) = starts.map(|p| p.restarts).filter(|n| *n > self.sim_starts) {
+            // A restarted vehicle_sim gets the leg it was driving once its reader has matched.
+            self.sim_starts = n;
+            let now = Instant::now();
+            self.resend_at = [2, 5, 10].map(|s| now + Duration::from_secs(s)).to_vec();
+        }
         if let Some(leg) = self.leg_due() {
             self.console
                 .say("  handing the leg it was driving to the restarted vehicle_sim");
@@ -433,23 +445,18 @@ impl<'a> Follower<'a> {
             ));
         }
         // A real robot stamps with its clock; the mission's time starts at
-        // its first pose (vehicle_sim's clock starts at 0 itself).
+        // its first pose. vehicle_sim's clock starts at 0 in a new mission
+        // and goes on after its last scan when restarted or resumed (its
+        // stamps are the scans' ids): this run's time is past the carried.
         let first = *self.w.first_stamp.get_or_insert(t);
         if t != self.last_stamp {
             self.guard.clock();
-        }
-        if !field && t + 1.0 < self.last_stamp {
-            // vehicle_sim started again (its clock at 0): it gets the leg it
-            // was driving once its reader has matched.
-            self.clock_offset += self.last_stamp;
-            let now = Instant::now();
-            self.resend_at = [2, 5, 10].map(|s| now + Duration::from_secs(s)).to_vec();
         }
         self.last_stamp = t;
         self.w.sim_s = if field {
             t - first
         } else {
-            self.clock_offset + t
+            self.w.sim_s.max(t - self.carried.sim_s)
         };
         if let Some(p) = odom_position(o) {
             self.guard.pose(p);

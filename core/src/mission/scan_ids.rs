@@ -1,0 +1,187 @@
+//! Scans told apart by id: a scan's id is its `header.stamp` (robot time,
+//! as `ros2 topic echo` shows it), in nanoseconds. vehicle_sim stamps one
+//! scan per clock step at most, and a restarted or resumed vehicle_sim
+//! goes on after the last stamp it sent (from its log of sent ids), so the
+//! id is unique over a mission. The log of sent ids is text, one
+//! `SEC.NANOSEC` a line, each line written by one `write` to a file opened
+//! for appending: a killed sender leaves whole lines (a torn last line, as
+//! after a power cut, is dropped on reading).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::file::FileError;
+
+/// The id of a scan stamped `sec`, `nanosec` (negative stamps wrap, still unique).
+pub fn id(sec: i32, nanosec: u32) -> u64 {
+    (i64::from(sec) * 1_000_000_000 + i64::from(nanosec)) as u64
+}
+
+/// The id as its stamp reads: `SEC.NANOSEC`.
+pub fn format(id: u64) -> String {
+    let ns = id as i64;
+    format!(
+        "{}.{:09}",
+        ns.div_euclid(1_000_000_000),
+        ns.rem_euclid(1_000_000_000)
+    )
+}
+
+/// An id read back from [`format`]; `None` for anything else.
+pub fn parse(s: &str) -> Option<u64> {
+    let (sec, ns) = s.trim().split_once('.')?;
+    if ns.len() != 9 || !ns.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let sec: i32 = sec.parse().ok()?;
+    Some(id(sec, ns.parse().ok()?))
+}
+
+/// Seconds of the stamp an id is.
+pub fn secs(id: u64) -> f64 {
+    (id as i64) as f64 * 1e-9
+}
+
+/// The ids in a sent log's text: whole lines only, unreadable ones skipped.
+pub fn read_text(text: &str) -> Vec<u64> {
+    let whole = text.rfind('\n').map_or("", |end| &text[..end]);
+    whole.lines().filter_map(parse).collect()
+}
+
+/// The ids the log at `path` holds (none when there is no log).
+pub fn read_log(path: &Path) -> Result<Vec<u64>, FileError> {
+    match std::fs::read(path) {
+        Ok(b) => Ok(read_text(&String::from_utf8_lossy(&b))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
+        Err(e) => Err(FileError::new(path, e)),
+    }
+}
+
+/// The sender's log of sent ids, open for appending.
+#[derive(Debug)]
+pub struct SentLog {
+    path: PathBuf,
+    file: std::fs::File,
+}
+
+impl SentLog {
+    /// Opens (or makes) the log at `path`.
+    pub fn open(path: &Path) -> Result<SentLog, FileError> {
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .map_err(|e| FileError::new(path, e))?;
+        Ok(SentLog {
+            path: path.into(),
+            file,
+        })
+    }
+
+    /// Appends one id as one line in one write.
+    pub fn sent(&self, id: u64) -> Result<(), FileError> {
+        let line = format!("{}\n", format(id));
+        (&self.file)
+            .write_all(line.as_bytes())
+            .map_err(|e| FileError::new(&self.path, e))
+    }
+}
+
+/// Sent and merged ids compared: how many of each, and the sent ones not
+/// merged (the first `cap` of them), the merged ones never sent, and the
+/// ids merged or sent twice.
+#[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize)]
+pub struct IdCheck {
+    /// Distinct ids sent.
+    pub sent: usize,
+    /// Distinct ids merged.
+    pub merged: usize,
+    /// Sent and not merged.
+    pub missing: usize,
+    /// The first of them, as stamps.
+    pub missing_ids: Vec<String>,
+    /// Merged and never sent (scans of another sender).
+    pub unsent: usize,
+    /// Ids that came twice in the sent log or the merge.
+    pub repeated: usize,
+}
+
+/// Compares the `sent` ids with the `merged` ones, listing `cap` missing at most.
+pub fn check(sent: &[u64], merged: &[u64], cap: usize) -> IdCheck {
+    use std::collections::BTreeSet;
+    let s: BTreeSet<u64> = sent.iter().copied().collect();
+    let m: BTreeSet<u64> = merged.iter().copied().collect();
+    let missing: Vec<u64> = s.difference(&m).copied().collect();
+    IdCheck {
+        sent: s.len(),
+        merged: m.len(),
+        missing: missing.len(),
+        missing_ids: missing.iter().take(cap).map(|&i| format(i)).collect(),
+        unsent: m.difference(&s).count(),
+        repeated: (sent.len() - s.len()) + (merged.len() - m.len()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_read_as_stamps_and_back() {
+        for (sec, ns, text) in [
+            (12, 500_000_000, "12.500000000"),
+            (0, 7, "0.000000007"),
+            (-2, 1, "-2.000000001"),
+        ] {
+            let i = id(sec, ns);
+            assert_eq!(format(i), text);
+            assert_eq!(parse(text), Some(i));
+        }
+        assert!((secs(id(3, 250_000_000)) - 3.25).abs() < 1e-12);
+        for bad in [
+            "",
+            "12",
+            "12.5",
+            "x.000000001",
+            "1.00000000a",
+            "99999999999.000000000",
+        ] {
+            assert_eq!(parse(bad), None, "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn a_torn_last_line_is_dropped_and_the_log_appends() {
+        assert_eq!(read_text("1.000000000\n2.0000"), [id(1, 0)]);
+        assert_eq!(
+            read_text("1.000000000\nnoise\n2.000000000\n"),
+            [id(1, 0), id(2, 0)]
+        );
+        let path = std::env::temp_dir().join(format!("skyground-sent-{}", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        assert!(read_log(&path).unwrap().is_empty());
+        SentLog::open(&path).unwrap().sent(id(1, 5)).unwrap();
+        let again = SentLog::open(&path).unwrap();
+        again.sent(id(2, 0)).unwrap();
+        assert_eq!(read_log(&path).unwrap(), [id(1, 5), id(2, 0)]);
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn the_check_names_missing_unsent_and_repeated_ids() {
+        let c = check(&[1, 2, 3, 4, 4], &[2, 3, 9, 3], 1);
+        assert_eq!(
+            (c.sent, c.merged, c.missing, c.unsent, c.repeated),
+            (4, 3, 2, 1, 2)
+        );
+        assert_eq!(c.missing_ids, [format(1)]);
+        assert_eq!(
+            check(&[5, 6], &[6, 5], 10),
+            IdCheck {
+                sent: 2,
+                merged: 2,
+                ..IdCheck::default()
+            }
+        );
+    }
+}
