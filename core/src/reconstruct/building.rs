@@ -5,8 +5,10 @@ use geo::{Contains, Coord, MultiPolygon};
 use super::error::Skip;
 use super::exterior::follow_footprint;
 use super::params::ReconstructParams;
-use super::partition::{regions, trace};
+use super::partition::{Partition, regions, trace};
+use super::saddle::split_saddles;
 use super::solid::{Shell, build_shell, outline, split_crossings};
+use super::untangle::undo_crossing_moves;
 use super::walls::{Support, WallFit, snap_ridges, snap_walls};
 use crate::geom::grid::GridFrame;
 use crate::geom::normals::neighbourhoods;
@@ -147,6 +149,9 @@ pub(crate) fn reconstruct_building(
     let wall_xyz: Vec<[f64; 3]> = wall.iter().map(|&i| xyz[i].map(f64::from)).collect();
     let wall_normal: Vec<[f64; 3]> = wall.iter().map(|&i| nb.normal[i]).collect();
     let outline_samples = outline_samples(inp.footprint, 0.25);
+    // The boundaries as traced: they do not cross, where snapping can move
+    // a vertex across a neighbouring boundary.
+    let traced = part.clone();
     let fit = snap_walls(
         &mut part,
         &height,
@@ -164,15 +169,8 @@ pub(crate) fn reconstruct_building(
         Some([-n[0] / n[2], -n[1] / n[2], -pl.d / n[2]])
     };
     snap_ridges(&mut part, &plane_of, 1.5 * cell);
-    // A given footprint is where the building stands: its outline is kept
-    // exactly, so neighbours sharing a wall share it in their models too.
-    if inp.given {
-        follow_footprint(&mut part, inp.footprint);
-    }
-    split_crossings(&mut part, &height);
-    let mut shell = build_shell(&part, &height);
-    shell.split_warped_roofs(WARP_TOL_M);
-    shell.weld(WELD_TOL_M);
+    let (shell, part, fit) =
+        first_valid(part, traced, fit, inp, &height).ok_or(Skip::InvalidSolid)?;
     Ok(Model {
         id: inp.id,
         name: inp.name.to_string(),
@@ -187,6 +185,71 @@ pub(crate) fn reconstruct_building(
         fallback: None,
         quality: Default::default(),
     })
+}
+
+/// The first valid solid of: the snapped partition `snapped`; the same
+/// with the moves that make boundaries cross or touch undone; the
+/// partition as `traced`. A given footprint's outline must be kept too
+/// (else none); of a derived one, else the first valid one, else the
+/// snapped solid (the caller then falls back to LoD 1.2, saying why).
+fn first_valid(
+    snapped: Partition,
+    traced: Partition,
+    fit: WallFit,
+    inp: &Inputs,
+    height: &dyn Fn(u32, [f64; 2]) -> f64,
+) -> Option<(Shell, Partition, WallFit)> {
+    let first = close(snapped.clone(), inp, height);
+    if first.2 && first.3 {
+        return Some((first.0, first.1, fit));
+    }
+    // A snapped vertex moved across another boundary, or onto it, crosses
+    // a roof ring (104), or keeps the outline from following the
+    // footprint: those moves go back, the others stay.
+    let mut untangled = snapped;
+    let mut tries = Vec::new();
+    if undo_crossing_moves(&mut untangled, &traced) > 0 {
+        tries.push((close(untangled, inp, height), fit));
+    }
+    // The traced boundaries, with walls on the raster's lines: still far
+    // closer than the LoD 1.2 prism.
+    tries.push((close(traced, inp, height), WallFit::default()));
+    let mut best = (first.2, (first.0, first.1, fit));
+    for ((s, p, valid, kept), f) in tries {
+        if valid && kept {
+            return Some((s, p, f));
+        }
+        if valid && !best.0 {
+            best = (true, (s, p, f));
+        }
+    }
+    // A given footprint's model that cannot keep its outline would leave
+    // a gap or an overlap at its party walls: the LoD 1.2 prism keeps it.
+    (!inp.given).then_some(best.1)
+}
+
+/// The closed solid on partition `part` (and the partition it was built
+/// on), whether it is valid, and whether a given footprint's outline was
+/// kept exactly; crossings and saddles split, warped roofs triangulated,
+/// corners within 1 mm welded.
+fn close(
+    mut part: Partition,
+    inp: &Inputs,
+    height: &dyn Fn(u32, [f64; 2]) -> f64,
+) -> (Shell, Partition, bool, bool) {
+    // A given footprint is where the building stands: its outline is kept
+    // exactly, so neighbours sharing a wall share it in their models too.
+    let kept = !inp.given || follow_footprint(&mut part, inp.footprint).kept == 0;
+    split_crossings(&mut part, height);
+    // The new boundaries a split adds can have crossings of their own.
+    if split_saddles(&mut part, height) > 0 {
+        split_crossings(&mut part, height);
+    }
+    let mut shell = build_shell(&part, height);
+    shell.split_warped_roofs(WARP_TOL_M);
+    shell.weld(WELD_TOL_M);
+    let valid = super::validity_codes(&shell).is_empty();
+    (shell, part, valid, kept)
 }
 
 /// A roof face farther than this from planar is split into triangles

@@ -285,7 +285,7 @@ fn crosses(p: &Partition) -> bool {
 }
 
 /// `o`→`x` and `o`→`y` run along each other.
-fn folded(o: [f64; 2], x: [f64; 2], y: [f64; 2]) -> bool {
+pub(super) fn folded(o: [f64; 2], x: [f64; 2], y: [f64; 2]) -> bool {
     let (u, v) = ([x[0] - o[0], x[1] - o[1]], [y[0] - o[0], y[1] - o[1]]);
     let cr = u[0] * v[1] - u[1] * v[0];
     let dt = u[0] * v[0] + u[1] * v[1];
@@ -293,7 +293,7 @@ fn folded(o: [f64; 2], x: [f64; 2], y: [f64; 2]) -> bool {
 }
 
 /// Closed segments a–b and c–d have a point in common.
-fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+pub(super) fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     let orient = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
         let v = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
         v.partial_cmp(&0.0).map_or(0, |o| o as i32)

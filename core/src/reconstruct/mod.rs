@@ -11,11 +11,16 @@
 //! - `walls`: boundary segments between parts of different height move
 //!   onto the wall points along them; without wall points they keep the
 //!   footprint's line, so a wall the cloud missed stays approximate;
+//! - `untangle`: a snapped vertex that would make two boundaries cross
+//!   or touch goes back to its traced position;
 //! - `exterior`: a given footprint's outline replaces the traced one
 //!   exactly, so the models of footprints sharing a wall share it;
 //! - `prism`: the LoD 1.2 fallback where no roof plane is found;
 //! - [`party`]: how neighbours' models meet along the boundary their
 //!   footprints share (gaps, overlaps);
+//! - `saddle`: a node where the parts around alternate in height (two
+//!   high parts touching at one corner) is split in two, so the solid
+//!   stays a 2-manifold there;
 //! - `solid`: roof faces, vertical faces and the base as one closed shell
 //!   ([`Shell::check`] counts edge uses);
 //! - the models are written by [`crate::io`] (CityJSON, OBJ);
@@ -32,7 +37,9 @@ mod partition;
 pub mod party;
 mod prism;
 pub mod quality;
+mod saddle;
 mod solid;
+mod untangle;
 mod walls;
 
 #[cfg(test)]

@@ -316,7 +316,7 @@ fn flip_slivers(plan: &[[f64; 2]], tris: &mut [[usize; 3]]) {
 }
 
 /// Merged heights at each 2D vertex, and each region's level among them.
-struct Levels {
+pub(crate) struct Levels {
     /// Sorted level heights per vertex.
     heights: Vec<Vec<f64>>,
     /// (vertex, region) → index into that vertex's levels.
@@ -324,7 +324,8 @@ struct Levels {
 }
 
 impl Levels {
-    fn new(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) -> Self {
+    /// The levels of every vertex of `p` for the regions' heights.
+    pub(crate) fn new(p: &Partition, height: &dyn Fn(u32, [f64; 2]) -> f64) -> Self {
         let mut at: Vec<Vec<u32>> = vec![Vec::new(); p.verts.len()];
         for c in &p.chains {
             for &v in &c.verts {
@@ -353,8 +354,18 @@ impl Levels {
         Levels { heights, of }
     }
 
-    fn of(&self, v: u32, r: u32) -> usize {
+    /// The level of region `r` at vertex `v` (0 where `r` is not there).
+    pub(crate) fn of(&self, v: u32, r: u32) -> usize {
         self.of.get(&(v, r)).copied().unwrap_or(0)
+    }
+
+    /// The height of region `r`'s level at vertex `v`.
+    pub(crate) fn height(&self, v: u32, r: u32) -> f64 {
+        self.heights
+            .get(v as usize)
+            .and_then(|h| h.get(self.of(v, r)))
+            .copied()
+            .unwrap_or(0.0)
     }
 }
 
