@@ -10,6 +10,7 @@ use skyground_core::cloud::read_cloud;
 use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::Footprint;
 use skyground_core::footprint::ReadOptions;
+use skyground_core::geom::triangle::height_over;
 use skyground_core::io::read_footprints;
 use skyground_core::prior::join_tiles;
 use skyground_core::reconstruct::party::{PartyWall, ground_plan, party_walls, shared_stretches};
@@ -199,7 +200,7 @@ fn delft_rmse_breakdown_per_tile() {
                     // Above or below the roof face nearest in plan.
                     let z = roof
                         .iter()
-                        .filter_map(|t| z_in_triangle(t, p[0], p[1]))
+                        .filter_map(|t| height_over(t, p[0], p[1], 0.0))
                         .fold(f64::NAN, f64::max);
                     if p[2] > z {
                         above += 1;
@@ -267,19 +268,6 @@ fn delft_rmse_breakdown_per_tile() {
         }
         assert_eq!(total, rows.iter().map(|r| r.2).sum::<usize>());
     }
-}
-
-/// Height of triangle `t`'s plane at (x, y) when (x, y) lies in its plan.
-fn z_in_triangle(t: &[[f64; 3]; 3], x: f64, y: f64) -> Option<f64> {
-    let [a, b, c] = t;
-    let det = (b[1] - c[1]) * (a[0] - c[0]) + (c[0] - b[0]) * (a[1] - c[1]);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / det;
-    let l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / det;
-    let l3 = 1.0 - l1 - l2;
-    (l1 >= 0.0 && l2 >= 0.0 && l3 >= 0.0).then(|| l1 * a[2] + l2 * b[2] + l3 * c[2])
 }
 
 /// What the RMSE counts as roof points (`b3_rmse_lod22` measures the roof).

@@ -8,7 +8,7 @@ use geo::{Contains, Coord};
 use super::rules::{AirspaceRules, Geofence};
 use super::violation::{Obstacle, Refusal, Violation};
 use crate::cloud::{Cloud, class};
-use crate::geom::grid::GridFrame;
+use crate::geom::grid::{GridFrame, Neighbours};
 use crate::params::ParamError;
 
 /// Cells the survey left empty are filled from their neighbours this many
@@ -266,17 +266,8 @@ fn fill_gaps(grid: &GridFrame, top: &mut [f32], floor: f32) {
                     continue;
                 }
                 let mut best = f32::NAN;
-                for (di, dj) in [
-                    (-1, 0),
-                    (1, 0),
-                    (0, -1),
-                    (0, 1),
-                    (-1, -1),
-                    (1, 1),
-                    (-1, 1),
-                    (1, -1),
-                ] {
-                    if let Some(n) = grid.index(i + di, j + dj)
+                for &(di, dj) in Neighbours::Eight.offsets() {
+                    if let Some(n) = grid.index(i + di as i64, j + dj as i64)
                         && !before[n].is_nan()
                         && (best.is_nan() || before[n] > best)
                     {

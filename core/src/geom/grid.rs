@@ -214,7 +214,8 @@ pub enum Neighbours {
 }
 
 impl Neighbours {
-    fn offsets(self) -> &'static [(isize, isize)] {
+    /// The cell offsets `(di, dj)` of these neighbours.
+    pub fn offsets(self) -> &'static [(isize, isize)] {
         const EIGHT: [(isize, isize); 8] = [
             (-1, 0),
             (1, 0),

@@ -7,6 +7,7 @@
 //! - [`tiled`]: a grid frame's cells stored in tiles only where wanted.
 //! - [`ring`]: point-in-polygon for a ring of points (geo).
 //! - [`soup`]: a triangle soup as parry3d's `TriMesh`.
+//! - [`triangle`]: a triangle's height over a point of its plan.
 //! - `shape`: a neighbourhood's moments and eigen-features (line, plane, volume).
 //! - `normals`, `planes`: PCA normals of k nearest neighbours and planes grown
 //!   on them (the roof check of classification, the roofs of reconstruction).
@@ -23,3 +24,4 @@ pub mod segment;
 pub(crate) mod shape;
 pub mod soup;
 pub mod tiled;
+pub mod triangle;

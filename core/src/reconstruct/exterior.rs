@@ -250,12 +250,7 @@ fn replace_ring(p: &mut Partition, ring: &[u32], f: &[[f64; 2]]) -> bool {
 
 /// Whether two segments of `p`'s chains cross or touch away from a shared vertex.
 fn crosses(p: &Partition) -> bool {
-    let segs: Vec<(u32, u32)> = p
-        .chains
-        .iter()
-        .flat_map(|c| c.verts.windows(2).map(|w| (w[0], w[1])))
-        .filter(|s| s.0 != s.1)
-        .collect();
+    let segs = p.segments();
     let pt = |v: u32| p.verts[v as usize];
     for i in 0..segs.len() {
         for j in i + 1..segs.len() {

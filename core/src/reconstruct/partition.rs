@@ -348,6 +348,15 @@ pub(crate) fn line_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 impl Partition {
+    /// Every segment of every chain, as vertex pairs (zero-length ones left out).
+    pub fn segments(&self) -> Vec<(u32, u32)> {
+        self.chains
+            .iter()
+            .flat_map(|c| c.verts.windows(2).map(|w| (w[0], w[1])))
+            .filter(|s| s.0 != s.1)
+            .collect()
+    }
+
     /// The closed rings bounding `region` with it on the left (outer rings
     /// counter-clockwise, holes clockwise), first vertex not repeated.
     pub fn rings(&self, region: u32) -> Vec<Vec<u32>> {
@@ -397,6 +406,26 @@ impl Partition {
         }
         a * 0.5
     }
+}
+
+#[cfg(test)]
+/// The traced partition of a 10 × 8 m block on a 1 m grid (one empty
+/// cell around it), cell (i, j) labelled by `label`, and each region's label.
+pub(crate) fn block_partition(label: impl Fn(usize, usize) -> u32) -> (Partition, Vec<u32>) {
+    let g = GridFrame {
+        origin: [0.0, 0.0],
+        cell: 1.0,
+        nx: 12,
+        ny: 10,
+    };
+    let mut labels = vec![0u32; 120];
+    for j in 1..9 {
+        for i in 1..11 {
+            labels[j * 12 + i] = label(i, j);
+        }
+    }
+    let (region, code) = regions(&g, &mut labels, 1);
+    (trace(&g, &region, code.len() as u32, 0.3), code)
 }
 
 #[cfg(test)]

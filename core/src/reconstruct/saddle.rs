@@ -198,33 +198,19 @@ fn split_node(p: &mut Partition, node: u32, darts: &[Dart], j: usize) {
 
 #[cfg(test)]
 mod tests {
-    use super::super::partition::{regions, trace};
+    use super::super::partition::block_partition;
     use super::super::solid::{build_shell, outline};
     use super::*;
-    use crate::geom::grid::GridFrame;
 
     /// A 10 × 8 m block on a 1 m grid in four quadrants, two high roofs
     /// touching at the centre corner (6, 5) and two low ones between them.
     fn quadrants() -> (Partition, impl Fn(u32, [f64; 2]) -> f64) {
-        let g = GridFrame {
-            origin: [0.0, 0.0],
-            cell: 1.0,
-            nx: 12,
-            ny: 10,
-        };
-        let mut labels = vec![0u32; 120];
-        for j in 1..9 {
-            for i in 1..11 {
-                labels[j * 12 + i] = match (i < 6, j < 5) {
-                    (true, true) => 1,
-                    (false, true) => 2,
-                    (false, false) => 3,
-                    (true, false) => 4,
-                };
-            }
-        }
-        let (region, code) = regions(&g, &mut labels, 1);
-        let p = trace(&g, &region, code.len() as u32, 0.3);
+        let (p, code) = block_partition(|i, j| match (i < 6, j < 5) {
+            (true, true) => 1,
+            (false, true) => 2,
+            (false, false) => 3,
+            (true, false) => 4,
+        });
         let h = move |r: u32, _: [f64; 2]| match r {
             0 => 0.0,
             r => [8.0, 5.0, 8.3, 5.2][code[r as usize - 1] as usize - 1],

@@ -561,28 +561,8 @@ pub(crate) fn outline(p: &Partition) -> MultiPolygon<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::partition::{regions, trace};
+    use super::super::partition::block_partition as partition;
     use super::*;
-    use crate::geom::grid::GridFrame;
-
-    /// The traced partition of a 10 × 8 m block on a 1 m grid (one empty
-    /// cell around it), cell (i, j) labelled by `label`, and each region's label.
-    fn partition(label: impl Fn(usize, usize) -> u32) -> (Partition, Vec<u32>) {
-        let g = GridFrame {
-            origin: [0.0, 0.0],
-            cell: 1.0,
-            nx: 12,
-            ny: 10,
-        };
-        let mut labels = vec![0u32; 120];
-        for j in 1..9 {
-            for i in 1..11 {
-                labels[j * 12 + i] = label(i, j);
-            }
-        }
-        let (region, code) = regions(&g, &mut labels, 1);
-        (trace(&g, &region, code.len() as u32, 0.3), code)
-    }
 
     /// A 2 m cube whose top corner 4 is given twice, 1e-12 m apart, as
     /// the partition can give a corner; one wall uses the copy.

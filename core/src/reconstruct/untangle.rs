@@ -85,12 +85,7 @@ fn drop_inner(p: &mut Partition, v: u32) -> bool {
 /// shared vertex (or run along each other from one): the segments' four
 /// vertices, and those of them found on or across the other segment.
 pub(crate) fn tangled(p: &Partition) -> Vec<([u32; 4], Vec<u32>)> {
-    let segs: Vec<(u32, u32)> = p
-        .chains
-        .iter()
-        .flat_map(|c| c.verts.windows(2).map(|w| (w[0], w[1])))
-        .filter(|s| s.0 != s.1)
-        .collect();
+    let segs = p.segments();
     let pt = |v: u32| p.verts[v as usize];
     let bbox = |(a, b): (u32, u32)| {
         let (a, b) = (pt(a), pt(b));

@@ -10,6 +10,7 @@
 
 use super::Window;
 use crate::geom::grid::GridFrame;
+use crate::geom::triangle::height_over;
 use crate::scene::MeshPart;
 use crate::scene::terrain::blend_bases;
 
@@ -68,7 +69,7 @@ impl<'a> GroundLookup<'a> {
         let bucket = self.buckets.get(self.frame.clamped_index(x, y))?;
         bucket
             .iter()
-            .filter_map(|&k| height_in(&self.triangles[k], x, y))
+            .filter_map(|&k| height_over(&self.triangles[k], x, y, EPS))
             .max_by(f64::total_cmp)
     }
 }
@@ -83,19 +84,6 @@ fn xy_box(t: &[[f64; 3]; 3]) -> ([f64; 2], [f64; 2]) {
         }
     }
     (lo, hi)
-}
-
-/// The z of triangle `t` above `(x, y)`, when `(x, y)` lies in its xy projection.
-fn height_in(t: &[[f64; 3]; 3], x: f64, y: f64) -> Option<f64> {
-    let [a, b, c] = *t;
-    let det = (b[1] - c[1]) * (a[0] - c[0]) + (c[0] - b[0]) * (a[1] - c[1]);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / det;
-    let l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / det;
-    let l3 = 1.0 - l1 - l2;
-    (l1 >= -EPS && l2 >= -EPS && l3 >= -EPS).then(|| l1 * a[2] + l2 * b[2] + l3 * c[2])
 }
 
 /// The base-height blend of the CityJSON loader at `(x, y)`.
