@@ -218,18 +218,6 @@ mod tests {
         (p, h)
     }
 
-    fn volume(s: &super::super::Shell) -> f64 {
-        s.triangles()
-            .iter()
-            .map(|(t, _)| {
-                let [a, b, c] = *t;
-                (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                    + a[2] * (b[0] * c[1] - b[1] * c[0]))
-                    / 6.0
-            })
-            .sum()
-    }
-
     #[test]
     fn two_high_roofs_touching_at_a_corner_give_a_manifold_solid() {
         let (mut p, h) = quadrants();
@@ -248,7 +236,7 @@ mod tests {
         // (a few cm² at most 3.3 m high).
         assert!((geo::Area::unsigned_area(&outline(&p)) - 80.0).abs() < 1e-9);
         let exact = 20.0 * (8.0 + 5.0 + 8.3 + 5.2);
-        assert!((volume(&after) - exact).abs() < 0.01, "{}", volume(&after));
+        assert!((after.volume() - exact).abs() < 0.01, "{}", after.volume());
         // A node where the heights do not alternate is left alone.
         let (mut q, _) = quadrants();
         let steps = |r: u32, _: [f64; 2]| f64::from(r);

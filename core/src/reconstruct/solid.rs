@@ -249,6 +249,20 @@ impl Shell {
         self.faces = faces;
     }
 
+    /// The enclosed volume, m³ (divergence theorem over the triangles;
+    /// positive for outward faces).
+    pub fn volume(&self) -> f64 {
+        self.triangles()
+            .iter()
+            .map(|(t, _)| {
+                let [a, b, c] = *t;
+                (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                    + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                    / 6.0
+            })
+            .sum()
+    }
+
     /// The faces as triangles with their kind.
     pub fn triangles(&self) -> Vec<([[f64; 3]; 3], SurfaceType)> {
         let mut out = Vec::new();
@@ -684,16 +698,7 @@ mod tests {
         let check = s.check();
         assert!(check.valid(), "{check:?}");
         // Volume by the divergence theorem: gable box 10 × 8 × (8..10) plus the tower.
-        let vol: f64 = s
-            .triangles()
-            .iter()
-            .map(|(t, _)| {
-                let [a, b, c] = *t;
-                (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                    + a[2] * (b[0] * c[1] - b[1] * c[0]))
-                    / 6.0
-            })
-            .sum();
+        let vol = s.volume();
         let gable = 10.0 * 8.0 * 8.0 + 10.0 * 8.0 * 2.0 * 0.5;
         // The tower replaces 3 × 2 m of roof (heights 8.5..9.5 at y 2..4) by 15 m.
         let tower = 3.0 * 2.0 * (15.0 - 9.0);
