@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 
+use super::valley::{Heights, absorb, barrier};
 use crate::geom::grid::{self, GridFrame};
 
 /// The grid never exceeds this many cells (the cell grows instead).
@@ -102,7 +103,7 @@ impl Raster {
     /// Component label per cell (0 = empty), 4-connected; with a step
     /// `cuts.jump > 0`, neighbours across a roof-height step ([`Self::step`])
     /// larger than it are cut apart; with `cuts.valley > 0`, cells in a
-    /// valley between roofs ([`super::valley::barrier`]) join no one until
+    /// valley between roofs ([`barrier`]) join no one until
     /// the parts are formed, then the part nearest them; then parts smaller than
     /// `cuts.min_part_cells` or touching open ground on less than
     /// `cuts.min_open` of their edges are merged into the neighbour they
@@ -111,7 +112,13 @@ impl Raster {
         let (nx, ny) = (self.frame.nx, self.frame.ny);
         let n = nx * ny;
         let mut uf = UnionFind::new(n);
-        let barrier = super::valley::barrier(self, cuts.valley, cuts.valley_dilate);
+        let heights = Heights {
+            nx,
+            ny,
+            filled: &self.filled,
+            top: &self.top,
+        };
+        let barrier = barrier(&heights, cuts.valley, cuts.valley_dilate);
         let joins = |a: usize, b: usize, before: Option<usize>, after: Option<usize>| {
             !barrier[a]
                 && !barrier[b]
@@ -138,7 +145,7 @@ impl Raster {
                 }
             }
         }
-        super::valley::absorb(self, &barrier, &mut uf);
+        absorb(&heights, &barrier, |a, b| uf.union(a, b));
         if cuts.jump > 0.0 || cuts.valley > 0.0 {
             self.merge_small_and_enclosed(&mut uf, cuts);
         }

@@ -5,8 +5,20 @@
 
 use std::collections::VecDeque;
 
-use super::raster::{Raster, UnionFind};
 use crate::geom::grid;
+
+/// The occupancy raster the valley test reads: `nx × ny` cells, row-major,
+/// whether each holds points and its highest point, m.
+pub struct Heights<'a> {
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+    /// Whether each cell holds points.
+    pub filled: &'a [bool],
+    /// Each cell's highest point, m.
+    pub top: &'a [f32],
+}
 
 /// Cells on either side that the valley test looks at: a gutter between
 /// two cells has its roofs rising only from the second cell out.
@@ -16,8 +28,8 @@ const SPAN: usize = 2;
 /// occupied cells `SPAN` away on both sides along x or along y, then grown
 /// by `dilate` cells (a square) to bridge gaps in a noisy gutter line.
 /// Empty when `depth` ≤ 0.
-pub fn barrier(r: &Raster, depth: f64, dilate: usize) -> Vec<bool> {
-    let (nx, ny) = (r.frame.nx, r.frame.ny);
+pub fn barrier(r: &Heights, depth: f64, dilate: usize) -> Vec<bool> {
+    let (nx, ny) = (r.nx, r.ny);
     let mut out = vec![false; nx * ny];
     if depth <= 0.0 {
         return out;
@@ -37,7 +49,7 @@ pub fn barrier(r: &Raster, depth: f64, dilate: usize) -> Vec<bool> {
     }
     if dilate > 0 {
         out = grid::square_filter(&out, nx, ny, dilate, true);
-        for (b, f) in out.iter_mut().zip(&r.filled) {
+        for (b, f) in out.iter_mut().zip(r.filled) {
             *b &= *f;
         }
     }
@@ -45,9 +57,10 @@ pub fn barrier(r: &Raster, depth: f64, dilate: usize) -> Vec<bool> {
 }
 
 /// Joins each barrier cell to the part nearest it (breadth first from the
-/// parts' cells, 4-connected); barrier cells no part reaches join each other.
-pub fn absorb(r: &Raster, barrier: &[bool], uf: &mut UnionFind) {
-    let nx = r.frame.nx;
+/// parts' cells, 4-connected); barrier cells no part reaches join each
+/// other. `join(a, b)` puts cells `a` and `b` in one part.
+pub fn absorb(r: &Heights, barrier: &[bool], mut join: impl FnMut(usize, usize)) {
+    let nx = r.nx;
     let mut done: Vec<bool> = barrier.iter().map(|b| !b).collect();
     let mut queue: VecDeque<usize> = (0..barrier.len())
         .filter(|&k| r.filled[k] && !barrier[k])
@@ -56,7 +69,7 @@ pub fn absorb(r: &Raster, barrier: &[bool], uf: &mut UnionFind) {
         for n in neighbours(k, nx, barrier.len()) {
             if r.filled[n] && !done[n] {
                 done[n] = true;
-                uf.union(k, n);
+                join(k, n);
                 queue.push_back(n);
             }
         }
@@ -64,7 +77,7 @@ pub fn absorb(r: &Raster, barrier: &[bool], uf: &mut UnionFind) {
     for k in (0..barrier.len()).filter(|&k| !done[k] && r.filled[k]) {
         for n in neighbours(k, nx, barrier.len()) {
             if !done[n] && r.filled[n] {
-                uf.union(k, n);
+                join(k, n);
             }
         }
     }
