@@ -44,8 +44,9 @@ pub struct ReconstructArgs {
     /// Spacing of the surface samples for the accuracy measures, m.
     #[arg(long, default_value_t = 0.25)]
     pub gt_spacing: f32,
-    /// Reconstruction parameters as JSON (any of `ReconstructParams`' fields;
-    /// the rest keep their defaults).
+    /// Reconstruction parameters: a JSON object, inline (`'{"min_region_m2":3}'`)
+    /// or a file holding one (any of `ReconstructParams`' fields; the rest
+    /// keep their defaults).
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Print the result as JSON on stdout.
@@ -53,13 +54,19 @@ pub struct ReconstructArgs {
     pub json: bool,
 }
 
-/// Reads `--params`: a JSON object of reconstruction parameters.
+/// Reads `--params`: a JSON object of reconstruction parameters, given
+/// inline (it starts with `{`) or in a file.
 fn read_params(path: Option<&Path>) -> Result<ReconstructParams, RuntimeError> {
     let Some(p) = path else {
         return Ok(ReconstructParams::default());
     };
     let bad = |e: &dyn std::fmt::Display| err(format!("--params {}: {e}", p.display()));
-    let text = std::fs::read_to_string(p).map_err(|e| bad(&e))?;
+    let given = p.to_string_lossy();
+    let text = if given.trim_start().starts_with('{') {
+        given.into_owned()
+    } else {
+        std::fs::read_to_string(p).map_err(|e| bad(&e))?
+    };
     let params: ReconstructParams = serde_json::from_str(&text).map_err(|e| bad(&e))?;
     params.validate().map_err(|e| bad(&e))?;
     Ok(params)
@@ -424,4 +431,22 @@ pub fn write_picture(
         .and_then(|c| c.save(path))
         .map_err(err)?;
     Ok(chosen)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn params_inline_or_in_a_file_and_a_bad_value_named() {
+        let inline = read_params(Some(Path::new(r#"{"min_region_m2": 3.0}"#))).unwrap();
+        assert_eq!(inline.min_region_m2, 3.0);
+        let f = std::env::temp_dir().join(format!("skyground_params_{}.json", std::process::id()));
+        std::fs::write(&f, r#"{"min_plane_points": 30}"#).unwrap();
+        let from_file = read_params(Some(&f)).unwrap();
+        let _ = std::fs::remove_file(&f);
+        assert_eq!(from_file.min_plane_points, 30);
+        let e = read_params(Some(Path::new(r#"{"min_region_m2": -1}"#))).unwrap_err();
+        assert!(e.to_string().contains("min_region_m2"), "{e}");
+    }
 }
