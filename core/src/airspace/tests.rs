@@ -3,28 +3,8 @@
 use geo::{MultiPolygon, polygon};
 
 use super::*;
-use crate::cloud::{Cloud, class};
-
-/// A prior of a 10 m cube at 20..30 × 20..30 on 0..60 m of ground, points
-/// 0.5 m apart, roof and walls labelled building.
-fn cube_prior() -> Cloud {
-    let (mut xyz, mut label) = (Vec::new(), Vec::new());
-    for i in 0..120 {
-        for j in 0..120 {
-            let (x, y) = (i as f32 * 0.5 + 0.25, j as f32 * 0.5 + 0.25);
-            let inside = (20.0..30.0).contains(&x) && (20.0..30.0).contains(&y);
-            xyz.push([x, y, if inside { 10.0 } else { 0.0 }]);
-            label.push(if inside {
-                class::BUILDING
-            } else {
-                class::GROUND
-            });
-        }
-    }
-    let mut c = Cloud::from_xyz(xyz);
-    c.label = Some(label);
-    c
-}
+use crate::cloud::Cloud;
+use crate::geom::fixtures::cube_prior;
 
 fn airspace() -> Airspace {
     Airspace::from_prior(

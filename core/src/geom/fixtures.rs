@@ -70,3 +70,38 @@ pub(crate) const BOX_FACES: [[usize; 4]; 6] = [
     [2, 3, 7, 6],
     [3, 0, 4, 7],
 ];
+
+/// The aerial prior of a 10 m cube at 20..30 × 20..30 m on 0..60 m of open
+/// ground: points 0.5 m apart, the roof labelled building, the rest ground.
+pub(crate) fn cube_prior() -> crate::cloud::Cloud {
+    use crate::cloud::class;
+    let xyz = lattice(120, 120, 0.5, |x, y| {
+        if on_cube(x + 0.25, y + 0.25) {
+            10.0
+        } else {
+            0.0
+        }
+    });
+    let xyz: Vec<[f32; 3]> = xyz
+        .into_iter()
+        .map(|[x, y, z]| [x + 0.25, y + 0.25, z])
+        .collect();
+    let label = xyz
+        .iter()
+        .map(|p| {
+            if on_cube(p[0], p[1]) {
+                class::BUILDING
+            } else {
+                class::GROUND
+            }
+        })
+        .collect();
+    let mut c = crate::cloud::Cloud::from_xyz(xyz);
+    c.label = Some(label);
+    c
+}
+
+/// Whether `(x, y)` lies on [`cube_prior`]'s roof.
+fn on_cube(x: f32, y: f32) -> bool {
+    (20.0..30.0).contains(&x) && (20.0..30.0).contains(&y)
+}

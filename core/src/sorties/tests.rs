@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::airspace::AirspaceRules;
-use crate::cloud::{Cloud, class};
+use crate::geom::fixtures::cube_prior;
 use crate::lidar::synthetic::boxes_on_plane;
 use crate::lidar::{Caster, scan};
 use crate::vehicle::multirotor::{FlightStep, Multirotor, SceneBody, mid360_like};
@@ -10,22 +10,6 @@ use crate::vehicle::multirotor::{FlightStep, Multirotor, SceneBody, mid360_like}
 const DT: f32 = 0.05;
 /// The pad, on the ground south-west of the cube.
 const PAD: [f32; 3] = [5.0, 5.0, 0.0];
-
-/// The prior over 0..60 m: ground, and the roof of the cube at 20..30 × 20..30.
-fn prior() -> Cloud {
-    let (mut xyz, mut label) = (Vec::new(), Vec::new());
-    for i in 0..120 {
-        for j in 0..120 {
-            let (x, y) = (i as f32 * 0.5 + 0.25, j as f32 * 0.5 + 0.25);
-            let roof = (20.0..30.0).contains(&x) && (20.0..30.0).contains(&y);
-            xyz.push([x, y, if roof { 10.0 } else { 0.0 }]);
-            label.push(if roof { class::BUILDING } else { class::GROUND });
-        }
-    }
-    let mut c = Cloud::from_xyz(xyz);
-    c.label = Some(label);
-    c
-}
 
 /// Gaps on all four walls, every metre at 2, 5 and 8 m, normals outward.
 fn gaps() -> Vec<MissingPoint> {
@@ -53,7 +37,7 @@ fn gaps() -> Vec<MissingPoint> {
 
 fn airspace(cfg: &MultirotorConfig) -> Airspace {
     let home = [PAD[0], PAD[1], PAD[2] + cfg.radius + 0.1];
-    Airspace::from_prior(&prior(), AirspaceRules::default(), cfg.radius, home).unwrap()
+    Airspace::from_prior(&cube_prior(), AirspaceRules::default(), cfg.radius, home).unwrap()
 }
 
 #[test]

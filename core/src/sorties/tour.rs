@@ -63,6 +63,46 @@ fn segment_s(cfg: &MultirotorConfig, a: [f32; 3], b: [f32; 3]) -> f32 {
     h.max(v)
 }
 
+/// Every leg a tour may take, found once: from home to each viewpoint,
+/// back, and between every two (`None`: no leg the airspace allows).
+struct Legs {
+    out: Vec<Option<(Vec<[f32; 3]>, f32)>>,
+    back: Vec<Option<(Vec<[f32; 3]>, f32)>>,
+    between: Vec<Option<(Vec<[f32; 3]>, f32)>>,
+}
+
+impl Legs {
+    fn new(airspace: &Airspace, cfg: &MultirotorConfig, viewpoints: &[[f32; 3]]) -> Self {
+        let (home, n) = (airspace.home(), viewpoints.len());
+        let leg = |a, b| leg(airspace, cfg, a, b);
+        Self {
+            out: viewpoints.iter().map(|&v| leg(home, v)).collect(),
+            back: viewpoints.iter().map(|&v| leg(v, home)).collect(),
+            between: (0..n * n)
+                .map(|k| leg(viewpoints[k / n], viewpoints[k % n]))
+                .collect(),
+        }
+    }
+
+    /// The leg from `a` (`None`: home) to viewpoint `b`.
+    fn to(&self, a: Option<usize>, b: usize) -> Option<&(Vec<[f32; 3]>, f32)> {
+        match a {
+            None => self.out[b].as_ref(),
+            Some(a) => self.between[a * self.out.len() + b].as_ref(),
+        }
+    }
+
+    /// Flight time of that leg, s (infinite without one).
+    fn time(&self, a: Option<usize>, b: usize) -> f32 {
+        self.to(a, b).map_or(f32::INFINITY, |l| l.1)
+    }
+
+    /// Flight time from viewpoint `v` home, s (infinite without a leg).
+    fn home_time(&self, v: usize) -> f32 {
+        self.back[v].as_ref().map_or(f32::INFINITY, |l| l.1)
+    }
+}
+
 /// Sorties visiting `viewpoints` from the airspace's home: one TSP tour
 /// (times as costs), cut where the next viewpoint and the way home would
 /// exceed a sortie's flight time. Returns the sorties and the viewpoints
@@ -75,55 +115,53 @@ pub fn sorties(
 ) -> (Vec<Sortie>, Vec<usize>) {
     let home = airspace.home();
     let n = viewpoints.len();
-    let time = |a: [f32; 3], b: [f32; 3]| leg(airspace, cfg, a, b).map_or(f32::INFINITY, |l| l.1);
+    let legs = Legs::new(airspace, cfg, viewpoints);
     let costs = Costs {
-        start: viewpoints.iter().map(|&v| time(home, v)).collect(),
-        between: (0..n * n)
-            .map(|k| time(viewpoints[k / n], viewpoints[k % n]))
-            .collect(),
+        start: (0..n).map(|v| legs.time(None, v)).collect(),
+        between: (0..n * n).map(|k| legs.time(Some(k / n), k % n)).collect(),
     };
-    let order = tsp(&costs, TSP_PASSES);
     let budget = cfg.sortie_s();
     let (mut out, mut unreachable) = (Vec::new(), Vec::new());
-    let mut cur: Option<Sortie> = None;
-    for v in order {
-        let out_and_back = costs.start[v] + hover_s + time(viewpoints[v], home);
+    // The sortie being flown and the last viewpoint it visits.
+    let mut cur: Option<(Sortie, usize)> = None;
+    for v in tsp(&costs, TSP_PASSES) {
+        let out_and_back = legs.time(None, v) + hover_s + legs.home_time(v);
         if !out_and_back.is_finite() || out_and_back > budget {
             unreachable.push(v);
             continue;
         }
-        if let Some(s) = cur.as_mut() {
-            let last = *s.path.last().unwrap_or(&home);
-            if let Some((ways, t)) = leg(airspace, cfg, last, viewpoints[v])
-                && s.flight_s + t + hover_s + time(viewpoints[v], home) <= budget
+        if let Some((s, last)) = cur.as_mut() {
+            if let Some((ways, t)) = legs.to(Some(*last), v)
+                && s.flight_s + t + hover_s + legs.home_time(v) <= budget
             {
                 s.path.extend(ways);
                 s.viewpoints.push(v);
                 s.flight_s += t + hover_s;
+                *last = v;
                 continue;
             }
-            out.extend(cur.take().map(|s| close(airspace, cfg, s)));
+            out.extend(cur.take().map(|(s, last)| close(&legs, s, last)));
         }
-        let Some((ways, t)) = leg(airspace, cfg, home, viewpoints[v]) else {
-            unreachable.push(v);
+        // Reachable out and back (checked above), so the leg out exists.
+        let Some((ways, t)) = legs.to(None, v) else {
             continue;
         };
         let mut path = vec![home];
         path.extend(ways);
-        cur = Some(Sortie {
+        let s = Sortie {
             path,
             viewpoints: vec![v],
             flight_s: t + hover_s,
-        });
+        };
+        cur = Some((s, v));
     }
-    out.extend(cur.map(|s| close(airspace, cfg, s)));
+    out.extend(cur.map(|(s, last)| close(&legs, s, last)));
     (out, unreachable)
 }
 
-/// The sortie with its way home.
-fn close(airspace: &Airspace, cfg: &MultirotorConfig, mut s: Sortie) -> Sortie {
-    let last = *s.path.last().unwrap_or(&airspace.home());
-    if let Some((ways, t)) = leg(airspace, cfg, last, airspace.home()) {
+/// The sortie with its way home from its `last` viewpoint.
+fn close(legs: &Legs, mut s: Sortie, last: usize) -> Sortie {
+    if let Some((ways, t)) = &legs.back[last] {
         s.path.extend(ways);
         s.flight_s += t;
     }
