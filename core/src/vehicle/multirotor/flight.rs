@@ -7,6 +7,8 @@
 use std::collections::VecDeque;
 use std::f32::consts::PI;
 
+use nalgebra::Vector3;
+
 use super::body::SceneBody;
 use super::config::MultirotorConfig;
 use crate::lidar::Pose;
@@ -107,7 +109,8 @@ impl Multirotor {
 
     /// Whether it stands on its home pad.
     pub fn on_pad(&self) -> bool {
-        !self.state.airborne && dist(self.state.position, self.home) <= self.config.goal_tolerance
+        !self.state.airborne
+            && (v3(self.state.position) - v3(self.home)).norm() <= self.config.goal_tolerance
     }
 
     /// A fresh battery, on the home pad only (`false` elsewhere).
@@ -144,23 +147,25 @@ impl Multirotor {
         let Some(goal) = self.goal() else {
             return self.hover(dt);
         };
-        let to_goal = sub(goal, self.state.position);
+        let to_goal = v3(goal) - v3(self.state.position);
         let last = self.goals.len() == 1;
-        let speed = norm(self.state.velocity);
+        let speed = v3(self.state.velocity).norm();
         // The last way-point is reached at a stop: slow enough to halt within one step.
         let halted = speed <= self.config.max_accel * dt;
-        if norm(to_goal) <= self.config.goal_tolerance && (!last || halted) {
+        if to_goal.norm() <= self.config.goal_tolerance && (!last || halted) {
             self.goals.pop_front();
             if last {
                 self.state.velocity = [0.0; 3];
             }
-            if self.goals.is_empty() && dist(goal, self.home) <= self.config.goal_tolerance {
+            if self.goals.is_empty()
+                && (v3(goal) - v3(self.home)).norm() <= self.config.goal_tolerance
+            {
                 self.state.airborne = false;
             }
             return FlightStep::Arrived(goal);
         }
         let velocity = self.next_velocity(to_goal, last, dt);
-        let next = add(self.state.position, scale(velocity, dt));
+        let next: [f32; 3] = (v3(self.state.position) + velocity * dt).into();
         let clearance = body.clearance(next);
         if clearance < self.config.radius {
             self.goals.pop_front();
@@ -176,9 +181,9 @@ impl Multirotor {
             self.sorties += 1;
         }
         self.turn(velocity, dt);
-        self.state.odometer += norm(sub(next, self.state.position));
+        self.state.odometer += (v3(next) - v3(self.state.position)).norm();
         self.state.position = next;
-        self.state.velocity = velocity;
+        self.state.velocity = velocity.into();
         self.state.flight_s += dt;
         FlightStep::Moving
     }
@@ -186,10 +191,10 @@ impl Multirotor {
     /// Slows to a hover (in the air) or stays put (on a pad).
     fn hover(&mut self, dt: f32) -> FlightStep {
         if self.state.airborne {
-            let v = self.state.velocity;
-            let dv = clamp_norm(scale(v, -1.0), self.config.max_accel * dt);
-            self.state.velocity = add(v, dv);
-            self.state.position = add(self.state.position, scale(self.state.velocity, dt));
+            let v = v3(self.state.velocity);
+            let slower = v - (v).cap_magnitude(self.config.max_accel * dt);
+            self.state.velocity = slower.into();
+            self.state.position = (v3(self.state.position) + slower * dt).into();
             self.state.flight_s += dt;
         }
         FlightStep::Idle
@@ -197,19 +202,16 @@ impl Multirotor {
 
     /// The velocity after `dt`: towards the goal, slowing to stop on the
     /// last way-point, within every limit.
-    fn next_velocity(&self, to_goal: [f32; 3], last: bool, dt: f32) -> [f32; 3] {
+    fn next_velocity(&self, to_goal: Vector3<f32>, last: bool, dt: f32) -> Vector3<f32> {
         let c = &self.config;
-        let d = norm(to_goal);
+        let d = to_goal.norm();
         let cruise = if last {
             // The speed from which it stops within the distance left.
             (2.0 * c.max_accel * d).sqrt() * 0.9
         } else {
             f32::INFINITY
         };
-        let mut want = scale(
-            to_goal,
-            cruise.min(c.max_speed.max(c.max_climb)) / d.max(1e-6),
-        );
+        let mut want = to_goal * (cruise.min(c.max_speed.max(c.max_climb)) / d.max(1e-6));
         let horizontal = want[0].hypot(want[1]);
         let vertical_limit = if want[2] > 0.0 {
             c.max_climb
@@ -223,13 +225,13 @@ impl Multirotor {
         if want[2].abs() > vertical_limit {
             f = f.min(vertical_limit / want[2].abs());
         }
-        want = scale(want, f);
-        let dv = clamp_norm(sub(want, self.state.velocity), c.max_accel * dt);
-        add(self.state.velocity, dv)
+        want *= f;
+        let now = v3(self.state.velocity);
+        now + (want - now).cap_magnitude(c.max_accel * dt)
     }
 
     /// Turns the heading towards the horizontal velocity within the yaw-rate limit.
-    fn turn(&mut self, velocity: [f32; 3], dt: f32) {
+    fn turn(&mut self, velocity: Vector3<f32>, dt: f32) {
         if velocity[0].hypot(velocity[1]) < HOVER_SPEED {
             return;
         }
@@ -246,28 +248,7 @@ impl Multirotor {
     }
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn scale(a: [f32; 3], s: f32) -> [f32; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-fn norm(a: [f32; 3]) -> f32 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
-    norm(sub(a, b))
-}
-
-/// `a` shortened to at most `max` long.
-fn clamp_norm(a: [f32; 3], max: f32) -> [f32; 3] {
-    let n = norm(a);
-    if n > max { scale(a, max / n) } else { a }
+/// `p` as a nalgebra vector.
+fn v3(p: [f32; 3]) -> Vector3<f32> {
+    Vector3::from(p)
 }
