@@ -36,9 +36,11 @@ pub struct Airspace {
     rules: AirspaceRules,
     body_radius: f32,
     home: [f32; 3],
-    grid: GridFrame,
-    top: Vec<f32>,
-    building: Vec<bool>,
+    pub(super) grid: GridFrame,
+    pub(super) top: Vec<f32>,
+    pub(super) building: Vec<bool>,
+    /// Per cell, the lowest ground point (NaN where the survey saw none).
+    pub(super) ground: Vec<f32>,
     /// Per cell, the lowest height the body centre may be at: the prior's
     /// solid grown by the distances kept (see [`floor`]).
     floor: Vec<f32>,
@@ -73,6 +75,7 @@ impl Airspace {
         let grid = GridFrame::covering(lo, hi, f64::from(rules.cell_m), 0);
         let mut top = vec![f32::NAN; grid.len()];
         let mut building = vec![false; grid.len()];
+        let mut ground = vec![f32::NAN; grid.len()];
         let mut floor = f32::INFINITY;
         for &k in &kept {
             let p = prior.xyz[k];
@@ -83,6 +86,11 @@ impl Airspace {
             let label = prior.label.as_ref().map_or(class::UNCLASSIFIED, |l| l[k]);
             if label == class::GROUND {
                 floor = floor.min(p[2]);
+                ground[c] = if ground[c].is_nan() {
+                    p[2]
+                } else {
+                    ground[c].min(p[2])
+                };
             }
             if top[c].is_nan() || p[2] > top[c] {
                 top[c] = p[2];
@@ -107,6 +115,7 @@ impl Airspace {
             grid,
             top,
             building,
+            ground,
             floor,
             fence: None,
         })

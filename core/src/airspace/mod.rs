@@ -4,12 +4,15 @@
 //! ceiling above take-off, a minimum distance to buildings, a margin beyond
 //! the body radius from everything else and an optional geofence (`rules`).
 //! A position or a plan that breaks one is refused with the reason
-//! (`violation`). ROS-free.
+//! (`violation`). `ground`: the ground the robot can drive to, for the
+//! choice of platform. ROS-free.
 
+mod ground;
 mod map;
 mod rules;
 mod violation;
 
+pub use ground::GroundReach;
 pub use map::{Airspace, AirspaceError};
 pub use rules::{AirspaceRules, Geofence};
 pub use violation::{Obstacle, Refusal, Violation};

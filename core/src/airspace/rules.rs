@@ -17,7 +17,9 @@ pub struct AirspaceRules {
     /// Nearest a plan may come to a building (facade or roof), m.
     pub facade_min_m: f32,
     /// Kept beyond the body radius from everything else (ground, trees,
-    /// anything the prior holds), m.
+    /// anything the prior holds), m: a crown's edge is thinly sampled from
+    /// above, so 2 m (in the reference mission 0.5 m let the body brush 95
+    /// crowns and walls the prior under-drew).
     pub margin_m: f32,
     /// Edge of the height-map cells built from the prior, m.
     pub cell_m: f32,
@@ -28,7 +30,7 @@ impl Default for AirspaceRules {
         Self {
             ceiling_m: 120.0,
             facade_min_m: 3.0,
-            margin_m: 0.5,
+            margin_m: 2.0,
             cell_m: 0.5,
         }
     }

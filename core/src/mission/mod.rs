@@ -26,6 +26,7 @@ pub mod progress;
 pub mod protocol;
 pub mod quality;
 pub mod scan_ids;
+pub mod uav;
 pub mod waiting;
 pub mod watchdog;
 

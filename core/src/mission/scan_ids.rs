@@ -12,6 +12,26 @@ use std::path::{Path, PathBuf};
 
 use crate::file::FileError;
 
+/// A platform's scans carry its index in the id's top byte (the ground
+/// robot 0, the drone 1): two vehicles may stamp a scan at the same robot
+/// time, and stamps stay below 2^56 ns (2.28 years).
+const PLATFORM_SHIFT: u32 = 56;
+
+/// `id` marked as platform `platform`'s.
+pub fn tagged(id: u64, platform: u8) -> u64 {
+    id | (u64::from(platform) << PLATFORM_SHIFT)
+}
+
+/// The platform index an id carries.
+pub fn platform(id: u64) -> u8 {
+    (id >> PLATFORM_SHIFT) as u8
+}
+
+/// The id without its platform: the stamp's.
+pub fn untagged(id: u64) -> u64 {
+    id & ((1 << PLATFORM_SHIFT) - 1)
+}
+
 /// The id of a scan stamped `sec`, `nanosec` (negative stamps wrap, still unique).
 pub fn id(sec: i32, nanosec: u32) -> u64 {
     (i64::from(sec) * 1_000_000_000 + i64::from(nanosec)) as u64
@@ -125,6 +145,16 @@ pub fn check(sent: &[u64], merged: &[u64], cap: usize) -> IdCheck {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_drone_scan_stamped_as_a_ground_scan_has_another_id_that_reads_back() {
+        let stamp = id(41, 500_000_000);
+        let uav = tagged(stamp, 1);
+        assert_ne!(uav, stamp);
+        assert_eq!((platform(uav), platform(stamp)), (1, 0));
+        assert_eq!(untagged(uav), stamp);
+        assert_eq!(parse(&format(uav)), Some(uav));
+    }
 
     #[test]
     fn ids_read_as_stamps_and_back() {

@@ -110,6 +110,12 @@ impl WorkLimit {
         self.deadline_s
     }
 
+    /// Moves the deadline to `s` seconds after the start, if that is later
+    /// (other work, a drone's sorties, runs beside the route).
+    pub fn at_least(&mut self, s: f64) {
+        self.deadline_s = self.deadline_s.max(s);
+    }
+
     /// Takes in the planner's route at `now_s`; returns the budget given
     /// when it is a new route (the deadline then is at least `now_s` + its wall time).
     pub fn follow(

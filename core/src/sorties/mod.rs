@@ -5,18 +5,22 @@
 //! does for ground stops), and sorties: a TSP tour of the viewpoints from
 //! home, cut so each sortie comes home within the battery. ROS-free.
 
+mod assign;
 mod params;
 mod tour;
 mod viewpoints;
 
+pub use assign::{GroundView, for_the_drone};
 pub use params::SortieParams;
 pub use tour::{Sortie, leg, sorties};
 pub use viewpoints::{candidates, cover, sees};
 
 use serde::{Deserialize, Serialize};
 
-use crate::airspace::Airspace;
+use crate::airspace::{Airspace, AirspaceError, AirspaceRules};
+use crate::cloud::Cloud;
 use crate::missing::MissingPoint;
+use crate::mission::uav::UavPlan;
 use crate::params::ParamError;
 use crate::vehicle::multirotor::MultirotorConfig;
 
@@ -53,6 +57,40 @@ pub fn plan(
         unreachable,
         seen,
     })
+}
+
+/// The drone's share of a detection: the airspace over `prior` with the
+/// drone standing at `home`, the gaps no ground stop reached from
+/// `ground_start` sees, and the sorties that see them; `UavPlan` counts it.
+pub fn for_detection(
+    prior: &Cloud,
+    missing: &[MissingPoint],
+    (home, ground_start): ([f32; 3], [f32; 2]),
+    (cfg, rules): (&MultirotorConfig, &AirspaceRules),
+    (p, view): (&SortieParams, &GroundView),
+) -> Result<(SortiePlan, UavPlan), AirspaceError> {
+    view.validate()?;
+    let airspace = Airspace::from_prior(prior, *rules, cfg.radius, home)?;
+    let reach = airspace.ground_reach(ground_start, view.max_step_m);
+    let drone = for_the_drone(missing, &airspace, &reach, view);
+    let theirs: Vec<MissingPoint> = missing
+        .iter()
+        .zip(&drone)
+        .filter(|&(_, &d)| d)
+        .map(|(m, _)| *m)
+        .collect();
+    let plan = plan(&theirs, &airspace, cfg, p)?;
+    let counts = UavPlan {
+        gaps: missing.len() as u32,
+        drone_gaps: theirs.len() as u32,
+        seen: plan.seen.iter().filter(|&&s| s).count() as u32,
+        viewpoints: plan.viewpoints.len() as u32,
+        sorties: plan.sorties.len() as u32,
+        unreachable: plan.unreachable.len() as u32,
+        flight_s: plan.sorties.iter().map(|s| f64::from(s.flight_s)).sum(),
+        refused: String::new(),
+    };
+    Ok((plan, counts))
 }
 
 #[cfg(test)]

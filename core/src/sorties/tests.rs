@@ -5,7 +5,7 @@ use crate::airspace::AirspaceRules;
 use crate::geom::fixtures::cube_prior;
 use crate::lidar::synthetic::boxes_on_plane;
 use crate::lidar::{Caster, scan};
-use crate::vehicle::multirotor::{FlightStep, Multirotor, SceneBody, mid360_like};
+use crate::vehicle::multirotor::{FlightStep, Multirotor, SceneBody, SortieQueue, mid360_like};
 
 const DT: f32 = 0.05;
 /// The pad, on the ground south-west of the cube.
@@ -128,4 +128,130 @@ fn flown_in_the_simulation_its_scans_cover_the_gaps_without_touching_anything() 
         "{covered} of {}",
         missing.len()
     );
+}
+
+/// A 20 m square block, 10 m high, round a closed 10 m courtyard.
+fn courtyard_prior() -> crate::cloud::Cloud {
+    use crate::cloud::class;
+    let block = |x: f32, y: f32| (20.0..40.0).contains(&x) && (20.0..40.0).contains(&y);
+    let court = |x: f32, y: f32| (25.0..35.0).contains(&x) && (25.0..35.0).contains(&y);
+    let mut xyz = Vec::new();
+    let mut label = Vec::new();
+    for j in 0..120 {
+        for i in 0..120 {
+            let (x, y) = (i as f32 * 0.5 + 0.25, j as f32 * 0.5 + 0.25);
+            let roof = block(x, y) && !court(x, y);
+            xyz.push([x, y, if roof { 10.0 } else { 0.0 }]);
+            label.push(if roof { class::BUILDING } else { class::GROUND });
+        }
+    }
+    let mut c = crate::cloud::Cloud::from_xyz(xyz);
+    c.label = Some(label);
+    c
+}
+
+fn gap(xyz: [f32; 3], normal: [f32; 2]) -> MissingPoint {
+    MissingPoint {
+        xyz,
+        building: 1,
+        normal,
+        skeleton: [30.0, 30.0],
+    }
+}
+
+#[test]
+fn the_drone_takes_upper_storeys_and_closed_courtyards_the_ground_robot_the_rest() {
+    let cfg = MultirotorConfig::default();
+    let home = [5.0, 5.0, cfg.radius + 0.1];
+    let a = Airspace::from_prior(
+        &courtyard_prior(),
+        AirspaceRules::default(),
+        cfg.radius,
+        home,
+    )
+    .unwrap();
+    let reach = a.ground_reach([5.0, 5.0], 0.3);
+    assert!(reach.count() > 10_000, "the open ground round the block");
+    assert!(
+        !a.can_stand(&reach, 30.0, 30.0),
+        "the courtyard is joined to nothing"
+    );
+    let missing = [
+        gap([30.0, 20.0, 3.0], [0.0, -1.0]), // outer wall, low: a ground stop sees it
+        gap([30.0, 20.0, 9.5], [0.0, -1.0]), // outer wall, top storey: over the ±15° beams within 20 m
+        gap([30.0, 25.0, 3.0], [0.0, 1.0]),  // courtyard wall, low: no ground reaches it
+        gap([20.0, 30.0, 6.0], [-1.0, 0.0]), // west wall at 6 m: seen from 16 m out
+    ];
+    let drone = for_the_drone(&missing, &a, &reach, &GroundView::default());
+    assert_eq!(drone, vec![false, true, true, false]);
+    // With the whole block open to the robot (no courtyard walls), the court's gap is the ground's.
+    let open = a.ground_reach([30.0, 30.0], 0.3);
+    let from_court = for_the_drone(&missing[2..3], &a, &open, &GroundView::default());
+    assert_eq!(from_court, vec![false]);
+}
+
+#[test]
+fn a_path_of_sorties_is_flown_one_battery_each_and_ends_home() {
+    let cfg = MultirotorConfig {
+        battery_s: 60.0,
+        reserve_s: 15.0,
+        ..MultirotorConfig::default()
+    };
+    let a = airspace(&cfg);
+    let plan = plan(&gaps(), &a, &cfg, &SortieParams::default()).unwrap();
+    assert!(plan.sorties.len() >= 2);
+    let path: Vec<[f32; 3]> = plan.sorties.iter().flat_map(|s| s.path.clone()).collect();
+    let scene = boxes_on_plane(70.0, &[([20.0, 20.0, 0.0], [30.0, 30.0, 10.0])]);
+    let body = SceneBody::new(&scene);
+    let mut m = Multirotor::new(cfg.clone(), PAD, 0.0);
+    let mut q = SortieQueue::default();
+    q.push_path(a.home(), &path, cfg.goal_tolerance);
+    assert_eq!(q.waiting(), plan.sorties.len());
+    for _ in 0..200_000 {
+        let step = q.step(&mut m, DT, &body);
+        assert!(
+            !matches!(step, FlightStep::BatteryEmpty | FlightStep::Blocked { .. }),
+            "{step:?}"
+        );
+        if q.done(&m) {
+            break;
+        }
+    }
+    assert!(q.done(&m) && m.on_pad());
+    assert_eq!(q.begun as usize, plan.sorties.len());
+    assert_eq!(
+        m.sorties as usize,
+        plan.sorties.len(),
+        "took off once per sortie"
+    );
+}
+
+#[test]
+fn a_sortie_blocked_by_what_the_prior_did_not_show_is_cut_short_and_comes_home() {
+    let cfg = MultirotorConfig::default();
+    let a = airspace(&cfg);
+    let plan = plan(&gaps(), &a, &cfg, &SortieParams::default()).unwrap();
+    // A mast the survey missed, 14 m high, on the first leg's way.
+    let first = plan.viewpoints[plan.sorties[0].viewpoints[0]];
+    let mid = [(PAD[0] + first[0]) / 2.0, (PAD[1] + first[1]) / 2.0];
+    let mast = (
+        [mid[0] - 0.5, mid[1] - 0.5, 0.0],
+        [mid[0] + 0.5, mid[1] + 0.5, 14.0],
+    );
+    let scene = boxes_on_plane(70.0, &[([20.0, 20.0, 0.0], [30.0, 30.0, 10.0]), mast]);
+    let body = SceneBody::new(&scene);
+    let mut m = Multirotor::new(cfg, PAD, 0.0);
+    let mut q = SortieQueue::new(20.0);
+    q.push_path(a.home(), &plan.sorties[0].path, cfg.goal_tolerance);
+    let mut closest = f32::INFINITY;
+    for _ in 0..100_000 {
+        q.step(&mut m, DT, &body);
+        closest = closest.min(body.clearance(m.state.position));
+        if q.done(&m) {
+            break;
+        }
+    }
+    assert!(q.cut >= 1, "the mast blocked a leg");
+    assert!(m.on_pad(), "home after the cut: {:?}", m.state.position);
+    assert!(closest >= cfg.radius, "closest approach {closest}");
 }

@@ -65,14 +65,15 @@ pub fn odometry(header: Header, child: &str, s: &VehicleState) -> Odometry {
 }
 
 /// Reads Paths from every topic of `topics` into `tx` (as their points); a
-/// latched route (/global_path) is read as latched, legs as they come.
+/// latched route (/global_path, /uav/global_path) is read as latched, legs
+/// as they come.
 pub fn read_paths(
     rt: &mut NodeRuntime,
     topics: &[String],
     tx: &mpsc::Sender<Vec<[f32; 3]>>,
 ) -> Result<(), RuntimeError> {
     for topic in topics {
-        let q = if topic == "/global_path" {
+        let q = if topic.ends_with("/global_path") {
             qos::latched(1)
         } else {
             qos::reliable(10)

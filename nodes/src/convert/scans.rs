@@ -48,18 +48,36 @@ pub struct ScanWriter {
     /// The log of the ids sent, and the last id it held at start.
     log: Option<SentLog>,
     last: Option<u64>,
+    /// The platform index the ids carry (see `scan_ids::tagged`).
+    platform: u8,
 }
 
 impl ScanWriter {
     /// The writer; scans are cast once a reader matched, or after `wait`;
     /// the id of every scan DDS takes is appended to `scan_log` ("": none).
     pub fn new(rt: &mut NodeRuntime, wait: Duration, scan_log: &str) -> Result<Self, RuntimeError> {
+        Self::on(rt, ("/registered_scan", 0), wait, scan_log)
+    }
+
+    /// As [`ScanWriter::new`], on `topic` for platform `platform` (the
+    /// drone's /uav/registered_scan, 1): its logged ids carry the platform.
+    pub fn on(
+        rt: &mut NodeRuntime,
+        (topic, platform): (&str, u8),
+        wait: Duration,
+        scan_log: &str,
+    ) -> Result<Self, RuntimeError> {
         let err = |e: skyground_core::file::FileError| RuntimeError::Node(format!("scan_log: {e}"));
         let (log, last) = if scan_log.is_empty() {
             (None, None)
         } else {
             let path = std::path::Path::new(scan_log);
-            let last = scan_ids::read_log(path).map_err(err)?.into_iter().max();
+            // The log may be shared by both platforms: this one's last id.
+            let ids = scan_ids::read_log(path).map_err(err)?.into_iter();
+            let last = ids
+                .filter(|&id| scan_ids::platform(id) == platform)
+                .map(scan_ids::untagged)
+                .max();
             (Some(SentLog::open(path).map_err(err)?), last)
         };
         let keep = TransportConfig {
@@ -67,7 +85,7 @@ impl ScanWriter {
             ack_timeout_s: 3.0,
             ..TransportConfig::default()
         };
-        let w = CloudPublisher::new(rt, "/registered_scan", qos::reliable(64), keep)?;
+        let w = CloudPublisher::new(rt, topic, qos::reliable(64), keep)?;
         Ok(Self {
             w,
             since: Instant::now(),
@@ -75,6 +93,7 @@ impl ScanWriter {
             open: false,
             log,
             last,
+            platform,
         })
     }
 
@@ -113,7 +132,8 @@ impl ScanWriter {
     /// rest of a mission to repair (issue 50: 49 of 168 scans arrived).
     pub async fn write(&self, msg: PointCloud2) -> Result<(), RuntimeError> {
         let large = msg.data.len() > PACED_SCAN_BYTES;
-        let id = scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec);
+        let stamp = scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec);
+        let id = scan_ids::tagged(stamp, self.platform);
         self.w.write(msg).await?;
         if let Some(log) = &self.log {
             log.sent(id)
@@ -133,17 +153,24 @@ impl ScanWriter {
 
 /// The explorer's event for one received scan; none for a read error or a
 /// malformed cloud (said in the log).
-fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<ExplorerEvent> {
+fn scan_event<I, E>(
+    log: &Logger,
+    platform: u8,
+    m: Result<(PointCloud2, I), E>,
+) -> Option<ExplorerEvent> {
     let (msg, _) = m.ok()?;
     match decode(&msg) {
         Ok(d) => Some(ExplorerEvent::Scan {
-            // Its stamp is its id (see skyground_core::mission::scan_ids).
-            id: scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec),
+            // Its stamp, marked with its platform, is its id (see skyground_core::mission::scan_ids).
+            id: scan_ids::tagged(
+                scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec),
+                platform,
+            ),
             xyz: d.cloud.xyz,
             labels: d.cloud.label,
         }),
         Err(e) => {
-            log.warn(&format!("rejected /registered_scan: {e}"));
+            log.warn(&format!("rejected a scan (platform {platform}): {e}"));
             None
         }
     }
@@ -154,20 +181,37 @@ fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<Expl
 /// its 13 M-point merge published at ~20 s paced by acknowledgements) stops
 /// their reception, so the subscription's history never overflows (126 of
 /// the reference demo's 9,966 scans were dropped there before; issue 50).
-pub fn scan_feed(log: Logger, sub: Subscription<PointCloud2>) -> UnboundedReceiver<ExplorerEvent> {
+/// Each subscription comes with the platform index its scans' ids carry
+/// (the ground robot's /registered_scan 0, the drone's /uav/registered_scan 1).
+pub fn scan_feed(
+    log: Logger,
+    subs: Vec<(Subscription<PointCloud2>, u8)>,
+) -> UnboundedReceiver<ExplorerEvent> {
     let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
+    for (sub, platform) in subs {
+        feed_into(log.clone(), sub, platform, tx.clone());
+    }
+    rx
+}
+
+/// The scans of `sub` into `tx`, in a task of their own.
+fn feed_into(
+    log: Logger,
+    sub: Subscription<PointCloud2>,
+    platform: u8,
+    tx: tokio::sync::mpsc::UnboundedSender<ExplorerEvent>,
+) {
     tokio::spawn(async move {
         let scans = sub.async_stream();
         futures::pin_mut!(scans);
         while let Some(m) = scans.next().await {
-            if let Some(e) = scan_event(&log, m)
+            if let Some(e) = scan_event(&log, platform, m)
                 && tx.send(e).is_err()
             {
                 break;
             }
         }
     });
-    rx
 }
 
 /// The scans still arriving after a stop was asked, until none comes for

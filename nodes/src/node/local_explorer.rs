@@ -53,6 +53,8 @@ struct Params {
     merge_flush_s: f64,
     /// QoS of /registered_scan: `sensor` or `reliable` ([`scan_qos`]).
     scan_qos: String,
+    /// The drone's scans, merged with the ground robot's ("": no drone).
+    uav_scan_topic: String,
     transport: TransportConfig,
 }
 
@@ -86,7 +88,12 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     let status_pub = rt.publisher::<DiagnosticArray>("/explorer_status", qos::latched(1))?;
     let resampled_pub = CloudPublisher::new(rt, "/resampled_cloud", qos::latched(1), p.transport)?;
     let region_s = region_sub.async_stream();
-    let mut scans = scan_feed(rt.log.clone(), scan_sub);
+    let mut feeds = vec![(scan_sub, 0)];
+    if !p.uav_scan_topic.is_empty() {
+        let qos = scan_qos(&p.scan_qos)?;
+        feeds.push((rt.subscription::<PointCloud2>(&p.uav_scan_topic, qos)?, 1));
+    }
+    let mut scans = scan_feed(rt.log.clone(), feeds);
     let odom_s = odom_sub.async_stream();
     let vstatus_s = vstatus_sub.async_stream();
     let pstatus_s = pstatus_sub.async_stream();

@@ -9,6 +9,8 @@ pub mod local_explorer;
 pub mod robot_bridge;
 pub mod scene_classifier;
 pub mod target_generator;
+pub mod uav_planner;
+pub mod uav_sim;
 pub mod vehicle_sim;
 
 use std::process::ExitCode;
@@ -43,6 +45,8 @@ nodes!(
     local_explorer,
     vehicle_sim,
     robot_bridge,
+    uav_planner,
+    uav_sim,
 );
 
 #[cfg(test)]

@@ -42,5 +42,7 @@ node_spec!(TARGET_GENERATOR = "target_generator");
 node_spec!(GLOBAL_PLANNER = "global_planner");
 node_spec!(LOCAL_EXPLORER = "local_explorer");
 node_spec!(VEHICLE_SIM = "vehicle_sim");
+node_spec!(UAV_SIM = "uav_sim");
+node_spec!(UAV_PLANNER = "uav_planner");
 // follow.* are live: a `ros2 param set` counts from the robot's next pose on.
 node_spec!(ROBOT_BRIDGE = "robot_bridge", live: ["follow."]);

@@ -3,17 +3,20 @@
 //! sphere kept out of the true scene by parry3d's point query (`body`), a
 //! battery counted in flight seconds with a home pad to land on and swap it
 //! (`config`, `flight`), and a Mid-360-like LiDAR cast by the same caster
-//! as the ground robot's (`lidar`). ROS-free, like the ground vehicle.
+//! as the ground robot's (`lidar`); its sorties flown one battery each
+//! (`queue`). ROS-free, like the ground vehicle.
 
 mod body;
 mod config;
 mod flight;
 mod lidar;
+mod queue;
 
 pub use body::SceneBody;
 pub use config::MultirotorConfig;
 pub use flight::{FlightStep, Multirotor, MultirotorState};
 pub use lidar::mid360_like;
+pub use queue::SortieQueue;
 
 #[cfg(test)]
 mod tests;

@@ -56,6 +56,10 @@ pub struct DemoArgs {
     /// scene's own buildings. Read and checked before any node starts.
     #[command(flatten)]
     pub footprints: crate::cli::footprints::FootprintsArg,
+    /// The platforms that resample: `ground` (the robot), `uav` (a drone
+    /// taking the gaps no ground stop sees), or both: `ground,uav`.
+    #[arg(long, value_delimiter = ',', default_value = "ground")]
+    pub platforms: Vec<Platform>,
     /// Field mode: a real robot instead of vehicle_sim.
     #[command(flatten)]
     pub field: FieldArgs,
@@ -68,6 +72,15 @@ pub struct DemoArgs {
     /// With `--resume`: the folder the mission was started in (its relative paths' base).
     #[arg(skip)]
     pub started_in: Option<PathBuf>,
+}
+
+/// A resampling platform.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Platform {
+    /// The ground robot (vehicle_sim, or robot_bridge in field mode).
+    Ground,
+    /// The drone (uav_planner and uav_sim).
+    Uav,
 }
 
 /// Field mode: every node but vehicle_sim, and a robot of the CMU
@@ -88,6 +101,11 @@ pub struct FieldArgs {
 }
 
 impl DemoArgs {
+    /// Whether the drone flies (simulated missions only).
+    pub fn uav(&self) -> bool {
+        self.platforms.contains(&Platform::Uav) && !self.field.field
+    }
+
     /// The scene spec every process loads (tiles joined by commas).
     pub fn scene(&self) -> String {
         self.scenes.join(",")

@@ -73,6 +73,7 @@ pub(super) fn start_all(
     exe: &Path,
     (mut detector, aerial, mut driver): (Vec<String>, &Path, (&'static str, Vec<String>)),
     carried: &Carried,
+    drone: Vec<(&'static str, Vec<String>)>,
 ) -> Result<Vec<Proc>, RuntimeError> {
     let fresh = a.resume.is_none();
     // A resumed mission's recorder writes the split after its earlier runs' last.
@@ -113,7 +114,10 @@ pub(super) fn start_all(
             "cloud_publisher",
             vec![format!("file:={}", aerial.display())],
         ),
-    ] {
+    ]
+    .into_iter()
+    .chain(drone)
+    {
         procs.push(start(name, exe, &node_args(name, &params), &a.out, fresh)?);
     }
     Ok(procs)
@@ -289,6 +293,9 @@ fn explorer_params(a: &DemoArgs) -> Vec<String> {
         // vehicle_sim's writer is reliable: so is the reader, no scan lost.
         v.push("scan_qos:=reliable".into());
     }
+    if a.uav() {
+        v.push("uav_scan_topic:=/uav/registered_scan".into());
+    }
     v
 }
 
@@ -356,6 +363,9 @@ fn record_args(a: &DemoArgs) -> Vec<String> {
         a.out.join("mission.mcap").display().to_string(),
     ];
     args.extend(TOPICS.iter().map(|t| (*t).to_string()));
+    if a.uav() {
+        args.extend(super::uav::TOPICS.iter().map(|t| (*t).to_string()));
+    }
     if a.field.field {
         args.extend(["--every".to_string(), "/registered_scan=50".to_string()]);
     } else {

@@ -13,6 +13,7 @@ mod launch;
 mod report;
 mod resume;
 mod stall;
+mod uav;
 mod watch;
 
 pub use args::{DemoArgs, FieldArgs};
@@ -80,7 +81,20 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         let real = a.real_prior().then_some(&prior.cloud);
         launch::sim_driver(&prior.scene, &scene_spec, a.time_factor, real)?
     };
-    let mut procs = launch::start_all(&a, &exe, (detector, &aerial, driver), &carried)?;
+    let drone = if a.uav() {
+        let start = uav::start_of(&driver.1)
+            .ok_or_else(|| err("the drone's pad: no start for the ground robot".into()))?;
+        uav::nodes(
+            &prior.scene,
+            &scene_spec,
+            start,
+            a.time_factor,
+            &a.scan_log(),
+        )?
+    } else {
+        Vec::new()
+    };
+    let mut procs = launch::start_all(&a, &exe, (detector, &aerial, driver), &carried, drone)?;
     prof.stage("start-up, classification, detection, first route");
     eprintln!(
         "  started {} processes: {}",

@@ -9,6 +9,7 @@ use futures::StreamExt;
 use skyground_core::cloud::Cloud;
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::mission::progress::{Progress, StopRule};
+use skyground_core::mission::uav::{UavPlan, UavState, UavStatus};
 use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, VehicleStatus, Wire};
 use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
 use skyground_core::targets::{TargetPoint, TargetSet};
@@ -44,6 +45,16 @@ pub(super) struct Watch {
     pub targets: TargetSet,
     /// Every detection round and the targets made from it.
     pub detections: Detections,
+    /// The drone's plan and its last status (`--platforms ground,uav`).
+    pub uav_plan: Option<UavPlan>,
+    pub uav: Option<UavStatus>,
+}
+
+impl Watch {
+    /// Whether the drone has flown all it was given.
+    fn uav_done(&self) -> bool {
+        self.uav.as_ref().is_some_and(|s| s.state == UavState::Done)
+    }
 }
 
 /// How the watch ended.
@@ -83,6 +94,7 @@ struct Follower<'a> {
     /// when to hand it to a restarted vehicle_sim.
     leg: Option<RosPath>,
     resend_at: Vec<Instant>,
+    uav_waiting_said: bool,
 }
 
 /// Follows the mission until the stop rule, the time limit, a signal or (in
@@ -103,6 +115,10 @@ pub(super) async fn follow(
     let regions = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
     let contours = rt.subscription::<MarkerArray>("/detection_markers", qos::latched(1))?;
     let odom = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
+    let uav_status = rt.subscription::<DiagnosticArray>("/uav/vehicle_status", qos::latched(1))?;
+    let uav_plan = rt.subscription::<DiagnosticArray>("/uav/planner_status", qos::latched(1))?;
+    let (us_s, up_s) = (uav_status.async_stream(), uav_plan.async_stream());
+    futures::pin_mut!(us_s, up_s);
     // The leg being driven, kept to hand to a restarted vehicle_sim.
     let legs = rt.subscription::<RosPath>("/local_path", qos::reliable(10))?;
     let leg_pub = rt.publisher::<RosPath>("/local_path", qos::reliable(10))?;
@@ -148,6 +164,10 @@ pub(super) async fn follow(
                 f.w.odometer = s.odometer_m;
             },
             Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
+            Some(Ok((arr, _))) = us_s.next() => f.w.uav = first_status(&arr, UavStatus::from_wire),
+            Some(Ok((arr, _))) = up_s.next() => if let Some(p) = first_status(&arr, UavPlan::from_wire) {
+                f.uav_plan(p);
+            },
             Some(Ok((leg, _))) = l_s.next() => f.leg = Some(leg),
             Some(Ok((arr, _))) = w_s.next() => if let Some((node, steps)) = work_beat::read(&arr) {
                 f.guard.work(node, steps);
@@ -161,8 +181,11 @@ pub(super) async fn follow(
         // The closed loop: detection after each driven round says whether
         // another is worth it.
         if let Some(v) = f.w.progress.verdict(&rule) {
-            why = v;
-            break true;
+            if !a.uav() || f.w.uav_done() {
+                why = v;
+                break true;
+            }
+            f.waiting_for_uav(&v);
         }
     };
     Ok(f.outcome(finished, why))
@@ -214,6 +237,7 @@ impl<'a> Follower<'a> {
             sim_starts: 0,
             leg: None,
             resend_at: Vec::new(),
+            uav_waiting_said: false,
         }
     }
 
@@ -265,6 +289,36 @@ impl<'a> Follower<'a> {
             after: self.after,
             finished,
             why,
+        }
+    }
+
+    /// The drone's plan: said, and its flight budgeted into the time limit
+    /// (its sorties run beside the ground robot's rounds).
+    fn uav_plan(&mut self, p: UavPlan) {
+        let wall = 3.0 * p.flight_s / self.a.time_factor + 120.0;
+        if self.limit.fixed.is_none() {
+            let now = self.limit.start.elapsed().as_secs_f64();
+            self.limit.limit.at_least(now + wall);
+        }
+        let line = if p.refused.is_empty() {
+            format!(
+                "  drone: {} of {} gaps no ground stop sees; {} viewpoints see {} of them; {} sortie(s), {:.0} s of flight",
+                p.drone_gaps, p.gaps, p.viewpoints, p.seen, p.sorties, p.flight_s
+            )
+        } else {
+            format!("  drone: no plan ({})", p.refused)
+        };
+        self.console.say(&line);
+        self.w.uav_plan = Some(p);
+    }
+
+    /// Said once: the ground robot is done, the drone is not.
+    fn waiting_for_uav(&mut self, verdict: &str) {
+        if !self.uav_waiting_said {
+            self.uav_waiting_said = true;
+            self.console.say(&format!(
+                "  ground mission done ({verdict}); waiting for the drone to land"
+            ));
         }
     }
 
