@@ -12,6 +12,7 @@ use skyground_msgs::sensor_msgs::PointCloud2;
 use tokio::sync::mpsc::UnboundedReceiver;
 
 use super::pointcloud2::decode;
+use super::scan_store::ScanInbox;
 use crate::runtime::{Logger, NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
 
@@ -154,15 +155,26 @@ fn scan_event<I, E>(log: &Logger, m: Result<(PointCloud2, I), E>) -> Option<Expl
 /// its 13 M-point merge published at ~20 s paced by acknowledgements) stops
 /// their reception, so the subscription's history never overflows (126 of
 /// the reference demo's 9,966 scans were dropped there before; issue 50).
-pub fn scan_feed(log: Logger, sub: Subscription<PointCloud2>) -> UnboundedReceiver<ExplorerEvent> {
+/// Each is written to `inbox` first: a killed explorer loses none of those
+/// waiting in the queue.
+pub fn scan_feed(
+    log: Logger,
+    sub: Subscription<PointCloud2>,
+    inbox: Option<ScanInbox>,
+) -> UnboundedReceiver<ExplorerEvent> {
     let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
     tokio::spawn(async move {
         let scans = sub.async_stream();
         futures::pin_mut!(scans);
+        let mut failures = 0;
         while let Some(m) = scans.next().await {
-            if let Some(e) = scan_event(&log, m)
-                && tx.send(e).is_err()
-            {
+            let Some(e) = scan_event(&log, m) else {
+                continue;
+            };
+            if let Some(inbox) = &inbox {
+                inbox.take(&e, &mut failures);
+            }
+            if tx.send(e).is_err() {
                 break;
             }
         }
