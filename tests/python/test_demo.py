@@ -303,10 +303,24 @@ def stored_batches(out):
     return state, held
 
 
+# The merge store's state once a batch is named (it is written, empty, as the store opens).
+BATCHED = '"batches": [\n'
+
+
+def id_lines(path):
+    """The ids of a log of scan ids (`SEC.NANOSEC` a line; a torn last line dropped), in order."""
+    text = path.read_text() if path.exists() else ""
+    return [line for line in text[:text.rfind("\n") + 1].splitlines() if line]
+
+
 def sent_ids(out):
     """The scan ids (header stamps, `SEC.NANOSEC`) vehicle_sim logged as DDS took them, in order."""
-    text = (out / "scans_sent.txt").read_text()
-    return [line for line in text[:text.rfind("\n") + 1].splitlines() if line]
+    return id_lines(out / "scans_sent.txt")
+
+
+def received_ids(out):
+    """The scan ids the explorer's feed logged as it took them from DDS (after its inbox held them)."""
+    return id_lines(out / "merge" / "received.txt")
 
 
 def stamp(i):
@@ -314,10 +328,19 @@ def stamp(i):
 
 
 def journal_ids(out):
-    """The scan ids in the merge store's journal (records as core/src/explore/journal.rs
-    writes them; a torn tail ends them)."""
+    """The scan ids in the merge store's journal."""
+    return record_ids(out / "merge" / "journal.bin")
+
+
+def inbox_ids(out):
+    """The scan ids in the explorer's inbox (segments `inbox-NNNNNN.bin`, in order)."""
+    return [i for path in sorted((out / "merge").glob("inbox-*.bin")) for i in record_ids(path)]
+
+
+def record_ids(path):
+    """The scan ids of a file of records as core/src/explore/journal.rs writes
+    them (the journal, an inbox segment); a torn tail ends them."""
     import struct
-    path = out / "merge" / "journal.bin"
     b = path.read_bytes() if path.exists() else b""
     ids, at = [], 0
     while at + 12 <= len(b) and b[at:at + 4] == b"SGJ1":
@@ -336,13 +359,17 @@ def journal_ids(out):
 
 
 def stored_ids(out):
-    """Every scan id the store holds, as --resume and the report read it: the batches', then the journal's."""
+    """Every scan id the store holds, as --resume and the report read it
+    (core/src/explore/store.rs): the batches', the journal's, then the
+    inbox's that neither holds."""
     state = json.loads((out / "merge" / "state.json").read_text()) if (out / "merge" / "state.json").exists() else {}
     batched = [stamp(i) for i in state.get("scan_ids", [])]
     journal = journal_ids(out)
     if journal and batched[-len(journal):] == journal:
         journal = []  # written out as a batch before the kill truncated it
-    return batched, journal
+    held = set(batched) | set(journal)
+    inbox = [i for i in dict.fromkeys(inbox_ids(out)) if i not in held]
+    return batched, journal, inbox
 
 
 def test_an_interrupted_mission_keeps_every_scan_it_merged_and_measures_them(tmp_path, env):
@@ -353,7 +380,7 @@ def test_an_interrupted_mission_keeps_every_scan_it_merged_and_measures_them(tmp
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         assert wait_for_log(out / "global_planner.log", "route", proc, 240)
-        assert wait_for_log(out / "merge" / "state.json", '"scans"', proc, 120), "no batch written while driving"
+        assert wait_for_log(out / "merge" / "state.json", BATCHED, proc, 120), "no batch written while driving"
         time.sleep(4)
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=180)
@@ -384,14 +411,20 @@ def test_an_interrupted_mission_keeps_every_scan_it_merged_and_measures_them(tmp
     assert "/registered_scan_throttle" in report["bag_topics"] and report["bag_topics"]["/tf"]["bytes"] > 0
 
 
-def test_a_killed_mission_leaves_a_whole_merge_store(tmp_path, env):
+@pytest.mark.parametrize("stuck", [False, True], ids=["running", "stuck_explorer"])
+def test_a_killed_mission_leaves_a_whole_merge_store(tmp_path, env, stuck):
     """Every process killed (SIGKILL, nothing flushed at exit): the store
-    holds the batches its state names, intact, and in its journal every
-    scan merged since the last batch: read back, its ids are the first ids
-    vehicle_sim sent, in order, none twice. Scans DDS had delivered that
-    still waited in the explorer's queue (its loop busy publishing round
-    1's merge) are lost with the process: not counted here."""
+    holds the batches its state names, intact, in its journal every scan
+    merged since the last batch, and in its inbox every scan the explorer
+    took from DDS but had not merged (waiting in its queue while its loop
+    published round 1's merge: up to 218 of 441 were lost there before).
+    Read back, it holds every id the explorer received, none twice, none
+    that vehicle_sim did not send. `stuck`: the explorer's loop spins after
+    it published round 1's merge (SKYGROUND_SPIN), so every scan since
+    waits in its queue when the kill comes."""
     out, argv = demo(tmp_path, "--timeout", "400")
+    if stuck:
+        env = dict(env, SKYGROUND_SPIN=f"local_explorer@{tmp_path / 'spun'}")
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                             start_new_session=True)
     try:
@@ -404,13 +437,25 @@ def test_a_killed_mission_leaves_a_whole_merge_store(tmp_path, env):
         kill_everyone(proc)
     state, held = stored_batches(out)
     assert len(held) >= 1 and held == state["batches"] and state["scans"] > 0, (state, held)
-    batched, journal = stored_ids(out)
-    sent = sent_ids(out)
-    stored = batched + journal
-    print(f"\nkilled: {len(sent)} scans sent, {len(batched)} in batches, {len(journal)} in the journal")
-    # Reliable and in order: what the explorer merged is what was sent first.
-    assert stored == sent[:len(stored)] and len(set(stored)) == len(stored), (len(stored), len(sent))
-    assert journal, "killed right after a batch: nothing tried the journal"
+    batched, journal, inbox = stored_ids(out)
+    sent, received = sent_ids(out), received_ids(out)
+    stored = batched + journal + inbox
+    print(f"\nkilled: {len(sent)} scans sent, {len(received)} received, {len(stored)} stored "
+          f"({len(batched)} in batches, {len(journal)} in the journal, {len(inbox)} only in the inbox)")
+    assert received and len(set(received)) == len(received), received
+    lost = [i for i in received if i not in set(stored)]
+    assert not lost, f"{len(lost)} received scans not in the store: {lost[:10]}"
+    assert len(set(stored)) == len(stored), "an id stored twice"
+    # Reliable and in order: what the explorer received is what was sent
+    # first (vehicle_sim logs an id after DDS took the scan: killed in
+    # between, the last one received may be missing from its log).
+    n = min(len(received), len(sent))
+    assert received[:n] == sent[:n] and len(received) <= len(sent) + 1, (len(received), len(sent))
+    assert set(stored) - set(sent) <= set(received[-1:]), "an id stored that vehicle_sim never sent"
+    if stuck:
+        assert inbox and not journal, "the stuck loop merged scans: nothing tried the inbox"
+    else:
+        assert journal, "killed right after a batch: nothing tried the journal"
 
 
 def test_a_killed_mission_resumed_ends_as_an_uninterrupted_one(tmp_path, env, small_mission):
@@ -450,9 +495,11 @@ def test_a_killed_mission_resumed_ends_as_an_uninterrupted_one(tmp_path, env, sm
           f"{whole['sim_time_s']:.0f} robot s, {whole['targets_reached']} stops; killed after "
           f"{kept['odometer_m']:.0f} m and resumed: coverage {report['coverage_after']:.4f}, "
           f"{report['path_length_m']:.0f} m, {report['sim_time_s']:.0f} robot s, {report['targets_reached']} stops")
-    # Not worse by more than 0.5 pp. Since the journal keeps every scan merged
-    # (and vehicle_sim's clock goes on), resumed missions ended 0.16 to 1.2 pp
-    # above the uninterrupted one in 3 of 5 runs (2026-12-05): not explained yet.
+    # Not worse by more than 0.5 pp; it may end above: the killed round 2 is
+    # not counted as driven, so the resumed run drives a whole round of its
+    # own planned on the merge that holds round 2's part driven before the
+    # kill (0.16 to 1.2 pp above when killed 5 to 36 m into round 2;
+    # docs/performance.md).
     assert report["coverage_after"] >= whole["coverage_after"] - 0.005
     # The stops of both runs: the killed run's (its finished round and the
     # one it was driving) are carried, then the resumed run's are added.
@@ -486,7 +533,7 @@ def test_soak_a_stuck_vehicle_a_killed_explorer_and_a_stalled_recorder_and_the_m
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         assert wait_for_log(out / "global_planner.log", "route", proc, 240)
-        assert wait_for_log(out / "merge" / "state.json", '"scans"', proc, 120)
+        assert wait_for_log(out / "merge" / "state.json", BATCHED, proc, 120)
         recorder = next((p for p in descendants(proc.pid) if " record -o " in cmdline(p)), None)
         assert recorder, [cmdline(p) for p in descendants(proc.pid)]
         os.kill(recorder, signal.SIGSTOP)

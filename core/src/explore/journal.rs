@@ -57,25 +57,34 @@ pub fn encode(ids: &[u64], points: &[[f32; 3]]) -> Vec<u8> {
 /// The whole records at the start of `bytes`; the first torn or damaged one ends them.
 pub fn decode(bytes: &[u8]) -> Journaled {
     let mut out = Journaled::default();
+    out.bytes = for_each_record(bytes, |ids, points| {
+        out.ids.extend(ids);
+        out.points.extend(points);
+    });
+    out
+}
+
+/// Each whole record at the start of `bytes` as (ids, points), in order;
+/// the first torn or damaged one ends them. Returns the bytes they fill.
+pub(crate) fn for_each_record(bytes: &[u8], mut each: impl FnMut(Vec<u64>, Vec<[f32; 3]>)) -> u64 {
     let mut at = 0usize;
     while let Some(len) = record_len(&bytes[at..]) {
         let r = &bytes[at..at + len];
         let (ni, np) = (u32_at(r, 4) as usize, u32_at(r, 8) as usize);
-        let ids = &r[12..12 + 8 * ni];
-        out.ids.extend(
-            ids.chunks_exact(8)
-                .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default())),
-        );
-        let pts = &r[12 + 8 * ni..12 + 8 * ni + 12 * np];
-        out.points.extend(pts.chunks_exact(12).map(|c| {
-            std::array::from_fn(|k| {
-                f32::from_le_bytes(c[4 * k..4 * k + 4].try_into().unwrap_or_default())
-            })
-        }));
+        let ids = r[12..12 + 8 * ni]
+            .chunks_exact(8)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default()));
+        let pts = r[12 + 8 * ni..12 + 8 * ni + 12 * np]
+            .chunks_exact(12)
+            .map(|c| {
+                std::array::from_fn(|k| {
+                    f32::from_le_bytes(c[4 * k..4 * k + 4].try_into().unwrap_or_default())
+                })
+            });
+        each(ids.collect(), pts.collect());
         at += len;
     }
-    out.bytes = at as u64;
-    out
+    at as u64
 }
 
 fn u32_at(b: &[u8], at: usize) -> u32 {

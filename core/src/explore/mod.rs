@@ -7,10 +7,11 @@
 //! - [`ExploreParams`] (`params`), [`ExploreError`] (`error`), [`SurfaceSamples`] (`surface`);
 //! - `voxels`: known occupancy and line of sight; `select`: greedy cover + tour;
 //! - [`Explorer`] (`explorer`); [`VoxelMerge`], [`resample`] (`voxel_merge`): voxel de-duplication;
-//! - [`MergeStore`] (`store`): the merged cloud on disk as it grows; `journal`: every scan's new points between two batches.
+//! - [`MergeStore`] (`store`): the merged cloud on disk as it grows; `journal`: every scan's new points between two batches; [`Inbox`] (`inbox`): every scan received, before it is merged.
 
 mod error;
 mod explorer;
+mod inbox;
 mod journal;
 mod params;
 mod select;
@@ -21,6 +22,7 @@ mod voxels;
 
 pub use error::ExploreError;
 pub use explorer::Explorer;
+pub use inbox::{INBOX_MAX_BYTES, Inbox, InboxError};
 pub use journal::{JOURNAL_FILE, Journaled};
 pub use params::ExploreParams;
 pub use store::{KeptMerge, MergeStore, STATE_FILE, StoreError, Stored, read_store};

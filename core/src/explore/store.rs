@@ -4,14 +4,18 @@
 //! mission killed at any moment leaves every batch its state names intact,
 //! and the next run (a respawned explorer, `demo --resume`, the report)
 //! reads them back in the order they were merged. Between two batches every
-//! scan received is in the journal ([`super::journal`]) at once: the
-//! store read back is the batches, then the journal's records.
+//! scan merged is in the journal ([`super::journal`]) at once, and every
+//! scan received, merged or not yet, in the inbox ([`super::inbox`]): the
+//! store read back is the batches, then the journal's records, then the
+//! inbox's scans neither holds (merged here as the explorer would).
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::inbox;
 use super::journal::{self, Journal, Journaled};
+use super::voxel_merge::VoxelMerge;
 use crate::cloud::{Cloud, CloudIoError, class, read_cloud, write_cloud};
 use crate::file::{self, FileError};
 
@@ -93,12 +97,20 @@ pub struct Stored {
     /// What the journal holds beyond the batches (scans received after the
     /// last one): merged after `points`.
     pub journal: Journaled,
+    /// The inbox's scans neither the batches nor the journal hold (received
+    /// but not merged when the explorer stopped) and the new points they
+    /// add to the merge: merged after the journal's.
+    pub inbox: Journaled,
 }
 
 impl Stored {
-    /// Every scan id held: the batches', then the journal's.
+    /// Every scan id held: the batches', the journal's, then the inbox's.
     pub fn all_ids(&self) -> impl Iterator<Item = u64> + '_ {
-        self.ids.iter().chain(&self.journal.ids).copied()
+        self.ids
+            .iter()
+            .chain(&self.journal.ids)
+            .chain(&self.inbox.ids)
+            .copied()
     }
 }
 
@@ -123,13 +135,18 @@ impl MergeStore {
                 });
             }
             Some(s) => s,
-            None => State {
-                format: FORMAT.into(),
-                voxel_m,
-                batches: Vec::new(),
-                scans: 0,
-                scan_ids: Vec::new(),
-            },
+            None => {
+                let s = State {
+                    format: FORMAT.into(),
+                    voxel_m,
+                    batches: Vec::new(),
+                    scans: 0,
+                    scan_ids: Vec::new(),
+                };
+                // Its voxel is what a reader merges the inbox with.
+                write_state(dir, &s)?;
+                s
+            }
         };
         let stored = read_batches(dir, &state, 0)?;
         Ok((
@@ -155,11 +172,7 @@ impl MergeStore {
         }
         next.scans += ids.len();
         next.scan_ids.extend_from_slice(ids);
-        let json = serde_json::to_vec_pretty(&next).map_err(|e| StoreError::State {
-            path: self.dir.join(STATE_FILE),
-            reason: e.to_string(),
-        })?;
-        file::write(&self.dir.join(STATE_FILE), json)?;
+        write_state(&self.dir, &next)?;
         self.state = next;
         Ok(())
     }
@@ -193,11 +206,12 @@ pub struct KeptMerge {
 
 impl KeptMerge {
     /// Opens the store (see [`MergeStore::open`]) and what it holds (the
-    /// batches, then the journal), to be merged before any new scan;
-    /// [`KeptMerge::resumed`] follows.
+    /// batches, the journal, then the inbox), to be merged before any new
+    /// scan; [`KeptMerge::resumed`] follows.
     pub fn open(dir: &Path, voxel_m: f32, every_s: f64) -> Result<(KeptMerge, Stored), StoreError> {
         let (store, mut stored) = MergeStore::open(dir, voxel_m)?;
         stored.journal = unflushed(dir, &stored.ids)?;
+        stored.inbox = unmerged(dir, voxel_m, &stored, None)?;
         let journal = Journal::open(dir, stored.journal.bytes)?;
         let kept = KeptMerge {
             store,
@@ -257,13 +271,54 @@ impl KeptMerge {
 /// that has those already; batches wholly before them are not read), or
 /// `None` when there is none.
 pub fn read_store(dir: &Path, skip: usize) -> Result<Option<Stored>, StoreError> {
-    let state = read_state(dir)?;
-    let mut stored = match &state {
-        Some(s) => read_batches(dir, s, skip)?,
-        None => Stored::default(),
+    let Some(state) = read_state(dir)? else {
+        return Ok(None);
     };
+    let mut stored = read_batches(dir, &state, skip)?;
     stored.journal = unflushed(dir, &stored.ids)?;
-    Ok((state.is_some() || !stored.journal.ids.is_empty()).then_some(stored))
+    let all = (skip > 0).then_some(&state);
+    stored.inbox = unmerged(dir, state.voxel_m, &stored, all)?;
+    Ok(Some(stored))
+}
+
+/// The inbox's scans `stored` does not hold, merged after its points as the
+/// explorer would: their ids and the new points they add. `all` is the
+/// state to read every batch by when `stored` skipped some.
+fn unmerged(
+    dir: &Path,
+    voxel_m: f32,
+    stored: &Stored,
+    all: Option<&State>,
+) -> Result<Journaled, StoreError> {
+    let mut seen: std::collections::HashSet<u64> = stored
+        .ids
+        .iter()
+        .chain(&stored.journal.ids)
+        .copied()
+        .collect();
+    let scans: Vec<_> = inbox::read(dir)?
+        .into_iter()
+        .filter(|(id, _)| seen.insert(*id))
+        .collect();
+    let mut out = Journaled::default();
+    if scans.is_empty() {
+        return Ok(out);
+    }
+    let mut merge = VoxelMerge::new(voxel_m).map_err(|e| StoreError::State {
+        path: dir.join(STATE_FILE),
+        reason: e.to_string(),
+    })?;
+    let skipped = all.map(|s| read_batches(dir, s, 0)).transpose()?;
+    let batches = skipped.as_ref().map_or(&stored.points, |s| &s.points);
+    for p in batches.iter().chain(&stored.journal.points) {
+        merge.add(*p);
+    }
+    for (id, points) in scans {
+        out.ids.push(id);
+        out.points
+            .extend(points.into_iter().filter(|p| merge.add(*p)));
+    }
+    Ok(out)
 }
 
 /// The journal's records not yet in a batch: a journal whose ids end the
@@ -289,6 +344,14 @@ fn batch_cloud(points: Vec<[f32; 3]>) -> Cloud {
 
 fn batch_path(dir: &Path, n: usize) -> PathBuf {
     dir.join(format!("batch-{n:06}.laz"))
+}
+
+fn write_state(dir: &Path, s: &State) -> Result<(), StoreError> {
+    let json = serde_json::to_vec_pretty(s).map_err(|e| StoreError::State {
+        path: dir.join(STATE_FILE),
+        reason: e.to_string(),
+    })?;
+    Ok(file::write(&dir.join(STATE_FILE), json)?)
 }
 
 fn read_state(dir: &Path) -> Result<Option<State>, StoreError> {
@@ -340,6 +403,7 @@ fn read_batches(dir: &Path, s: &State, skip: usize) -> Result<Stored, StoreError
         scans: s.scans,
         ids: s.scan_ids.clone(),
         journal: Journaled::default(),
+        inbox: Journaled::default(),
     })
 }
 
@@ -465,6 +529,49 @@ mod tests {
         assert_eq!((back.ids, back.journal.ids), (vec![1, 2], vec![]));
         let (_, back) = KeptMerge::open(&d, 0.05, 10.0).unwrap();
         assert_eq!(back.all_ids().count(), 2);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn scans_in_the_inbox_the_merge_never_took_are_read_back_after_the_journal() {
+        let d = tmp("inbox");
+        let (mut k, _) = KeptMerge::open(&d, 1.0, 10.0).unwrap();
+        let mut inbox = super::inbox::Inbox::open(&d, 1 << 20).unwrap();
+        // Scans 1 and 2 taken and merged (1 in a batch, 2 in the journal).
+        inbox.append(1, &[[0.5; 3], [10.5; 3]]).unwrap();
+        k.flush(&[[0.5; 3], [10.5; 3]], &[1], 0.0, true).unwrap();
+        inbox.append(2, &[[20.5; 3]]).unwrap();
+        k.flush(&[[0.5; 3], [10.5; 3], [20.5; 3]], &[1, 2], 1.0, false)
+            .unwrap();
+        // Scans 3 and 4 taken but still queued when killed: 3 has one point
+        // in a voxel merged already (left out, as the merge would) and one
+        // new; 4 repeats 3's new voxel.
+        inbox.append(3, &[[0.6; 3], [30.5; 3]]).unwrap();
+        inbox.append(4, &[[30.6; 3], [40.5; 3]]).unwrap();
+        inbox.append(2, &[[50.5; 3]]).unwrap(); // a repeat: left out
+        drop((k, inbox));
+        for skip in [0, 1, 2] {
+            let back = read_store(&d, skip).unwrap().unwrap();
+            assert_eq!(
+                back.all_ids().collect::<Vec<_>>(),
+                [1, 2, 3, 4],
+                "skip {skip}"
+            );
+            assert_eq!(back.inbox.points, [[30.5; 3], [40.5; 3]], "skip {skip}");
+        }
+        // A respawned explorer gets them too; the next batch holds them.
+        let (mut k, back) = KeptMerge::open(&d, 1.0, 10.0).unwrap();
+        assert_eq!(back.inbox.ids, [3, 4]);
+        k.resumed((2, 1), (3, 2));
+        let all = [[0.5; 3], [10.5; 3], [20.5; 3], [30.5; 3], [40.5; 3]];
+        assert_eq!(k.flush(&all, &[1, 2, 3, 4], 2.0, true).unwrap(), 3);
+        let mut inbox = super::inbox::Inbox::open(&d, 1 << 20).unwrap();
+        assert_eq!(inbox.prune(|id| id <= 4).unwrap(), 1);
+        let back = read_store(&d, 0).unwrap().unwrap();
+        assert_eq!(
+            (back.ids, back.inbox.ids, back.points.len()),
+            (vec![1, 2, 3, 4], vec![], 5)
+        );
         std::fs::remove_dir_all(&d).unwrap();
     }
 

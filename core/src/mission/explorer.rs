@@ -74,6 +74,16 @@ pub enum ExplorerEvent {
     Tick,
 }
 
+/// The points of a scan the merge takes: its building points (all of them
+/// when it carries no labels).
+pub fn merged_points(xyz: &[[f32; 3]], labels: Option<&[u8]>) -> Vec<[f32; 3]> {
+    xyz.iter()
+        .enumerate()
+        .filter(|(i, _)| labels.is_none_or(|l| l.get(*i) == Some(&class::BUILDING)))
+        .map(|(_, q)| *q)
+        .collect()
+}
+
 /// What the explorer asks its node to do.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ExplorerCommand {
@@ -184,6 +194,15 @@ impl ExplorerMachine {
         }
         self.take_ids(&stored.journal.ids);
         kept.resumed(batches, (self.merged.len(), self.ids.len()));
+        // Scans received but not merged before the kill: merged now, and
+        // batched at once so that their inbox segments can go.
+        for p in &stored.inbox.points {
+            self.merged.add(*p);
+        }
+        self.take_ids(&stored.inbox.ids);
+        if !stored.inbox.ids.is_empty() {
+            self.keep(&mut kept, 0.0, true)?;
+        }
         if !self.merged.is_empty() {
             // The detector and the demo learn the merge so far as they would at a route's end.
             self.out.push(ExplorerCommand::Resampled);
@@ -215,6 +234,11 @@ impl ExplorerMachine {
     /// Ids of the scans merged, in order.
     pub fn ids(&self) -> &[u64] {
         &self.ids
+    }
+
+    /// Whether the scan `id` is merged.
+    pub fn has(&self, id: u64) -> bool {
+        self.seen.contains(&id)
     }
 
     fn take_ids(&mut self, ids: &[u64]) {
@@ -258,11 +282,8 @@ impl ExplorerMachine {
                 }
                 self.ids.push(id);
                 self.scans += 1;
-                for (i, q) in xyz.iter().enumerate() {
-                    let l = labels.as_ref().map(|l| l.get(i));
-                    if l.is_none_or(|l| l == Some(&class::BUILDING)) {
-                        self.merged.add(*q);
-                    }
+                for q in merged_points(&xyz, labels.as_deref()) {
+                    self.merged.add(q);
                 }
                 if let Some(a) = self.active.as_mut() {
                     a.pending.extend_from_slice(&xyz);

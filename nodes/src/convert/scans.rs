@@ -12,6 +12,7 @@ use skyground_msgs::sensor_msgs::PointCloud2;
 use tokio::sync::mpsc::UnboundedReceiver;
 
 use super::pointcloud2::decode;
+use super::scan_store::ScanInbox;
 use crate::runtime::{Logger, NodeRuntime, RuntimeError, qos};
 use crate::transport::{CloudPublisher, TransportConfig};
 
@@ -182,32 +183,40 @@ fn scan_event<I, E>(
 /// their reception, so the subscription's history never overflows (126 of
 /// the reference demo's 9,966 scans were dropped there before; issue 50).
 /// Each subscription comes with the platform index its scans' ids carry
-/// (the ground robot's /registered_scan 0, the drone's /uav/registered_scan 1).
+/// (the ground robot's /registered_scan 0, the drone's /uav/registered_scan
+/// 1). Each scan is written to `inbox` first: a killed explorer loses none
+/// of those waiting in the queue.
 pub fn scan_feed(
     log: Logger,
     subs: Vec<(Subscription<PointCloud2>, u8)>,
+    inbox: Option<ScanInbox>,
 ) -> UnboundedReceiver<ExplorerEvent> {
     let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
     for (sub, platform) in subs {
-        feed_into(log.clone(), sub, platform, tx.clone());
+        feed_into(log.clone(), (sub, platform), inbox.clone(), tx.clone());
     }
     rx
 }
 
-/// The scans of `sub` into `tx`, in a task of their own.
+/// The scans of `sub` into `inbox` and `tx`, in a task of their own.
 fn feed_into(
     log: Logger,
-    sub: Subscription<PointCloud2>,
-    platform: u8,
+    (sub, platform): (Subscription<PointCloud2>, u8),
+    inbox: Option<ScanInbox>,
     tx: tokio::sync::mpsc::UnboundedSender<ExplorerEvent>,
 ) {
     tokio::spawn(async move {
         let scans = sub.async_stream();
         futures::pin_mut!(scans);
+        let mut failures = 0;
         while let Some(m) = scans.next().await {
-            if let Some(e) = scan_event(&log, platform, m)
-                && tx.send(e).is_err()
-            {
+            let Some(e) = scan_event(&log, platform, m) else {
+                continue;
+            };
+            if let Some(inbox) = &inbox {
+                inbox.take(&e, &mut failures);
+            }
+            if tx.send(e).is_err() {
                 break;
             }
         }

@@ -4,7 +4,9 @@
 //! POINTS points (multi-MB samples, fragmented by DDS). The repeats fall in
 //! the voxels their originals do, so the merge is the same; only the
 //! transport is tried. `SKYGROUND_SPIN=NODE@MARKER` makes a node spin
-//! once ([`spin_if_asked`]). For tests; nothing else reads them.
+//! once ([`spin_if_asked`]: global_planner as it sends a route,
+//! local_explorer after it published a merge). For tests; nothing else
+//! reads them.
 
 /// The variable that asks for the burst.
 pub const LARGE_SCANS_ENV: &str = "SKYGROUND_LARGE_SCANS";
@@ -20,14 +22,15 @@ pub fn spin_if_asked(node: &str, now: bool) {
     let Some(spec) = std::env::var(SPIN_ENV).ok().filter(|_| now) else {
         return;
     };
-    let Some((who, marker)) = spec.split_once('@') else {
+    let Some((_, marker)) = spec.split_once('@').filter(|(who, _)| *who == node) else {
         return;
     };
+    // The marker is made by the node named only: another must not take its turn.
     let first = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(marker);
-    if who == node && first.is_ok() {
+    if first.is_ok() {
         loop {
             std::hint::spin_loop();
         }

@@ -86,12 +86,14 @@ pub(super) fn take_store(
     };
     let ids: Vec<u64> = stored.all_ids().collect();
     let (total, scans) = (
-        stored.total + stored.journal.points.len(),
-        stored.scans + stored.journal.ids.len(),
+        stored.total + stored.journal.points.len() + stored.inbox.points.len(),
+        stored.scans + stored.journal.ids.len() + stored.inbox.ids.len(),
     );
-    // Scans received after the last batch (an explorer killed at the end) are in the journal.
+    // Scans merged after the last batch (an explorer killed at the end) are
+    // in the journal, scans received but not merged yet in the inbox.
     let mut points = stored.points;
     points.extend(stored.journal.points);
+    points.extend(stored.inbox.points);
     let since = points.len();
     if since > 0 {
         let mut new = Cloud::from_xyz(points);
