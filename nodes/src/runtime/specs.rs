@@ -44,3 +44,5 @@ node_spec!(LOCAL_EXPLORER = "local_explorer");
 node_spec!(VEHICLE_SIM = "vehicle_sim");
 // follow.* are live: a `ros2 param set` counts from the robot's next pose on.
 node_spec!(ROBOT_BRIDGE = "robot_bridge", live: ["follow."]);
+// follow.* are live, as robot_bridge's.
+node_spec!(PX4_BRIDGE = "px4_bridge", live: ["follow."]);
