@@ -99,10 +99,9 @@ impl Px4 {
             (want[0], want[1]) = (want[0] * 5.0 / across, want[1] * 5.0 / across);
         }
         want[2] = want[2].clamp(-2.0, 2.0);
-        for i in 0..3 {
-            let dv = (want[i] - self.vel[i]).clamp(-4.0 * DT, 4.0 * DT);
-            self.vel[i] += dv;
-            self.ned[i] += self.vel[i] * DT;
+        for ((v, p), w) in self.vel.iter_mut().zip(&mut self.ned).zip(&want) {
+            *v += (w - *v).clamp(-4.0 * DT, 4.0 * DT);
+            *p += *v * DT;
         }
         let turn = (yaw - self.yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
             - std::f64::consts::PI;
@@ -137,6 +136,17 @@ impl Px4 {
             ..VehicleStatus::default()
         }
     }
+}
+
+/// Makes every `every`-th odometry bad, in turn NaN and in an FRD frame 1 km off.
+fn spoil(o: &mut VehicleOdometry, n: u64, every: u64) -> bool {
+    let bad = every > 0 && n.is_multiple_of(every);
+    if bad && n.is_multiple_of(2 * every) {
+        o.position[0] = f32::NAN;
+    } else if bad {
+        (o.pose_frame, o.position[0]) = (VehicleOdometry::POSE_FRAME_FRD, o.position[0] + 1000.0);
+    }
+    bad
 }
 
 fn main() -> ExitCode {
@@ -205,14 +215,9 @@ async fn fly(rt: &mut NodeRuntime, args: Vec<String>) -> Result<(), RuntimeError
                 px4.step(t);
                 n += 1;
                 let mut o = px4.odometry(us);
-                let bad = bad_every > 0 && n % bad_every == 0;
-                if bad && n % (2 * bad_every) == 0 {
-                    o.position[0] = f32::NAN;
-                } else if bad {
-                    (o.pose_frame, o.position[0]) = (VehicleOdometry::POSE_FRAME_FRD, o.position[0] + 1000.0);
-                }
+                let bad = spoil(&mut o, n, bad_every);
                 let _ = odom_pub.async_publish(o.clone()).await;
-                if n % 10 == 0 {
+                if n.is_multiple_of(10) {
                     let _ = status_pub.async_publish(px4.status(us)).await;
                 }
                 let moving = px4.ned.iter().map(|v| v * v).sum::<f64>() > 0.05 * 0.05;
