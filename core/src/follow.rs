@@ -63,7 +63,9 @@ pub struct Follower {
     best: Option<(f32, f64)>,
     last: Option<[f32; 3]>,
     now: f64,
-    /// Metres the robot has moved (xy) since the follower started.
+    /// Distances in 3D (a drone) rather than in xy (a ground robot).
+    spatial: bool,
+    /// Metres the robot has moved (xy; 3D for a drone) since the follower started.
     pub odometer: f64,
 }
 
@@ -77,6 +79,24 @@ impl Follower {
         Self {
             config,
             ..Self::default()
+        }
+    }
+
+    /// A follower for a drone: radii, progress and odometer count in 3D, as
+    /// a way-point above or below the vehicle is not reached by standing under it.
+    pub fn new_3d(config: FollowConfig) -> Self {
+        Self {
+            config,
+            spatial: true,
+            ..Self::default()
+        }
+    }
+
+    fn dist(&self, a: [f32; 3], b: [f32; 3]) -> f32 {
+        if self.spatial {
+            (a[0] - b[0]).hypot(a[1] - b[1]).hypot(a[2] - b[2])
+        } else {
+            xy_dist(a, b)
         }
     }
 
@@ -114,7 +134,7 @@ impl Follower {
     /// A pose from the robot at time `t` (seconds, any epoch, increasing).
     pub fn on_pose(&mut self, p: [f32; 3], t: f64) -> Vec<FollowEvent> {
         if let Some(q) = self.last {
-            self.odometer += f64::from(xy_dist(p, q));
+            self.odometer += f64::from(self.dist(p, q));
         }
         self.last = Some(p);
         self.now = t;
@@ -130,7 +150,7 @@ impl Follower {
         {
             return events;
         }
-        let d = xy_dist(p, w);
+        let d = self.dist(p, w);
         match self.best {
             Some((best, _)) if d <= best - self.config.progress_m => self.best = Some((d, t)),
             Some((best, since)) if t - since > self.config.stall_timeout_s => {
@@ -163,7 +183,7 @@ impl Follower {
             } else {
                 self.config.waypoint_radius_m
             };
-            if xy_dist(p, w) > reach {
+            if self.dist(p, w) > reach {
                 break;
             }
             if last {
@@ -177,7 +197,7 @@ impl Follower {
         }
         match self.waypoint() {
             Some(w) if self.next != start || self.best.is_none() => {
-                self.best = Some((xy_dist(p, w), self.now));
+                self.best = Some((self.dist(p, w), self.now));
                 vec![FollowEvent::WayPoint(w)]
             }
             _ => vec![],
@@ -325,6 +345,26 @@ mod tests {
         );
         assert!(f.set_leg(vec![]).is_empty());
     }
+    #[test]
+    fn a_3d_follower_does_not_arrive_under_its_way_point() {
+        let mut f = Follower::new_3d(FollowConfig::default());
+        f.on_pose([0.0, 0.0, 0.0], 0.0);
+        assert_eq!(
+            f.set_leg(vec![[0.0, 0.0, 20.0]]),
+            vec![FollowEvent::WayPoint([0.0, 0.0, 20.0])]
+        );
+        // Right under it, 19.5 m short: a ground robot would have arrived.
+        assert!(f.on_pose([0.0, 0.0, 0.5], 1.0).is_empty());
+        let e = f.on_pose([0.2, 0.0, 19.5], 5.0);
+        assert_eq!(
+            e,
+            vec![FollowEvent::Arrived {
+                goal: [0.0, 0.0, 20.0]
+            }]
+        );
+        assert!((f.odometer - (0.5 + 19.0f64.hypot(0.2))).abs() < 1e-3);
+    }
+
     #[test]
     fn a_waypoint_nobody_hears_is_warned_of_and_a_match_is_said_once() {
         let mut r = Readers::default();

@@ -33,6 +33,7 @@ pub mod mission;
 pub mod params;
 pub mod plot;
 pub mod prior;
+pub mod px4;
 pub mod reconstruct;
 pub mod rng;
 pub mod route;

@@ -15,6 +15,7 @@ mod fixed_array;
 pub mod geometry_msgs;
 pub mod message;
 pub mod nav_msgs;
+pub mod px4_msgs;
 pub mod rcl_interfaces;
 pub mod registry;
 pub mod rosgraph_msgs;

@@ -1,5 +1,5 @@
 //! The drone's statuses: `/uav/planner_status` (what the sortie planner
-//! gave it: gaps, viewpoints, sorties) and `/uav/vehicle_status` (how far
+//! gave it: gaps, viewpoints, sorties) and `/uav/flight_status` (how far
 //! it got: sorties flown, flight time, distance, closest approach to the
 //! scene). Typed, read and written only here.
 

@@ -8,6 +8,7 @@ pub mod diagnostics;
 pub mod markers;
 pub mod path;
 pub mod pointcloud2;
+pub mod px4;
 pub mod scan_store;
 pub mod scans;
 pub mod targets;

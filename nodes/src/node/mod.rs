@@ -6,6 +6,7 @@ pub mod cloud_publisher;
 pub mod completeness_detector;
 pub mod global_planner;
 pub mod local_explorer;
+pub mod px4_bridge;
 pub mod robot_bridge;
 pub mod scene_classifier;
 pub mod target_generator;
@@ -47,6 +48,7 @@ nodes!(
     robot_bridge,
     uav_planner,
     uav_sim,
+    px4_bridge,
 );
 
 #[cfg(test)]
@@ -103,6 +105,11 @@ mod tests {
         assert_shipped_default::<GraphParams>(&super::local_explorer::SPEC, "graph");
         assert_shipped_default::<ExploreParams>(&super::local_explorer::SPEC, "explore");
         assert_shipped_default::<FollowConfig>(&super::robot_bridge::SPEC, "follow");
+        assert_shipped_default::<FollowConfig>(&super::px4_bridge::SPEC, "follow");
+        assert_shipped_default::<skyground_core::px4::OffboardConfig>(
+            &super::px4_bridge::SPEC,
+            "offboard",
+        );
     }
 
     #[test]

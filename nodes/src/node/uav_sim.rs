@@ -1,7 +1,7 @@
 //! uav_sim: /uav/global_path (sorties, home to home) → a simulated
 //! multirotor with a Mid-360-like LiDAR under it → /uav/state_estimation,
 //! /uav/registered_scan (ids marked as the drone's), one scan in
-//! `throttle_every` on /uav/registered_scan_throttle, /uav/vehicle_status,
+//! `throttle_every` on /uav/registered_scan_throttle, /uav/flight_status,
 //! /tf (map → uav/base_link) and /tf_static (uav/base_link → uav/sensor).
 //! Its robot time runs as vehicle_sim's: `time_factor` times wall time
 //! while it flies, wall speed while it waits on the pad.
@@ -88,7 +88,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     )?;
     let throttle = format!("{}_throttle", p.scan_topic);
     let throttle_pub = rt.publisher::<PointCloud2>(&throttle, qos::sensor(5))?;
-    let status_pub = rt.publisher::<DiagnosticArray>("/uav/vehicle_status", qos::latched(1))?;
+    let status_pub = rt.publisher::<DiagnosticArray>("/uav/flight_status", qos::latched(1))?;
     let tf_pub = rt.publisher::<TFMessage>("/tf", qos::tf())?;
     let tf_static_pub = rt.publisher::<TFMessage>("/tf_static", qos::latched(1))?;
     let drop = -p.multirotor.sensor_drop;
@@ -151,7 +151,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
                 closest_m: closest,
             };
             let sent = status_pub.async_publish(array(h.clone(), s.to_wire()));
-            publish_logged(&rt.log, "/uav/vehicle_status", sent).await;
+            publish_logged(&rt.log, "/uav/flight_status", sent).await;
         }
         if odom_due.due(sim) {
             let at = m.state.position.map(f64::from);

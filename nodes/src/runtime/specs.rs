@@ -46,3 +46,5 @@ node_spec!(UAV_SIM = "uav_sim");
 node_spec!(UAV_PLANNER = "uav_planner");
 // follow.* are live: a `ros2 param set` counts from the robot's next pose on.
 node_spec!(ROBOT_BRIDGE = "robot_bridge", live: ["follow."]);
+// follow.* are live, as robot_bridge's.
+node_spec!(PX4_BRIDGE = "px4_bridge", live: ["follow."]);

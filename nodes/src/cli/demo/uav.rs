@@ -16,7 +16,7 @@ pub(super) const TOPICS: &[&str] = &[
     "/uav/state_estimation:nav_msgs/msg/Odometry",
     "/uav/global_path:nav_msgs/msg/Path",
     "/uav/planner_status:diagnostic_msgs/msg/DiagnosticArray",
-    "/uav/vehicle_status:diagnostic_msgs/msg/DiagnosticArray",
+    "/uav/flight_status:diagnostic_msgs/msg/DiagnosticArray",
     "/uav/registered_scan_throttle:sensor_msgs/msg/PointCloud2",
 ];
 

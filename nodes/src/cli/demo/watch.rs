@@ -115,7 +115,7 @@ pub(super) async fn follow(
     let regions = rt.subscription::<MarkerArray>("/target_regions", qos::latched(1))?;
     let contours = rt.subscription::<MarkerArray>("/detection_markers", qos::latched(1))?;
     let odom = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
-    let uav_status = rt.subscription::<DiagnosticArray>("/uav/vehicle_status", qos::latched(1))?;
+    let uav_status = rt.subscription::<DiagnosticArray>("/uav/flight_status", qos::latched(1))?;
     let uav_plan = rt.subscription::<DiagnosticArray>("/uav/planner_status", qos::latched(1))?;
     let (us_s, up_s) = (uav_status.async_stream(), uav_plan.async_stream());
     futures::pin_mut!(us_s, up_s);
