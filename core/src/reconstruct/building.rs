@@ -34,6 +34,9 @@ pub struct Model {
     pub planes: usize,
     /// Points used (after thinning).
     pub points: usize,
+    /// Roof points per m² where the roof was seen, which sized its smallest
+    /// part (`ReconstructParams::region_m2`); `None` without roof planes.
+    pub roof_density: Option<f64>,
     /// Boundary segments fitted to wall points or to the outline.
     pub walls: WallFit,
     /// The model's level of detail.
@@ -183,6 +186,7 @@ pub(crate) fn reconstruct_building(
         open_base,
         planes: region_plane.len(),
         points: xyz.len(),
+        roof_density: density.is_finite().then_some(density),
         walls: fit,
         lod: Lod::Lod22,
         fallback: None,
@@ -290,6 +294,7 @@ pub(crate) fn fallback_building(xyz: &[[f32; 3]], inp: &Inputs, why: Skip) -> Re
         open_base: false,
         planes: 0,
         points: xyz.len(),
+        roof_density: None,
         walls: WallFit::default(),
         lod: Lod::Lod12,
         fallback: Some(why),
