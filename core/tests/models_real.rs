@@ -107,8 +107,10 @@ fn every_delft_building_the_survey_covers_gets_a_valid_model_with_its_bag_id() {
     assert_ne!(cj, "invalid");
     // 0.184 m with smaller roof parts (min_plane_points 8, chosen on tile 1
     // and the reference scene); 0.302 m before. Issue 48's bar is 0.15 m:
-    // tile 2 alone (held out) gives 0.126 m, tile 1 0.199 m.
-    assert!(median < 0.2, "{median}");
+    // tile 2 alone (held out) gives 0.126 m, tile 1 0.199 m. AHN3's roofs
+    // (5–11 pts/m²) keep the sparse part size whatever the density rule's
+    // dense end is set to.
+    assert!(median < 0.19, "{median}");
     for m in &rec.models {
         let f = fps.iter().find(|f| f.id == m.id).unwrap();
         assert_eq!(m.name, f.name, "the BAG id goes through");
@@ -234,9 +236,15 @@ fn delft_rmse_breakdown_per_tile() {
             .filter(|m| m.quality.val3dity.is_empty())
             .count();
         let lod12 = rec.models.iter().filter(|m| m.lod == Lod::Lod12).count();
+        let median = med(&mut q);
+        // The held-out tile under the defaults: 0.126 m (issue 48's bar is
+        // 0.15 m), every model valid.
+        if tile == 2 && std::env::var_os("SKYGROUND_RECON_PARAMS").is_none() {
+            assert!(median <= 0.13, "{median}");
+            assert_eq!(valid, rec.models.len());
+        }
         eprintln!(
-            "tile {tile}: median quality RMSE (roof points to roof faces) {:.3} m; {valid} valid, {lod12} LoD 1.2, {} replaced",
-            med(&mut q),
+            "tile {tile}: median quality RMSE (roof points to roof faces) {median:.3} m; {valid} valid, {lod12} LoD 1.2, {} replaced",
             rec.models
                 .iter()
                 .filter(|m| !m.quality.rejected_val3dity.is_empty())

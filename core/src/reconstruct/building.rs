@@ -34,6 +34,9 @@ pub struct Model {
     pub planes: usize,
     /// Points used (after thinning).
     pub points: usize,
+    /// Roof points per m² where the roof was seen, which sized its smallest
+    /// part (`ReconstructParams::region_m2`); `None` without roof planes.
+    pub roof_density: Option<f64>,
     /// Boundary segments fitted to wall points or to the outline.
     pub walls: WallFit,
     /// The model's level of detail.
@@ -114,7 +117,10 @@ pub(crate) fn reconstruct_building(
     }
     let code = roof_labels(xyz, &label, &planes, &grid, &mask);
     let mut codes = code;
-    let min_cells = (params.min_region_m2 / (cell * cell)).ceil() as usize;
+    // Small parts keep real dormers at airborne densities; on dense clouds
+    // they are mostly clutter planes of a few points (`region_m2`).
+    let density = roof_density(xyz, &label, &grid, &mask);
+    let min_cells = (params.region_m2(density) / (cell * cell)).ceil() as usize;
     let (region, region_code) = regions(&grid, &mut codes, min_cells.max(1));
     let mut part = trace(&grid, &region, region_code.len() as u32, params.simplify_m);
     let region_plane: Vec<RoofPlane> = region_code
@@ -180,6 +186,7 @@ pub(crate) fn reconstruct_building(
         open_base,
         planes: region_plane.len(),
         points: xyz.len(),
+        roof_density: density.is_finite().then_some(density),
         walls: fit,
         lod: Lod::Lod22,
         fallback: None,
@@ -287,6 +294,7 @@ pub(crate) fn fallback_building(xyz: &[[f32; 3]], inp: &Inputs, why: Skip) -> Re
         open_base: false,
         planes: 0,
         points: xyz.len(),
+        roof_density: None,
         walls: WallFit::default(),
         lod: Lod::Lod12,
         fallback: Some(why),
@@ -299,6 +307,33 @@ fn bounds(mp: &MultiPolygon<f64>) -> Option<[f64; 4]> {
     let r = mp.bounding_rect()?;
     let b = [r.min().x, r.min().y, r.max().x, r.max().y];
     b.iter().all(|v| v.is_finite()).then_some(b)
+}
+
+/// Roof points per m² where the roof was seen: the points on a plane
+/// inside the footprint over the area of the cells they fall in (a roof
+/// half seen is as dense as a whole one); NaN without any.
+pub(crate) fn roof_density(
+    xyz: &[[f32; 3]],
+    label: &[u32],
+    grid: &GridFrame,
+    mask: &[bool],
+) -> f64 {
+    let mut seen = vec![false; mask.len()];
+    let mut n = 0usize;
+    for (p, &l) in xyz.iter().zip(label) {
+        if l == NO_PLANE {
+            continue;
+        }
+        let Some(c) = grid.index_of(f64::from(p[0]), f64::from(p[1])) else {
+            continue;
+        };
+        if mask[c] {
+            seen[c] = true;
+            n += 1;
+        }
+    }
+    let cells = seen.iter().filter(|s| **s).count();
+    n as f64 / (cells as f64 * grid.cell * grid.cell)
 }
 
 /// Per cell: the highest plane (1-based code) holding at least a quarter

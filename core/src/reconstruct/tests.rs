@@ -95,6 +95,9 @@ fn complete_cloud_gives_closed_accurate_models() {
     for m in &rec.models {
         let c = m.shell.check();
         assert!(c.valid(), "building {}: {c:?}", m.id);
+        // Samples every 0.3 m: 11 per m² in plan on flat roofs, more on slopes.
+        let d = m.roof_density.unwrap();
+        assert!((8.0..30.0).contains(&d), "building {}: {d}", m.id);
     }
     let gt = sample_building_surfaces(&s, 0.25);
     let e = evaluate_models(&s, &gt, &rec, 0.25);
@@ -276,4 +279,60 @@ fn cityjson_has_one_solid_per_building_with_semantics() {
     }
     let text = obj::obj_text(&rec);
     assert_eq!(text.matches("\no building_").count(), 3);
+}
+
+#[test]
+fn roof_density_counts_plane_points_over_the_cells_they_cover() {
+    use crate::geom::grid::GridFrame;
+    use crate::geom::planes::NO_PLANE;
+    let grid = GridFrame {
+        origin: [0.0, 0.0],
+        cell: 0.5,
+        nx: 8,
+        ny: 8,
+    };
+    // Points every 0.25 m (16 per m²) over the left half; the right half
+    // is unseen and must not thin the density.
+    let xyz: Vec<[f32; 3]> = (0..8)
+        .flat_map(|i| (0..16).map(move |j| [0.125 + 0.25 * i as f32, 0.125 + 0.25 * j as f32, 5.0]))
+        .collect();
+    let mut label = vec![0u32; xyz.len()];
+    let mask = vec![true; 64];
+    let d = building::roof_density(&xyz, &label, &grid, &mask);
+    assert!((d - 16.0).abs() < 1e-9, "{d}");
+    // Points on no plane (walls, clutter) do not count.
+    label.iter_mut().step_by(2).for_each(|l| *l = NO_PLANE);
+    let d = building::roof_density(&xyz, &label, &grid, &mask);
+    assert!((d - 8.0).abs() < 1e-9, "{d}");
+    // Outside the footprint neither.
+    let none = vec![false; 64];
+    assert!(building::roof_density(&xyz, &label, &grid, &none).is_nan());
+}
+
+#[test]
+fn the_smallest_roof_part_grows_from_sparse_to_dense_roofs() {
+    let p = ReconstructParams::default();
+    assert_eq!(p.region_m2(12.0), p.min_region_m2);
+    assert_eq!(p.region_m2(p.sparse_roof_density), p.min_region_m2);
+    assert_eq!(p.region_m2(f64::NAN), p.min_region_m2);
+    assert_eq!(p.region_m2(400.0), p.dense_region_m2);
+    let mid = p.region_m2(0.5 * (p.sparse_roof_density + p.dense_roof_density));
+    assert!((mid - 0.5 * (p.min_region_m2 + p.dense_region_m2)).abs() < 1e-9);
+    let step = ReconstructParams {
+        sparse_roof_density: 50.0,
+        dense_roof_density: 50.0,
+        ..p.clone()
+    };
+    assert_eq!(step.region_m2(49.9), p.min_region_m2);
+    assert_eq!(step.region_m2(50.0), p.dense_region_m2);
+    let bad = ReconstructParams {
+        dense_region_m2: -1.0,
+        ..p
+    };
+    assert!(
+        bad.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("dense_region_m2")
+    );
 }

@@ -302,7 +302,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             serde_json::json!({
                 "id": m.id, "name": m.name, "faces": m.shell.faces.len(),
                 "vertices": m.shell.vertices.len(), "roof_planes": m.planes,
-                "points": m.points, "base": frame.to_source([0.0, 0.0, m.base])[2], "open_ground_floor": m.open_base,
+                "points": m.points, "roof_density": m.roof_density, "base": frame.to_source([0.0, 0.0, m.base])[2], "open_ground_floor": m.open_base,
                 "walls": m.walls, "check": c, "watertight": c.watertight(),
                 "valid": m.quality.val3dity.is_empty(), "val3dity": m.quality.val3dity,
                 "lod": m.lod, "fallback_reason": m.fallback, "rejected_val3dity": m.quality.rejected_val3dity,

@@ -110,6 +110,7 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
                     "skyground_val3dity_codes": m.quality.val3dity,
                     "skyground_rejected_lod22_val3dity_codes": m.quality.rejected_val3dity,
                     "skyground_points": m.points,
+                    "skyground_roof_density": m.roof_density,
                 },
                 "geometry": [{
                     "type": "Solid",
