@@ -124,6 +124,8 @@ pub struct IdCheck {
     pub unsent: usize,
     /// Ids that came twice in the sent log or the merge.
     pub repeated: usize,
+    /// Distinct ids sent and merged per platform: [ground robot, drone].
+    pub by_platform: [[usize; 2]; 2],
 }
 
 /// Compares the `sent` ids with the `merged` ones, listing `cap` missing at most.
@@ -139,6 +141,10 @@ pub fn check(sent: &[u64], merged: &[u64], cap: usize) -> IdCheck {
         missing_ids: missing.iter().take(cap).map(|&i| format(i)).collect(),
         unsent: m.difference(&s).count(),
         repeated: (sent.len() - s.len()) + (merged.len() - m.len()),
+        by_platform: [0u8, 1].map(|k| {
+            let of = |set: &BTreeSet<u64>| set.iter().filter(|&&i| platform(i) == k).count();
+            [of(&s), of(&m)]
+        }),
     }
 }
 
@@ -154,6 +160,13 @@ mod tests {
         assert_eq!((platform(uav), platform(stamp)), (1, 0));
         assert_eq!(untagged(uav), stamp);
         assert_eq!(parse(&format(uav)), Some(uav));
+        let c = check(&[stamp, uav, tagged(stamp + 1, 1)], &[stamp, uav], 5);
+        assert_eq!(
+            c.by_platform,
+            [[1, 1], [2, 1]],
+            "sent and merged, per platform"
+        );
+        assert_eq!(c.missing, 1);
     }
 
     #[test]

@@ -203,7 +203,7 @@ fn a_path_of_sorties_is_flown_one_battery_each_and_ends_home() {
     let path: Vec<[f32; 3]> = plan.sorties.iter().flat_map(|s| s.path.clone()).collect();
     let scene = boxes_on_plane(70.0, &[([20.0, 20.0, 0.0], [30.0, 30.0, 10.0])]);
     let body = SceneBody::new(&scene);
-    let mut m = Multirotor::new(cfg.clone(), PAD, 0.0);
+    let mut m = Multirotor::new(cfg, PAD, 0.0);
     let mut q = SortieQueue::default();
     q.push_path(a.home(), &path, cfg.goal_tolerance);
     assert_eq!(q.waiting(), plan.sorties.len());

@@ -128,7 +128,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         };
         match &step {
             FlightStep::Blocked { reason, .. } => {
-                rt.log.warn(&format!("way-point dropped: {reason}"))
+                rt.log.warn(&format!("sortie cut short, coming home: {reason}"))
             }
             FlightStep::BatteryEmpty => rt.log.error("battery empty: landed where it was"),
             _ => {}

@@ -218,7 +218,7 @@ fn build_models(
 /// report.json.
 fn summary_json(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> serde_json::Value {
     let (a, w) = (r.a, &r.outcome.watch);
-    json!({
+    let mut v = json!({
         "scene": a.scene(),
         "mode": if a.field.field { "field" } else { "simulated" },
         // The figures count ground points against this scene's buildings: in
@@ -263,7 +263,80 @@ fn summary_json(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> serde_json
         "models_after": m.after,
         "models_pictured": m.pictured,
         "models_compared": m.verdict,
+    });
+    // Apart: one more key passes serde_json's macro recursion limit.
+    v["platforms"] = platforms_json(r);
+    v
+}
+
+/// Per platform: what it was given, how far and long it went, the scans
+/// of it merged; `robot_time_s` the longer of the two.
+fn platforms_json(r: &Inputs) -> serde_json::Value {
+    let (w, t, ids) = (&r.outcome.watch, &r.outcome.total, &r.merge.ids.by_platform);
+    let ground = json!({
+        "targets_reached": t.targets.reached,
+        "path_length_m": t.odometer_m,
+        "time_s": t.sim_s,
+        "scans_sent": ids[0][0],
+        "scans_merged": ids[0][1],
+    });
+    let Some(s) = &w.uav else {
+        return json!({ "ground": ground, "robot_time_s": t.sim_s });
+    };
+    let p = w.uav_plan.clone().unwrap_or_default();
+    json!({
+        "ground": ground,
+        "uav": {
+            "gaps": p.gaps,
+            "drone_gaps": p.drone_gaps,
+            "seen_by_viewpoints": p.seen,
+            "viewpoints": p.viewpoints,
+            "sorties_planned": p.sorties,
+            "sorties_flown": s.sorties,
+            "sorties_cut_short": s.cut,
+            "planned_flight_s": p.flight_s,
+            "flight_s": s.flight_s,
+            "time_s": s.time_s,
+            "path_length_m": s.odometer_m,
+            "closest_approach_m": s.closest_m,
+            "scans_sent": ids[1][0],
+            "scans_merged": ids[1][1],
+            "refused": p.refused,
+        },
+        "robot_time_s": t.sim_s.max(s.time_s),
     })
+}
+
+/// report.md's per-platform table (a drone flew).
+fn platforms_markdown(r: &Inputs) -> String {
+    let (w, t, ids) = (&r.outcome.watch, &r.outcome.total, &r.merge.ids.by_platform);
+    let Some(s) = &w.uav else {
+        return String::new();
+    };
+    let p = w.uav_plan.clone().unwrap_or_default();
+    format!(
+        "\n## Platforms\n\n| | ground robot | drone |\n|---|---:|---:|\n| given | {} stops reached | {} of {} gaps (no ground stop sees them), {} viewpoints seeing {} |\n| sorties (planned / flown / cut short) | – | {} / {} / {} |\n| metres | {:.0} | {:.0} |\n| robot seconds (driving or flying, and waiting) | {:.0} | {:.0} ({:.0} in the air; planned {:.0}) |\n| closest approach to the scene, m | – | {:.2} |\n| scans sent / merged | {} / {} | {} / {} |\n\nRobot time of the mission (the longer of the two): {:.0} s.\n",
+        t.targets.reached,
+        p.drone_gaps,
+        p.gaps,
+        p.viewpoints,
+        p.seen,
+        p.sorties,
+        s.sorties,
+        s.cut,
+        t.odometer_m,
+        s.odometer_m,
+        t.sim_s,
+        s.time_s,
+        s.flight_s,
+        p.flight_s,
+        s.closest_m,
+        ids[0][0],
+        ids[0][1],
+        ids[1][0],
+        ids[1][1],
+        t.sim_s.max(s.time_s)
+    )
 }
 
 fn ground_points(w: &Watch) -> usize {
@@ -291,6 +364,7 @@ fn mission_markdown(r: &Inputs, e: &Evaluation, m: &Models, wall: f64) -> String
         a.prior.describe(), r.outcome.total.rounds, t.reached, t.given_up, t.seen, t.unreachable, t.set_downs, r.outcome.total.odometer_m,
         if a.field.field { "robot (odometry stamps)" } else { "simulated" }, r.outcome.total.sim_s, ground_points(w)
     ));
+    md.push_str(&platforms_markdown(r));
     md.push_str(&merge_markdown(r));
     if a.field.field {
         md.push_str(&format!(
