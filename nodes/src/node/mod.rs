@@ -105,6 +105,16 @@ mod tests {
         assert_shipped_default::<GraphParams>(&super::local_explorer::SPEC, "graph");
         assert_shipped_default::<ExploreParams>(&super::local_explorer::SPEC, "explore");
         assert_shipped_default::<FollowConfig>(&super::robot_bridge::SPEC, "follow");
+        use skyground_core::airspace::AirspaceRules;
+        use skyground_core::sorties::{GroundView, SortieParams};
+        use skyground_core::vehicle::multirotor::MultirotorConfig;
+        let uav = &super::uav_planner::SPEC;
+        assert_shipped_default::<MultirotorConfig>(uav, "multirotor");
+        assert_shipped_default::<AirspaceRules>(uav, "airspace");
+        assert_shipped_default::<SortieParams>(uav, "sorties");
+        assert_shipped_default::<GroundView>(uav, "ground_view");
+        // The simulated drone flies as the planner plans it.
+        assert_shipped_default::<MultirotorConfig>(&super::uav_sim::SPEC, "multirotor");
         assert_shipped_default::<FollowConfig>(&super::px4_bridge::SPEC, "follow");
         assert_shipped_default::<skyground_core::px4::OffboardConfig>(
             &super::px4_bridge::SPEC,

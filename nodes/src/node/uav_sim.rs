@@ -127,9 +127,9 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             frame_id: p.frame_id.clone(),
         };
         match &step {
-            FlightStep::Blocked { reason, .. } => {
-                rt.log.warn(&format!("sortie cut short, coming home: {reason}"))
-            }
+            FlightStep::Blocked { reason, .. } => rt
+                .log
+                .warn(&format!("sortie cut short, coming home: {reason}")),
             FlightStep::BatteryEmpty => rt.log.error("battery empty: landed where it was"),
             _ => {}
         }

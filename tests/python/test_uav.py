@@ -1,0 +1,92 @@
+"""The drone beside the ground robot (issue 52): `skyground demo --platforms
+ground,uav` on a scene of its own (a block round a closed courtyard, a
+30 m tower). The drone takes the gaps no ground stop sees, flies
+its sorties while the robot drives, and both platforms' scans are merged.
+Asserted from the bag: every drone pose keeps the body radius from the true
+boxes and the ground (the pad aside), under the 120 m ceiling."""
+import json
+import math
+import os
+import subprocess
+
+from mcap_ros2.reader import read_ros2_messages
+
+from conftest import BIN, _domains
+from test_demo import box
+
+RADIUS = 0.6  # config/uav_sim.yaml multirotor.radius
+# (x0, y0, x1, y1, top): four wings round a 12 m courtyard, a tower.
+BOXES = [(20, 20, 50, 29, 12), (20, 41, 50, 50, 12), (20, 29, 29, 41, 12), (41, 29, 50, 41, 12),
+         (62, 62, 74, 74, 30)]
+
+
+def court_scene(path):
+    """90 m × 90 m of flat ground, the wings and the tower as boxes."""
+    objects = [("terrain", [(-5, -5, 0), (95, -5, 0), (95, 95, 0), (-5, 95, 0)], [(0, 1, 2, 3)])]
+    objects += [box(f"building_{k + 1}", *b) for k, b in enumerate(BOXES)]
+    lines, base = [], 1
+    for name, verts, quads in objects:
+        lines.append(f"o {name}")
+        lines += [f"v {x} {y} {z}" for x, y, z in verts]
+        for q in quads:
+            a, b, c, d = (base + i for i in q)
+            lines += [f"f {a} {b} {c}", f"f {a} {c} {d}"]
+        base += len(verts)
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def box_distance(p, b):
+    x0, y0, x1, y1, z1 = b
+    dx = max(x0 - p[0], 0.0, p[0] - x1)
+    dy = max(y0 - p[1], 0.0, p[1] - y1)
+    dz = max(0.0 - p[2], 0.0, p[2] - z1)
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+def mission(tmp_path, platforms):
+    """The demo on the courtyard scene with `platforms`: its output folder and report."""
+    env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
+    env.pop("RUST_LOG", None)
+    out = tmp_path / platforms.replace(",", "_")
+    argv = [str(BIN / "skyground"), "demo", "--scene", str(court_scene(tmp_path / "court.obj")),
+            "--out", str(out), "--platforms", platforms, "--timeout", "400"]
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=600, env=env)
+    assert p.returncode == 0, p.stderr[-3000:]
+    r = json.loads((out / "report.json").read_text())
+    assert r["finished"], r["ended_because"]
+    return out, r
+
+
+def test_the_drone_flies_the_gaps_the_robot_cannot_see_within_every_rule(tmp_path):
+    _, alone = mission(tmp_path, "ground")
+    assert "uav" not in alone["platforms"]
+    out, r = mission(tmp_path, "ground,uav")
+    print(f"coverage ground alone {alone['coverage_after']:.4f}, both {r['coverage_after']:.4f}; "
+          f"walls {alone['walls_after']:.4f} → {r['walls_after']:.4f}; platforms {r['platforms']}")
+    uav, ground = r["platforms"]["uav"], r["platforms"]["ground"]
+    assert uav["drone_gaps"] > 0 and uav["viewpoints"] > 0, uav
+    assert uav["sorties_flown"] == uav["sorties_planned"] >= 1, uav
+    assert uav["sorties_cut_short"] == 0, uav
+    assert uav["path_length_m"] > 20.0, uav
+    for k, who in (("uav", uav), ("ground", ground)):
+        assert who["scans_sent"] > 0 and who["scans_sent"] == who["scans_merged"], (k, who)
+    assert r["merge"]["ids"]["missing"] == 0, r["merge"]["ids"]
+    assert r["coverage_after"] >= alone["coverage_after"] + 0.01, (alone["coverage_after"], r["coverage_after"])
+    assert r["platforms"]["robot_time_s"] == max(ground["time_s"], uav["time_s"])
+
+    poses, statuses = [], []
+    for m in read_ros2_messages(str(out / "mission.mcap")):
+        if m.channel.topic == "/uav/state_estimation":
+            q = m.ros_msg.pose.pose.position
+            poses.append((q.x, q.y, q.z))
+        elif m.channel.topic == "/uav/flight_status":
+            statuses.append({v.key: v.value for v in m.ros_msg.status[0].values})
+    assert len(poses) > 100, len(poses)
+    home = poses[0]
+    airborne = [q for q in poses if math.hypot(q[0] - home[0], q[1] - home[1]) > 1.0]
+    assert airborne, "the drone left its pad"
+    worst = min(min(min(box_distance(q, b) for b in BOXES), q[2]) for q in airborne)
+    assert worst >= RADIUS, f"closest approach to the scene {worst:.2f} m"
+    assert max(q[2] for q in poses) - home[2] <= 120.0
+    assert statuses and float(statuses[-1]["closest_m"]) >= RADIUS, statuses[-1:]
