@@ -223,6 +223,7 @@ mod tests {
             IdCheck {
                 sent: 2,
                 merged: 2,
+                by_platform: [[2, 2], [0, 0]],
                 ..IdCheck::default()
             }
         );
