@@ -44,14 +44,36 @@ def box_distance(p, b):
     return math.sqrt(dx * dx + dy * dy + dz * dz)
 
 
-def mission(tmp_path, platforms):
-    """The demo on the courtyard scene with `platforms`: its output folder and report."""
+def run_demo(tmp_path, out, platforms, *extra):
+    """`skyground demo` on the courtyard scene into `out`, finished or not."""
     env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
     env.pop("RUST_LOG", None)
-    out = tmp_path / platforms.replace(",", "_")
     argv = [str(BIN / "skyground"), "demo", "--scene", str(court_scene(tmp_path / "court.obj")),
-            "--out", str(out), "--platforms", platforms, "--timeout", "400"]
-    p = subprocess.run(argv, capture_output=True, text=True, timeout=600, env=env)
+            "--out", str(out), "--platforms", platforms, "--timeout", "400", *extra]
+    return subprocess.run(argv, capture_output=True, text=True, timeout=600, env=env)
+
+
+def fence_file(path, x0, y0, x1, y1):
+    """A GeoJSON geofence: one rectangle, in the scene's coordinates."""
+    ring = [[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]]
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "allowed"},
+         "geometry": {"type": "Polygon", "coordinates": [ring]}}]}))
+    return path
+
+
+def drone_poses(out):
+    """The drone's positions in the bag, in order."""
+    return [(m.ros_msg.pose.pose.position.x, m.ros_msg.pose.pose.position.y,
+             m.ros_msg.pose.pose.position.z)
+            for m in read_ros2_messages(str(out / "mission.mcap"))
+            if m.channel.topic == "/uav/state_estimation"]
+
+
+def mission(tmp_path, platforms, *extra):
+    """The demo on the courtyard scene with `platforms`: its output folder and report."""
+    out = tmp_path / (platforms.replace(",", "_") + ("_fenced" if extra else ""))
+    p = run_demo(tmp_path, out, platforms, *extra)
     assert p.returncode == 0, p.stderr[-3000:]
     r = json.loads((out / "report.json").read_text())
     assert r["finished"], r["ended_because"]
@@ -90,3 +112,23 @@ def test_the_drone_flies_the_gaps_the_robot_cannot_see_within_every_rule(tmp_pat
     assert worst >= RADIUS, f"closest approach to the scene {worst:.2f} m"
     assert max(q[2] for q in poses) - home[2] <= 120.0
     assert statuses and float(statuses[-1]["closest_m"]) >= RADIUS, statuses[-1:]
+
+
+def test_a_geofence_keeps_every_pose_inside_and_a_bad_one_stops_the_demo_at_start(tmp_path):
+    # West of x = 56 only: the tower (x 62–74) is out of bounds, the courtyard in.
+    fence = fence_file(tmp_path / "fence.geojson", -5, -5, 56, 95)
+    out, r = mission(tmp_path, "ground,uav", "--geofence", str(fence))
+    uav = r["platforms"]["uav"]
+    assert uav["sorties_flown"] >= 1 and uav["viewpoints"] > 0, uav
+    poses = drone_poses(out)
+    assert len(poses) > 100, len(poses)
+    east = max(q[0] for q in poses)
+    assert east <= 56.0, f"the drone went {east - 56.0:.2f} m past the fence"
+    print(f"fenced: {uav['viewpoints']} viewpoints, {uav['sorties_flown']} sortie(s), easternmost pose x {east:.2f} m")
+
+    bad = tmp_path / "fence_bad.geojson"
+    bad.write_text('{"type": "FeatureCollection", "features": [')
+    p = run_demo(tmp_path, tmp_path / "bad", "ground,uav", "--geofence", str(bad))
+    assert p.returncode != 0
+    assert "--geofence" in p.stderr and "fence_bad.geojson" in p.stderr, p.stderr[-2000:]
+    assert not (tmp_path / "bad" / "mission.mcap").exists(), "no node started"

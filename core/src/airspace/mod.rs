@@ -14,7 +14,7 @@ mod violation;
 
 pub use ground::GroundReach;
 pub use map::{Airspace, AirspaceError};
-pub use rules::{AirspaceRules, Geofence};
+pub use rules::{AirspaceRules, Geofence, geofence};
 pub use violation::{Obstacle, Refusal, Violation};
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 use geo::MultiPolygon;
 use serde::{Deserialize, Serialize};
 
+use crate::footprint::Footprint;
 use crate::params::{Checks, ParamError};
 
 /// The rules a drone's plan must keep (the `airspace.*` params); the
@@ -50,3 +51,14 @@ impl AirspaceRules {
 /// A geofence: the polygons the drone must stay inside, in the prior's
 /// local frame (xy, m).
 pub type Geofence = MultiPolygon<f64>;
+
+/// The geofence made of every polygon of `areas` (a GeoJSON read as
+/// footprints are, in the prior's frame): the drone may be inside any.
+pub fn geofence(areas: &[Footprint]) -> Geofence {
+    MultiPolygon(
+        areas
+            .iter()
+            .flat_map(|f| f.polygon.0.iter().cloned())
+            .collect(),
+    )
+}

@@ -13,6 +13,8 @@ pub(super) const MISSING: Rgb = [220, 30, 30];
 pub(super) const TARGET: Rgb = [150, 40, 200];
 /// The route.
 pub(super) const ROUTE: Rgb = [0, 150, 150];
+/// The drone's flight.
+pub(super) const FLIGHT: Rgb = [230, 0, 160];
 
 /// Maps `t` in 0..=1 to a blue → green → yellow → red ramp (clamped; NaN is grey).
 pub fn ramp(t: f64) -> Rgb {

@@ -110,6 +110,12 @@ impl Canvas {
     /// with lengths in `unit` (the picture itself is in metres), in bands
     /// added above and below the map so they hide none of it.
     pub fn furnish(&mut self, legend: &[(Rgb, &str)], unit: &LinearUnit) {
+        self.furnish_view(legend, unit, true);
+    }
+
+    /// As [`Self::furnish`], with the north arrow only when `north` (a side
+    /// view has no north up; its legend says which way it looks).
+    pub fn furnish_view(&mut self, legend: &[(Rgb, &str)], unit: &LinearUnit, north: bool) {
         let s = self.text_scale();
         let layout = LegendLayout::new(legend, i64::from(self.map_size().0), s);
         let top = (layout.height + 8 * s).max(NORTH_ROWS * s);
@@ -119,7 +125,9 @@ impl Canvas {
             u32::try_from(bottom).unwrap_or(0),
         );
         self.legend(legend, &layout, s);
-        self.north_arrow(s);
+        if north {
+            self.north_arrow(s);
+        }
         self.scale_bar(unit, s);
     }
 

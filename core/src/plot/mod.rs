@@ -11,6 +11,7 @@ mod furniture;
 mod models;
 mod plan;
 mod scene;
+mod side;
 
 pub use canvas::{Canvas, PlotError};
 pub use color::{Rgb, ramp};
@@ -18,3 +19,4 @@ pub use furniture::nice_length;
 pub use models::{ModelView, models_picture};
 pub use plan::{PlanView, plan_picture};
 pub use scene::{BuildingGain, detection_picture, mission_picture};
+pub use side::side_picture;

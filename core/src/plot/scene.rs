@@ -9,7 +9,7 @@ use crate::crs::LinearUnit;
 use crate::missing::Detection;
 use crate::targets::TargetSet;
 
-use super::color::{GREY, MISSING, ROUTE, TARGET};
+use super::color::{FLIGHT, GREY, MISSING, ROUTE, TARGET};
 
 const CONTOUR: Rgb = [20, 20, 20];
 const SKELETON: Rgb = [30, 80, 220];
@@ -122,17 +122,19 @@ pub struct BuildingGain {
 }
 
 /// A mission from above: buildings coloured by completeness gain (blue no
-/// gain → red `full_scale` or more), the driven route, targets and regions;
-/// legend (with the gain ramp's ends), north arrow, scale bar in `unit`.
+/// gain → red `full_scale` or more), the driven route, the drone's flight
+/// (`routes.1`, empty without a drone), targets and regions; legend (with
+/// the gain ramp's ends), north arrow, scale bar in `unit`.
 pub fn mission_picture(
     extent: ([f64; 2], [f64; 2]),
     buildings: &[BuildingGain],
     full_scale: f64,
-    route: &[[f32; 3]],
+    routes: (&[[f32; 3]], &[[f32; 3]]),
     targets: &TargetSet,
     max_px: u32,
     unit: &LinearUnit,
 ) -> Result<Canvas, PlotError> {
+    let (route, flight) = routes;
     let mut c = Canvas::new(extent.0, extent.1, 5.0, max_px)?;
     for b in buildings {
         let rs = rings(&b.outline);
@@ -153,12 +155,20 @@ pub fn mission_picture(
             ROUTE,
         );
     }
+    for w in flight.windows(2) {
+        c.line(
+            [f64::from(w[0][0]), f64::from(w[0][1])],
+            [f64::from(w[1][0]), f64::from(w[1][1])],
+            2,
+            FLIGHT,
+        );
+    }
     for p in &targets.points {
         c.dot([f64::from(p.xyz[0]), f64::from(p.xyz[1])], 2, TARGET);
     }
     let full = format!("gain {:.0} % or more", 100.0 * full_scale);
     let half = format!("gain {:.0} %", 50.0 * full_scale);
-    let legend = [
+    let mut legend = vec![
         (ramp(0.0), "no gain"),
         (ramp(0.5), half.as_str()),
         (ramp(1.0), full.as_str()),
@@ -166,6 +176,9 @@ pub fn mission_picture(
         (TARGET, "ground target"),
         (REGION, "region explored"),
     ];
+    if !flight.is_empty() {
+        legend.push((FLIGHT, "drone flown"));
+    }
     c.furnish(&legend, unit);
     Ok(c)
 }

@@ -12,12 +12,12 @@ mod viewpoints;
 
 pub use assign::{GroundView, for_the_drone};
 pub use params::SortieParams;
-pub use tour::{Sortie, leg, sorties};
+pub use tour::{Sortie, leg, sorties, why_unreachable};
 pub use viewpoints::{candidates, cover, sees};
 
 use serde::{Deserialize, Serialize};
 
-use crate::airspace::{Airspace, AirspaceError, AirspaceRules};
+use crate::airspace::{Airspace, AirspaceError, AirspaceRules, Geofence};
 use crate::cloud::Cloud;
 use crate::missing::MissingPoint;
 use crate::mission::uav::UavPlan;
@@ -33,6 +33,8 @@ pub struct SortiePlan {
     pub sorties: Vec<Sortie>,
     /// Viewpoints no sortie reaches.
     pub unreachable: Vec<usize>,
+    /// Why the first of them is unreachable (`None`: every one is reached).
+    pub why_unreachable: Option<String>,
     /// Per gap given, whether a kept viewpoint sees it.
     pub seen: Vec<bool>,
 }
@@ -51,26 +53,34 @@ pub fn plan(
     let (kept, seen) = cover(&cands, missing, airspace, p, cfg.sensor_drop);
     let viewpoints: Vec<[f32; 3]> = kept.iter().map(|&k| cands[k]).collect();
     let (sorties, unreachable) = sorties(airspace, cfg, &viewpoints, p.hover_s);
+    let why_unreachable = unreachable
+        .first()
+        .map(|&v| why_unreachable(airspace, cfg, viewpoints[v], p.hover_s));
     Ok(SortiePlan {
         viewpoints,
         sorties,
         unreachable,
+        why_unreachable,
         seen,
     })
 }
 
-/// The drone's share of a detection: the airspace over `prior` with the
-/// drone standing at `home`, the gaps no ground stop reached from
-/// `ground_start` sees, and the sorties that see them; `UavPlan` counts it.
+/// The drone's share of a detection: the airspace over `prior` (inside
+/// `fence` when one is given) with the drone standing at `home`, the gaps
+/// no ground stop reached from `ground_start` sees, and the sorties that
+/// see them; `UavPlan` counts it.
 pub fn for_detection(
     prior: &Cloud,
     missing: &[MissingPoint],
     (home, ground_start): ([f32; 3], [f32; 2]),
-    (cfg, rules): (&MultirotorConfig, &AirspaceRules),
+    (cfg, rules, fence): (&MultirotorConfig, &AirspaceRules, Option<&Geofence>),
     (p, view): (&SortieParams, &GroundView),
 ) -> Result<(SortiePlan, UavPlan), AirspaceError> {
     view.validate()?;
-    let airspace = Airspace::from_prior(prior, *rules, cfg.radius, home)?;
+    let mut airspace = Airspace::from_prior(prior, *rules, cfg.radius, home)?;
+    if let Some(f) = fence {
+        airspace = airspace.with_fence(f.clone());
+    }
     let reach = airspace.ground_reach(ground_start, view.max_step_m);
     let drone = for_the_drone(missing, &airspace, &reach, view);
     let theirs: Vec<MissingPoint> = missing

@@ -255,3 +255,71 @@ fn a_sortie_blocked_by_what_the_prior_did_not_show_is_cut_short_and_comes_home()
     assert!(m.on_pad(), "home after the cut: {:?}", m.state.position);
     assert!(closest >= cfg.radius, "closest approach {closest}");
 }
+
+/// A rectangle [x0, x1] × [y0, y1] as a geofence.
+fn fence(x0: f64, x1: f64, y0: f64, y1: f64) -> Geofence {
+    use geo::{MultiPolygon, polygon};
+    MultiPolygon(vec![polygon![
+        (x: x0, y: y0), (x: x1, y: y0), (x: x1, y: y1), (x: x0, y: y1), (x: x0, y: y0)
+    ]])
+}
+
+#[test]
+fn a_geofence_keeps_every_viewpoint_and_leg_inside_it() {
+    use geo::{Contains, Coord};
+    let cfg = MultirotorConfig::default();
+    // The cube's south and west sides only (x, y < 27): the north and east
+    // walls are out of reach.
+    let f = fence(0.0, 27.0, 0.0, 27.0);
+    let a = airspace(&cfg).with_fence(f.clone());
+    let missing = gaps();
+    let plan = plan(&missing, &a, &cfg, &SortieParams::default()).unwrap();
+    let seen = plan.seen.iter().filter(|&&s| s).count();
+    assert!(
+        seen > 0 && seen < missing.len(),
+        "{seen} of {}",
+        missing.len()
+    );
+    for (m, &s) in missing.iter().zip(&plan.seen) {
+        let north_or_east = m.normal[0] > 0.5 || m.normal[1] > 0.5;
+        assert!(!(s && north_or_east), "{m:?} seen from outside the fence");
+    }
+    for s in &plan.sorties {
+        a.check_path(&s.path).expect("inside the fence");
+        for p in &s.path {
+            let c = Coord {
+                x: f64::from(p[0]),
+                y: f64::from(p[1]),
+            };
+            assert!(f.contains(&c), "{p:?}");
+        }
+    }
+}
+
+#[test]
+fn a_home_outside_the_geofence_reaches_nothing_and_says_why() {
+    let cfg = MultirotorConfig::default();
+    // The fence holds the cube's surroundings but not the pad at (5, 5).
+    let a = airspace(&cfg).with_fence(fence(12.0, 40.0, 12.0, 40.0));
+    let plan = plan(&gaps(), &a, &cfg, &SortieParams::default()).unwrap();
+    assert!(plan.sorties.is_empty());
+    assert_eq!(plan.unreachable.len(), plan.viewpoints.len());
+    let why = plan.why_unreachable.expect("a reason");
+    assert!(
+        why.contains("outside the geofence") && why.contains("from home"),
+        "{why}"
+    );
+}
+
+#[test]
+fn a_battery_too_small_for_any_viewpoint_is_named_as_the_reason() {
+    let cfg = MultirotorConfig {
+        battery_s: 10.0,
+        reserve_s: 5.0,
+        ..MultirotorConfig::default()
+    };
+    let plan = plan(&gaps(), &airspace(&cfg), &cfg, &SortieParams::default()).unwrap();
+    assert!(plan.sorties.is_empty());
+    let why = plan.why_unreachable.expect("a reason");
+    assert!(why.contains("over a sortie's 5 s"), "{why}");
+}

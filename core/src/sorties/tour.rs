@@ -34,21 +34,66 @@ pub fn leg(
     a: [f32; 3],
     b: [f32; 3],
 ) -> Option<(Vec<[f32; 3]>, f32)> {
-    let level = a[2].max(b[2]);
-    let transit = airspace.highest_top() + airspace.rules().facade_min_m + TRANSIT_EXTRA_M;
-    let tries = [
-        vec![b],
-        vec![[a[0], a[1], level], [b[0], b[1], level], b],
-        vec![[a[0], a[1], transit], [b[0], b[1], transit], b],
-    ];
-    tries.into_iter().find_map(|ways| {
-        let mut path = vec![a];
-        path.extend(ways.iter().copied());
-        path.dedup();
+    tries(airspace, a, b).into_iter().find_map(|path| {
         airspace.check_path(&path).ok()?;
         let t = path.windows(2).map(|w| segment_s(cfg, w[0], w[1])).sum();
         Some((path[1..].to_vec(), t))
     })
+}
+
+/// The polylines a leg from `a` to `b` may take, in the order tried:
+/// straight, level first then across, over everything at transit height.
+fn tries(airspace: &Airspace, a: [f32; 3], b: [f32; 3]) -> [Vec<[f32; 3]>; 3] {
+    let level = a[2].max(b[2]);
+    let transit = airspace.highest_top() + airspace.rules().facade_min_m + TRANSIT_EXTRA_M;
+    [
+        vec![b],
+        vec![[a[0], a[1], level], [b[0], b[1], level], b],
+        vec![[a[0], a[1], transit], [b[0], b[1], transit], b],
+    ]
+    .map(|ways| {
+        let mut path = vec![a];
+        path.extend(ways);
+        path.dedup();
+        path
+    })
+}
+
+/// Why no sortie reaches `viewpoint` from the airspace's home: the rule
+/// the way over everything breaks out or back, or the battery.
+pub fn why_unreachable(
+    airspace: &Airspace,
+    cfg: &MultirotorConfig,
+    viewpoint: [f32; 3],
+    hover_s: f32,
+) -> String {
+    let home = airspace.home();
+    let at = |p: [f32; 3]| format!("({:.1}, {:.1}, {:.1})", p[0], p[1], p[2]);
+    let refused = |a, b| {
+        let [.., over] = tries(airspace, a, b);
+        airspace.check_path(&over).err()
+    };
+    if let Some(r) = refused(home, viewpoint) {
+        return format!(
+            "from home {} to {}, even over everything: {r}",
+            at(home),
+            at(viewpoint)
+        );
+    }
+    if let Some(r) = refused(viewpoint, home) {
+        return format!(
+            "from {} back home, even over everything: {r}",
+            at(viewpoint)
+        );
+    }
+    let there = leg(airspace, cfg, home, viewpoint).map_or(f32::INFINITY, |l| l.1);
+    let back = leg(airspace, cfg, viewpoint, home).map_or(f32::INFINITY, |l| l.1);
+    format!(
+        "{} out and back takes {:.0} s, over a sortie's {:.0} s",
+        at(viewpoint),
+        there + hover_s + back,
+        cfg.sortie_s()
+    )
 }
 
 /// Flight time of a straight segment at the limits, s (accelerations left out).

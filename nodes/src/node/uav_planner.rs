@@ -7,8 +7,9 @@
 
 use futures::StreamExt;
 use serde::Deserialize;
-use skyground_core::airspace::AirspaceRules;
+use skyground_core::airspace::{AirspaceRules, Geofence, geofence};
 use skyground_core::cloud::Cloud;
+use skyground_core::io::load_given;
 use skyground_core::missing::MissingPoint;
 use skyground_core::mission::uav::UavPlan;
 use skyground_core::sorties::{GroundView, SortieParams, for_detection};
@@ -23,6 +24,25 @@ use crate::convert::path::{odom_position, path};
 use crate::runtime::{NodeRuntime, RuntimeError, publish_logged, qos};
 use crate::transport::{CloudSubscription, TransportConfig};
 
+/// The `geofence` param's polygons in the clouds' frame, `None` when blank;
+/// a file that cannot be read stops the node with the reason.
+fn read_fence(rt: &NodeRuntime, p: &Params) -> Result<Option<Geofence>, RuntimeError> {
+    if p.geofence.trim().is_empty() {
+        return Ok(None);
+    }
+    let loaded = load_given(&p.geofence, "", &p.crs, &p.origin)
+        .map_err(|e| RuntimeError::Node(format!("geofence {}: {e}", p.geofence)))?;
+    for s in &loaded.skipped {
+        rt.log.warn(&format!("geofence {}: {s}", p.geofence));
+    }
+    rt.log.info(&format!(
+        "geofence {}: {} polygon(s)",
+        p.geofence,
+        loaded.footprints.len()
+    ));
+    Ok(Some(geofence(&loaded.footprints)))
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Params {
@@ -30,6 +50,12 @@ struct Params {
     /// Where the ground robot starts, [x, y]: the ground joined to it is
     /// what its stops can stand on.
     ground_start: Vec<f64>,
+    /// A GeoJSON of the area(s) the drone must stay inside, blank: none;
+    /// read in `crs` (`EPSG:N`, blank: the file's own) and moved by `origin`
+    /// into the clouds' local frame, as the detector reads footprints.
+    geofence: String,
+    crs: String,
+    origin: Vec<f64>,
     multirotor: MultirotorConfig,
     airspace: AirspaceRules,
     sorties: SortieParams,
@@ -48,6 +74,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
             p.ground_start
         )));
     };
+    let fence = read_fence(rt, &p)?;
     let tile = p.transport.tile_points;
     let mut cloud_sub = CloudSubscription::new(rt, "/classified_cloud", qos::latched(256), tile)?;
     let mut missing_sub = CloudSubscription::new(rt, "/missing_points", qos::latched(64), tile)?;
@@ -88,20 +115,28 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         let cloud = cloud.clone();
         let points = points.clone();
         let start = [sx as f32, sy as f32];
-        let (cfg, rules, sp, view) = (
+        let (cfg, rules, sp, view, fence) = (
             p.multirotor,
             p.airspace,
             p.sorties.clone(),
             p.ground_view.clone(),
+            fence.clone(),
         );
         let t0 = std::time::Instant::now();
         let planned = tokio::task::spawn_blocking(move || {
-            for_detection(&cloud, &points, (at, start), (&cfg, &rules), (&sp, &view))
+            let rules = (&cfg, &rules, fence.as_ref());
+            for_detection(&cloud, &points, (at, start), rules, (&sp, &view))
         })
         .await
         .map_err(|e| RuntimeError::Node(format!("sortie planning: {e}")))?;
         let (way, counts) = match planned {
             Ok((plan, counts)) => {
+                if let Some(why) = &plan.why_unreachable {
+                    rt.log.warn(&format!(
+                        "{} viewpoint(s) no sortie reaches; the first: {why}",
+                        plan.unreachable.len()
+                    ));
+                }
                 let way: Vec<[f32; 3]> = plan.sorties.iter().flat_map(|s| s.path.clone()).collect();
                 (way, counts)
             }

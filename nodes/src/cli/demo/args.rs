@@ -60,6 +60,11 @@ pub struct DemoArgs {
     /// taking the gaps no ground stop sees), or both: `ground,uav`.
     #[arg(long, value_delimiter = ',', default_value = "ground")]
     pub platforms: Vec<Platform>,
+    /// With the drone: a GeoJSON of the area(s) it must stay inside
+    /// (Polygon / MultiPolygon, in the scene's CRS); read and checked
+    /// before any node starts.
+    #[arg(long, value_name = "GEOJSON")]
+    pub geofence: Option<PathBuf>,
     /// Field mode: a real robot instead of vehicle_sim.
     #[command(flatten)]
     pub field: FieldArgs,

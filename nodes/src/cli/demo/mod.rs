@@ -63,6 +63,11 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         prior.cloud.crs.as_ref(),
         prior.scene.origin,
     )?;
+    // A geofence that cannot be used stops the demo here too.
+    let fence = uav::fence_params(a.geofence.as_deref(), &prior)?;
+    if a.geofence.is_some() && !a.uav() {
+        eprintln!("  --geofence: no drone flies (--platforms without uav), so it is not used");
+    }
     // Only a mission that can start clears (or takes up) what its folder holds.
     let carried = start_or_resume(&a)?;
     // The prior's measurement and models are ready before the mission ends;
@@ -84,13 +89,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     let drone = if a.uav() {
         let start = uav::start_of(&driver.1)
             .ok_or_else(|| err("the drone's pad: no start for the ground robot".into()))?;
-        uav::nodes(
+        let mut nodes = uav::nodes(
             &prior.scene,
             &scene_spec,
             start,
             a.time_factor,
             &a.scan_log(),
-        )?
+        )?;
+        if let Some(planner) = nodes.iter_mut().find(|n| n.0 == "uav_planner") {
+            planner.1.extend(fence);
+        }
+        nodes
     } else {
         Vec::new()
     };

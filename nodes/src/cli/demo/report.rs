@@ -11,7 +11,7 @@ use skyground_core::footprint::{Footprint, footprints_of_scene};
 use skyground_core::metrics::{Evaluation, Measured, compare};
 use skyground_core::mission::Mission;
 use skyground_core::mission::scan_ids::{self, IdCheck};
-use skyground_core::plot::{BuildingGain, mission_picture};
+use skyground_core::plot::{BuildingGain, PlotError, mission_picture, side_picture};
 use skyground_core::reconstruct::{BeforeAfter, ModelEvaluation, PRIOR_OFF_M};
 use skyground_core::scene::Cropped;
 
@@ -477,8 +477,9 @@ fn building_gains(outlines: &[Footprint], e: &Evaluation) -> Vec<BuildingGain> {
         .collect()
 }
 
-/// overview.png: the buildings coloured by their gain, the route driven and
-/// the targets (legend, scale bar, north).
+/// overview.png: the buildings coloured by their gain, the route driven,
+/// the drone's flight and the targets (legend, scale bar, north); with a
+/// drone, overview_side.png: the skyline, route and flight seen from the south.
 fn write_overview(
     path: &Path,
     prior: &Survey,
@@ -493,17 +494,30 @@ fn write_overview(
         [f64::from(lo[0]), f64::from(lo[1])],
         [f64::from(hi[0]), f64::from(hi[1])],
     );
+    let failed = |e: PlotError| RuntimeError::Node(e.to_string());
     mission_picture(
         bounds,
         &building_gains(outlines, e),
         0.25,
-        &w.route,
+        (&w.route, &w.flight),
         &w.targets,
         2000,
         &LinearUnit::Metre,
     )
     .and_then(|c| c.save(path))
-    .map_err(|e| RuntimeError::Node(e.to_string()))
+    .map_err(failed)?;
+    if w.flight.is_empty() {
+        return Ok(());
+    }
+    side_picture(
+        &prior.cloud.xyz,
+        &w.route,
+        &w.flight,
+        2000,
+        &LinearUnit::Metre,
+    )
+    .and_then(|c| c.save(&path.with_file_name("overview_side.png")))
+    .map_err(failed)
 }
 
 /// What a field team takes away, in the model's CRS: the route driven and

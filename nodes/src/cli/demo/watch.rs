@@ -48,9 +48,19 @@ pub(super) struct Watch {
     /// The drone's plan and its last status (`--platforms ground,uav`).
     pub uav_plan: Option<UavPlan>,
     pub uav: Option<UavStatus>,
+    /// The drone's positions, one every metre flown (for the overview).
+    pub flight: Vec<[f32; 3]>,
 }
 
 impl Watch {
+    /// Keeps the drone's position `p` when it is a metre from the last kept.
+    fn flown(&mut self, p: [f32; 3]) {
+        let far = |q: &[f32; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f32>() > 1.0;
+        if self.flight.last().is_none_or(far) {
+            self.flight.push(p);
+        }
+    }
+
     /// Whether the drone has flown all it was given.
     fn uav_done(&self) -> bool {
         self.uav.as_ref().is_some_and(|s| s.state == UavState::Done)
@@ -117,8 +127,13 @@ pub(super) async fn follow(
     let odom = rt.subscription::<Odometry>("/state_estimation", qos::odometry())?;
     let uav_status = rt.subscription::<DiagnosticArray>("/uav/flight_status", qos::latched(1))?;
     let uav_plan = rt.subscription::<DiagnosticArray>("/uav/planner_status", qos::latched(1))?;
-    let (us_s, up_s) = (uav_status.async_stream(), uav_plan.async_stream());
-    futures::pin_mut!(us_s, up_s);
+    let uav_odom = rt.subscription::<Odometry>("/uav/state_estimation", qos::odometry())?;
+    let (us_s, up_s, uo_s) = (
+        uav_status.async_stream(),
+        uav_plan.async_stream(),
+        uav_odom.async_stream(),
+    );
+    futures::pin_mut!(us_s, up_s, uo_s);
     // The leg being driven, kept to hand to a restarted vehicle_sim.
     let legs = rt.subscription::<RosPath>("/local_path", qos::reliable(10))?;
     let leg_pub = rt.publisher::<RosPath>("/local_path", qos::reliable(10))?;
@@ -165,6 +180,9 @@ pub(super) async fn follow(
             },
             Some(Ok((o, _))) = o_s.next() => f.odometry(&o),
             Some(Ok((arr, _))) = us_s.next() => f.w.uav = first_status(&arr, UavStatus::from_wire),
+            Some(Ok((o, _))) = uo_s.next() => if let Some(p) = odom_position(&o) {
+                f.w.flown(p);
+            },
             Some(Ok((arr, _))) = up_s.next() => if let Some(p) = first_status(&arr, UavPlan::from_wire) {
                 f.uav_plan(p);
             },
