@@ -127,6 +127,11 @@ impl Airspace {
         self
     }
 
+    /// Moves the take-off point to `home` (a pad sought over one airspace).
+    pub fn set_home(&mut self, home: [f32; 3]) {
+        self.home = home;
+    }
+
     /// The rules it keeps.
     pub fn rules(&self) -> &AirspaceRules {
         &self.rules

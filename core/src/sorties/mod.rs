@@ -12,7 +12,7 @@ mod viewpoints;
 
 pub use assign::{GroundView, for_the_drone};
 pub use params::SortieParams;
-pub use tour::{Sortie, leg, sorties, why_unreachable};
+pub use tour::{Sortie, leg, sorties, take_off, why_unreachable};
 pub use viewpoints::{candidates, cover, sees};
 
 use serde::{Deserialize, Serialize};
@@ -97,7 +97,13 @@ pub fn for_detection(
         viewpoints: plan.viewpoints.len() as u32,
         sorties: plan.sorties.len() as u32,
         unreachable: plan.unreachable.len() as u32,
-        flight_s: plan.sorties.iter().map(|s| f64::from(s.flight_s)).sum(),
+        // An empty float sum is −0.0: + 0.0 keeps "-0 s" out of the logs.
+        flight_s: plan
+            .sorties
+            .iter()
+            .map(|s| f64::from(s.flight_s))
+            .sum::<f64>()
+            + 0.0,
         refused: String::new(),
     };
     Ok((plan, counts))

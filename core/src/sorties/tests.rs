@@ -323,3 +323,14 @@ fn a_battery_too_small_for_any_viewpoint_is_named_as_the_reason() {
     let why = plan.why_unreachable.expect("a reason");
     assert!(why.contains("over a sortie's 5 s"), "{why}");
 }
+
+#[test]
+fn take_off_is_refused_beside_a_facade_and_allowed_in_the_open() {
+    let cfg = MultirotorConfig::default();
+    let mut a = airspace(&cfg);
+    assert_eq!(take_off(&a), Ok(()), "the pad at (5, 5) is in the open");
+    // 2 m from the cube's west wall (x = 20): under the 3 m kept.
+    a.set_home([18.0, 25.0, PAD[2] + cfg.radius + 0.1]);
+    let r = take_off(&a).expect_err("too near the facade");
+    assert!(r.to_string().contains("from a building"), "{r}");
+}

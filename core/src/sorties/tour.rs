@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::airspace::Airspace;
+use crate::airspace::{Airspace, Refusal};
 use crate::route::tour::{Costs, tsp};
 use crate::vehicle::multirotor::MultirotorConfig;
 
@@ -45,7 +45,7 @@ pub fn leg(
 /// straight, level first then across, over everything at transit height.
 fn tries(airspace: &Airspace, a: [f32; 3], b: [f32; 3]) -> [Vec<[f32; 3]>; 3] {
     let level = a[2].max(b[2]);
-    let transit = airspace.highest_top() + airspace.rules().facade_min_m + TRANSIT_EXTRA_M;
+    let transit = transit_z(airspace);
     [
         vec![b],
         vec![[a[0], a[1], level], [b[0], b[1], level], b],
@@ -57,6 +57,19 @@ fn tries(airspace: &Airspace, a: [f32; 3], b: [f32; 3]) -> [Vec<[f32; 3]>; 3] {
         path.dedup();
         path
     })
+}
+
+/// The height legs over everything fly at: the highest top cleared by the
+/// distance kept from buildings and a little more.
+fn transit_z(airspace: &Airspace) -> f32 {
+    airspace.highest_top() + airspace.rules().facade_min_m + TRANSIT_EXTRA_M
+}
+
+/// `Ok` when the drone may climb from its home straight up to the transit
+/// height (every leg over everything starts so), else the rule it breaks.
+pub fn take_off(airspace: &Airspace) -> Result<(), Refusal> {
+    let home = airspace.home();
+    airspace.check_path(&[home, [home[0], home[1], transit_z(airspace)]])
 }
 
 /// Why no sortie reaches `viewpoint` from the airspace's home: the rule

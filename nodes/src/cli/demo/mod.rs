@@ -91,6 +91,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
             .ok_or_else(|| err("the drone's pad: no start for the ground robot".into()))?;
         let mut nodes = uav::nodes(
             &prior.scene,
+            &prior.cloud,
             &scene_spec,
             start,
             a.time_factor,

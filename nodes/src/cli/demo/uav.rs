@@ -4,13 +4,15 @@
 
 use std::path::Path;
 
-use skyground_core::airspace::AirspaceRules;
+use skyground_core::airspace::{Airspace, AirspaceRules};
+use skyground_core::cloud::Cloud;
 use skyground_core::crs::SourceFrame;
 use skyground_core::io::load_footprints_in;
 use skyground_core::lidar::Caster;
 use skyground_core::scene::Scene;
+use skyground_core::sorties::take_off;
 use skyground_core::vehicle::Terrain;
-use skyground_core::vehicle::multirotor::{MultirotorConfig, SceneBody};
+use skyground_core::vehicle::multirotor::{Multirotor, MultirotorConfig, SceneBody};
 
 use crate::cli::aerial::Survey;
 use crate::runtime::RuntimeError;
@@ -30,32 +32,52 @@ const PAD_RING_M: f32 = 2.0;
 /// The farthest from the robot's start the pad is sought, m.
 const PAD_MAX_M: f32 = 30.0;
 
-/// The first spot nearest `start` on the ground where the drone may take
-/// off under the airspace's rules: nothing within the distance kept from
-/// facades (the rules' `facade_min_m`, and the body plus its margin from
-/// anything else) around the column it climbs.
-fn pad_near(terrain: &Terrain, body: &SceneBody, start: [f32; 2]) -> Option<[f32; 2]> {
-    let (cfg, rules) = (MultirotorConfig::default(), AirspaceRules::default());
-    let kept = rules.facade_min_m.max(cfg.radius + rules.margin_m) + rules.cell_m;
+/// Kept beyond the airspace's distances when the pad is sought on the
+/// prior the demo holds, m: the planner's prior is the classifier's, whose
+/// building cells may reach a little farther.
+const PAD_SLACK_M: f32 = 0.5;
+
+/// The spot nearest `start` (rings from 3 m out) on the true scene's
+/// ground, with room for the body there, from which the airspace over
+/// `prior` lets the drone climb straight up to its transit height (the
+/// rules' distances grown by [`PAD_SLACK_M`]).
+fn pad_near(scene: &Scene, prior: &Cloud, start: [f32; 2]) -> Result<[f32; 2], String> {
+    let caster = Caster::new(scene).map_err(|e| e.to_string())?;
+    let (terrain, body) = (Terrain::new(&caster), SceneBody::new(scene));
+    let cfg = MultirotorConfig::default();
+    let rules = AirspaceRules::default();
+    let strict = AirspaceRules {
+        facade_min_m: rules.facade_min_m + PAD_SLACK_M,
+        margin_m: rules.margin_m + PAD_SLACK_M,
+        ..rules
+    };
+    let home = |p: [f32; 2], z: f32| Multirotor::new(cfg, [p[0], p[1], z], 0.0).state.position;
+    let first = [start[0], start[1], 0.0];
+    let mut airspace =
+        Airspace::from_prior(prior, strict, cfg.radius, first).map_err(|e| e.to_string())?;
     let rings = ((PAD_MAX_M - 1.0) / PAD_RING_M) as u32;
-    (1..=rings)
-        .flat_map(|r| {
-            (0..16).map(move |k| {
-                let (s, c) = (k as f32 * std::f32::consts::TAU / 16.0).sin_cos();
-                // From 3 m: the robot stands at its start.
-                let d = 1.0 + r as f32 * PAD_RING_M;
-                [start[0] + d * c, start[1] + d * s]
-            })
+    let mut why = String::from("no ground there");
+    for p in (1..=rings).flat_map(|r| {
+        (0..16).map(move |k| {
+            let (s, c) = (k as f32 * std::f32::consts::TAU / 16.0).sin_cos();
+            // From 3 m: the robot stands at its start.
+            let d = 1.0 + r as f32 * PAD_RING_M;
+            [start[0] + d * c, start[1] + d * s]
         })
-        .find(|p| {
-            // Measured above the ground by more than `kept`, the terrain
-            // itself is not what is too near.
-            terrain.ground_height(p[0], p[1]).is_some_and(|z| {
-                [1.0, 2.0, 4.0]
-                    .iter()
-                    .all(|&up| body.clearance([p[0], p[1], z + kept + up]) >= kept)
-            })
-        })
+    }) {
+        let Some(z) = terrain.ground_height(p[0], p[1]) else {
+            continue;
+        };
+        if body.clearance([p[0], p[1], z + 4.0 * cfg.radius]) < 2.0 * cfg.radius {
+            continue;
+        }
+        airspace.set_home(home(p, z));
+        match take_off(&airspace) {
+            Ok(()) => return Ok(p),
+            Err(e) => why = e.to_string(),
+        }
+    }
+    Err(why)
 }
 
 /// uav_planner's and uav_sim's parameters: the pad the first spot beside
@@ -63,22 +85,18 @@ fn pad_near(terrain: &Terrain, body: &SceneBody, start: [f32; 2]) -> Option<[f32
 /// for the planner's choice of gaps; the sent scans' ids into `scan_log`.
 pub(super) fn nodes(
     scene: &Scene,
+    prior: &Cloud,
     scene_spec: &str,
     start: [f32; 2],
     time_factor: f64,
     scan_log: &Path,
 ) -> Result<Vec<(&'static str, Vec<String>)>, RuntimeError> {
     let err = |e: String| RuntimeError::Node(e);
-    let caster = Caster::new(scene).map_err(|e| err(e.to_string()))?;
-    let terrain = Terrain::new(&caster);
-    let body = SceneBody::new(scene);
-    let pad = pad_near(&terrain, &body, start).ok_or_else(|| {
+    let pad = pad_near(scene, prior, start).map_err(|why| {
         err(format!(
-            "no room for the drone's pad within {PAD_MAX_M:.0} m of the robot's start ({:.1}, {:.1}): \
-             the airspace keeps {:.1} m from facades",
-            start[0],
-            start[1],
-            AirspaceRules::default().facade_min_m
+            "no pad for the drone within {PAD_MAX_M:.0} m of the robot's start ({:.1}, {:.1}) \
+             it may climb from under the airspace's rules; the last one tried: {why}",
+            start[0], start[1],
         ))
     })?;
     Ok(vec![
