@@ -8,6 +8,7 @@ use geo::{Contains, Coord};
 use super::rules::{AirspaceRules, Geofence};
 use super::violation::{Obstacle, Refusal, Violation};
 use crate::cloud::{Cloud, class};
+use crate::footprint::inset;
 use crate::geom::grid::{GridFrame, Neighbours};
 use crate::params::ParamError;
 
@@ -121,9 +122,11 @@ impl Airspace {
         })
     }
 
-    /// The same airspace, kept inside `fence` too.
+    /// The same airspace, with the whole body kept inside `fence` too: its
+    /// centre at least the body radius from the fence's edge (a flight
+    /// tracks its way-points within centimetres, not exactly).
     pub fn with_fence(mut self, fence: Geofence) -> Self {
-        self.fence = Some(fence);
+        self.fence = Some(inset(&fence, f64::from(self.body_radius)));
         self
     }
 

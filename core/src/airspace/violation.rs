@@ -29,7 +29,7 @@ pub enum Violation {
         ceiling_m: f32,
     },
     /// Outside the geofence.
-    #[error("({:.1}, {:.1}, {:.1}) lies outside the geofence", at[0], at[1], at[2])]
+    #[error("({:.1}, {:.1}, {:.1}) lies outside the geofence (the body is kept inside it)", at[0], at[1], at[2])]
     OutsideFence {
         /// The position, m.
         at: [f32; 3],

@@ -28,6 +28,7 @@ pub use compare::{FootprintMatch, Segmentation, iou, match_footprints, segmentat
 pub use derive::derive;
 pub use error::{ParseError, RingProblem, Skipped};
 pub use ids::{ID_FIELDS, ReadOptions};
+pub use inset::inset;
 pub use params::{DeriveParams, SplitParams};
 pub use scene::footprints_of_scene;
 pub use split::split;
