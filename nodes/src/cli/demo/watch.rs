@@ -103,6 +103,8 @@ struct Follower<'a> {
     /// The leg the vehicle drives (as the planner or explorer sent it), and
     /// when to hand it to a restarted vehicle_sim.
     leg: Option<RosPath>,
+    /// The leg a restarted vehicle_sim is being handed, until a newer one goes out.
+    handed: Option<RosPath>,
     resend_at: Vec<Instant>,
     uav_waiting_said: bool,
 }
@@ -186,7 +188,7 @@ pub(super) async fn follow(
             Some(Ok((arr, _))) = up_s.next() => if let Some(p) = first_status(&arr, UavPlan::from_wire) {
                 f.uav_plan(p);
             },
-            Some(Ok((leg, _))) = l_s.next() => f.leg = Some(leg),
+            Some(Ok((leg, _))) = l_s.next() => f.leg_seen(leg),
             Some(Ok((arr, _))) = w_s.next() => if let Some((node, steps)) = work_beat::read(&arr) {
                 f.guard.work(node, steps);
             },
@@ -254,6 +256,7 @@ impl<'a> Follower<'a> {
             last_stamp: 0.0,
             sim_starts: 0,
             leg: None,
+            handed: None,
             resend_at: Vec::new(),
             uav_waiting_said: false,
         }
@@ -274,6 +277,7 @@ impl<'a> Follower<'a> {
             self.sim_starts = n;
             let now = Instant::now();
             self.resend_at = [2, 5, 10].map(|s| now + Duration::from_secs(s)).to_vec();
+            self.handed = self.leg.clone();
         }
         if let Some(leg) = self.leg_due() {
             self.console
@@ -345,7 +349,19 @@ impl<'a> Follower<'a> {
         let now = Instant::now();
         let due = self.resend_at.iter().any(|t| *t <= now);
         self.resend_at.retain(|t| *t > now);
-        due.then(|| self.leg.clone()).flatten()
+        due.then(|| self.handed.clone()).flatten()
+    }
+
+    /// A leg on /local_path (the planner's, the explorer's or our own
+    /// hand-over). Once another than the one handed over goes out, the
+    /// planner drives the restarted vehicle_sim again: handing the old leg
+    /// after it would send the vehicle back and leave the new leg undriven.
+    fn leg_seen(&mut self, leg: RosPath) {
+        if self.handed.as_ref().is_some_and(|h| *h != leg) {
+            self.resend_at.clear();
+            self.handed = None;
+        }
+        self.leg = Some(leg);
     }
 
     /// The mission over all its runs so far.
