@@ -70,18 +70,26 @@ impl FootprintsArg {
             scene,
         )
         .map_err(err)?;
-        let mut params = vec![
-            format!("footprints:={spec}"),
-            format!("origin:=[{}, {}, {}]", origin[0], origin[1], origin[2]),
-        ];
+        let mut params = vec![format!("footprints:={spec}")];
         if let Some(f) = &self.footprint_id {
             params.push(format!("footprint_id:={f}"));
         }
-        if let Some(code) = crs.and_then(|c| c.epsg) {
-            params.push(format!("crs:=EPSG:{code}"));
-        }
+        params.extend(frame_params(crs, origin));
         Ok(params)
     }
+}
+
+/// A node's `origin:=` and `crs:=` (when the CRS has an EPSG code): the
+/// clouds' local frame, in which it reads the polygons its params name.
+pub fn frame_params(crs: Option<&Crs>, origin: [f64; 3]) -> Vec<String> {
+    let mut params = vec![format!(
+        "origin:=[{}, {}, {}]",
+        origin[0], origin[1], origin[2]
+    )];
+    if let Some(code) = crs.and_then(|c| c.epsg) {
+        params.push(format!("crs:=EPSG:{code}"));
+    }
+    params
 }
 
 /// `read` moved into the cloud's `frame` (CRS checked); the polygons the

@@ -3,6 +3,7 @@
 //! is the codec between a [`Cloud`](skyground_core::cloud::Cloud) and
 //! `sensor_msgs/PointCloud2`.
 
+pub mod areas;
 pub mod detection;
 pub mod diagnostics;
 pub mod markers;

@@ -7,7 +7,6 @@ use std::sync::Arc;
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::footprint::Footprint;
-use skyground_core::io::load_given;
 use skyground_core::missing::{SceneParams, detect_scene};
 use skyground_core::mission::PlannerStatus;
 use skyground_core::mission::detector::Detector;
@@ -15,6 +14,7 @@ use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::std_msgs::Header;
 use skyground_msgs::visualization_msgs::MarkerArray;
 
+use crate::convert::areas::load_logged;
 use crate::convert::detection::{completeness_array, detection_markers, missing_message};
 use crate::convert::diagnostics::statuses;
 use crate::runtime::{NodeRuntime, RuntimeError, qos, work_beat};
@@ -164,17 +164,8 @@ fn given_footprints(rt: &NodeRuntime, p: &Params) -> Result<Option<Vec<Footprint
     if p.footprints.trim().is_empty() {
         return Ok(None);
     }
-    let loaded = load_given(&p.footprints, &p.footprint_id, &p.crs, &p.origin)
-        .map_err(|e| RuntimeError::Node(format!("footprints {}: {e}", p.footprints)))?;
-    for s in &loaded.skipped {
-        rt.log.warn(&format!("footprints {}: {s}", p.footprints));
-    }
-    rt.log.info(&format!(
-        "{} footprints from {}",
-        loaded.footprints.len(),
-        p.footprints
-    ));
-    Ok(Some(loaded.footprints))
+    let frame = (p.footprint_id.as_str(), p.crs.as_str(), p.origin.as_slice());
+    load_logged(&rt.log, "footprints", &p.footprints, frame).map(Some)
 }
 
 #[cfg(test)]

@@ -9,7 +9,6 @@ use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::airspace::{AirspaceRules, Geofence, geofence};
 use skyground_core::cloud::Cloud;
-use skyground_core::io::load_given;
 use skyground_core::missing::MissingPoint;
 use skyground_core::mission::uav::UavPlan;
 use skyground_core::sorties::{GroundView, SortieParams, for_detection};
@@ -18,6 +17,7 @@ use skyground_msgs::diagnostic_msgs::DiagnosticArray;
 use skyground_msgs::nav_msgs::{Odometry, Path};
 use skyground_msgs::std_msgs::Header;
 
+use crate::convert::areas::load_logged;
 use crate::convert::detection::missing_from_message;
 use crate::convert::diagnostics::array;
 use crate::convert::path::{odom_position, path};
@@ -30,17 +30,9 @@ fn read_fence(rt: &NodeRuntime, p: &Params) -> Result<Option<Geofence>, RuntimeE
     if p.geofence.trim().is_empty() {
         return Ok(None);
     }
-    let loaded = load_given(&p.geofence, "", &p.crs, &p.origin)
-        .map_err(|e| RuntimeError::Node(format!("geofence {}: {e}", p.geofence)))?;
-    for s in &loaded.skipped {
-        rt.log.warn(&format!("geofence {}: {s}", p.geofence));
-    }
-    rt.log.info(&format!(
-        "geofence {}: {} polygon(s)",
-        p.geofence,
-        loaded.footprints.len()
-    ));
-    Ok(Some(geofence(&loaded.footprints)))
+    let frame = ("", p.crs.as_str(), p.origin.as_slice());
+    let areas = load_logged(&rt.log, "geofence", &p.geofence, frame)?;
+    Ok(Some(geofence(&areas)))
 }
 
 #[derive(Debug, Deserialize)]

@@ -15,6 +15,7 @@ use skyground_core::vehicle::Terrain;
 use skyground_core::vehicle::multirotor::{Multirotor, MultirotorConfig, SceneBody};
 
 use crate::cli::aerial::Survey;
+use crate::cli::footprints::frame_params;
 use crate::runtime::RuntimeError;
 
 /// The drone's topics in the bag (its scans one in 50, as the robot's).
@@ -133,13 +134,8 @@ pub(super) fn fence_params(
     for s in &loaded.skipped {
         eprintln!("--geofence {}: {s}", file.display());
     }
-    let mut params = vec![
-        format!("geofence:={}", file.display()),
-        format!("origin:=[{}, {}, {}]", origin[0], origin[1], origin[2]),
-    ];
-    if let Some(code) = prior.cloud.crs.as_ref().and_then(|c| c.epsg) {
-        params.push(format!("crs:=EPSG:{code}"));
-    }
+    let mut params = vec![format!("geofence:={}", file.display())];
+    params.extend(frame_params(prior.cloud.crs.as_ref(), origin));
     Ok(params)
 }
 
