@@ -8,6 +8,7 @@
 //! - `georef`: /georeference, the local frame's origin and CRS;
 //! - `ground`: the one ground graph planner and explorer share, blocked spots included;
 //! - `planner`: phases, rounds, retries, restore after a restart, leg cutting;
+//! - `kept_round`: the round's targets kept, so a resumed mission finishes it;
 //! - `explorer`: when a region starts and ends, when scans count;
 //! - `detector`: when detection re-runs on the merged cloud;
 //! - `progress`: what a launcher follows of the rounds, and when the loop ends;
@@ -21,6 +22,7 @@ pub mod explorer;
 pub mod georef;
 pub mod ground;
 pub mod inspect;
+pub mod kept_round;
 pub mod planner;
 pub mod progress;
 pub mod protocol;

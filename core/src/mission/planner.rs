@@ -16,6 +16,7 @@ use crate::route::{
 use crate::targets::{Region, Site, TargetParams, TargetPoint, TargetSet};
 
 use super::ground;
+use super::kept_round::KeptRound;
 use super::protocol::{
     BlockedSpot, ExplorerState, ExplorerStatus, Phase, PlannerStatus, VehicleEvent, VehicleStatus,
 };
@@ -75,6 +76,10 @@ pub enum PlannerEvent {
     Position([f32; 3]),
     /// The planner's own latched status, as a restarted planner finds it.
     Restore(PlannerStatus),
+    /// The targets of the round that status was driving, as the planner
+    /// kept them: with a matching status the planner finishes that round,
+    /// whatever target set comes first (a resumed mission's new detection).
+    RestoreRound(KeptRound),
     /// The vehicle arrived or is blocked.
     Vehicle(VehicleStatus),
     /// The explorer's state.
@@ -103,6 +108,8 @@ pub enum PlannerCommand {
     /// Ask for the robot to be carried to this spot (a node of another
     /// piece of ground); the plan goes on once it is there.
     SetDown([f32; 3]),
+    /// Keep the new round's targets (for a resumed mission).
+    KeepRound(Box<KeptRound>),
 }
 
 /// The global planner's state machine.
@@ -126,6 +133,10 @@ pub struct Planner {
     need_plan: bool,
     retries: u32,
     restored: Option<PlannerStatus>,
+    /// The restored round's targets, until a target set comes.
+    kept: Option<KeptRound>,
+    /// The stamp of the incoming set the kept round stood in for.
+    stood_in_for: Option<u64>,
     blocked: Vec<BlockedSpot>,
     /// The site and the latest missing points (with `route.skip_seen`).
     site: Option<Site>,
@@ -161,6 +172,8 @@ impl Planner {
             need_plan: false,
             retries: 0,
             restored: None,
+            kept: None,
+            stood_in_for: None,
             blocked: Vec::new(),
             site: None,
             missing: Vec::new(),
@@ -210,6 +223,11 @@ impl Planner {
             PlannerEvent::Position(p) => self.on_position(p),
             PlannerEvent::Missing(m) => self.missing = m,
             PlannerEvent::Restore(s) => self.restore(s),
+            PlannerEvent::RestoreRound(k) => {
+                if self.route.is_none() {
+                    self.kept = Some(k);
+                }
+            }
             PlannerEvent::Vehicle(v) => self.on_vehicle(&v),
             PlannerEvent::Explorer(e) => self.on_explorer(&e),
             PlannerEvent::Tick => {
@@ -344,12 +362,26 @@ impl Planner {
                 }
             }
         }
+        let stamp = *t_points;
         let targets = TargetSet {
             points: points.clone(),
             regions: regions.clone(),
         };
-        if targets != self.targets {
-            self.new_round(targets);
+        if self.stood_in_for != Some(stamp) && targets != self.targets {
+            match self.kept_round() {
+                Some(k) => {
+                    self.out.push(PlannerCommand::Info(format!(
+                        "round {}: going on with the kept round ({} points, {} regions, {} dealt with) in place of the target set stamped {stamp}",
+                        k.round,
+                        k.targets.points.len(),
+                        k.targets.regions.len(),
+                        self.restored.as_ref().map_or(0, |s| s.visited.points.len() + s.visited.regions.len()),
+                    )));
+                    self.stood_in_for = Some(stamp);
+                    self.new_round(k.targets, k.stamp);
+                }
+                None => self.new_round(targets, stamp),
+            }
         }
         let Some(graph) = self.graph.as_ref() else {
             return;
@@ -425,8 +457,19 @@ impl Planner {
         d.route
     }
 
+    /// The kept round's targets when the restored status was driving them.
+    fn kept_round(&mut self) -> Option<KeptRound> {
+        let k = self.kept.take()?;
+        let s = self.restored.as_ref()?;
+        (s.round == k.round
+            && s.phase != Phase::Done.word()
+            && s.target_points == k.targets.points.len()
+            && s.target_regions == k.targets.regions.len())
+        .then_some(k)
+    }
+
     /// New targets: a new round, or the restored one if it matches.
-    fn new_round(&mut self, targets: TargetSet) {
+    fn new_round(&mut self, targets: TargetSet, stamp: u64) {
         self.visited = Visited::default();
         self.given_up = Visited::default();
         self.seen_on_the_way.clear();
@@ -444,6 +487,11 @@ impl Planner {
             self.seen_on_the_way = s.seen_on_the_way;
             self.set_downs = s.set_downs;
         }
+        self.out.push(PlannerCommand::KeepRound(Box::new(KeptRound {
+            round: self.round,
+            stamp,
+            targets: targets.clone(),
+        })));
         self.targets = targets;
     }
 

@@ -328,6 +328,76 @@ fn a_restarted_planner_goes_on_where_it_was() {
 }
 
 #[test]
+fn a_resumed_planner_finishes_the_kept_round_before_a_new_set() {
+    let (mut before, out) = ready(2, 5);
+    let kept = out
+        .iter()
+        .find_map(|c| match c {
+            PlannerCommand::KeepRound(k) => Some(k.as_ref().clone()),
+            _ => None,
+        })
+        .expect("a new round keeps its targets");
+    assert_eq!(
+        (kept.round, kept.stamp, kept.targets.points.len()),
+        (1, 5, 2)
+    );
+    let goal = *legs(&out)[0].last().expect("pose");
+    before.handle(arrived(goal));
+    let saved = before.status();
+    assert_eq!(saved.visited.points, vec![0]);
+
+    // Resumed: the status and the round come back; the run's first
+    // detection brings another set (one point, stamp 9).
+    let mut p = planner(2);
+    p.handle(PlannerEvent::Restore(saved.clone()));
+    p.handle(PlannerEvent::RestoreRound(kept.clone()));
+    let (xyz, labels) = flat_ground(160, 40, 0.25);
+    p.handle(PlannerEvent::Cloud { xyz, labels });
+    p.handle(PlannerEvent::Position(goal));
+    let later = vec![TargetPoint {
+        xyz: [30.0, 8.0, 0.0],
+        building: 3,
+    }];
+    let out = points_only(&mut p, later.clone(), 9);
+    let s = p.status();
+    assert_eq!((s.round, s.target_points, s.target_regions), (1, 2, 1));
+    assert_eq!(s.visited.points, vec![0], "what was reached stays reached");
+    assert_eq!(
+        s.stops, 2,
+        "the kept round's remaining stops: a point and a region"
+    );
+    let next = *legs(&out)[0].last().expect("a leg");
+    assert!(
+        (next[0] - 10.0).abs() > 3.0,
+        "the reached stop again: {next:?}"
+    );
+    // The set it stood in for does not end the round on the next tick.
+    p.handle(PlannerEvent::Tick);
+    assert_eq!((p.round(), p.status().target_points), (1, 2));
+    // A newer set is the next round.
+    points_only(&mut p, later, 10);
+    assert_eq!((p.round(), p.status().target_points), (2, 1));
+
+    // A kept round that is not the status's (another count) is not taken.
+    let mut q = planner(2);
+    q.handle(PlannerEvent::Restore(saved.clone()));
+    let mut other = kept.clone();
+    other.targets.points.pop();
+    q.handle(PlannerEvent::RestoreRound(other));
+    region_only(&mut q, 1);
+    assert_eq!((q.round(), q.status().visited.points.len()), (1, 0));
+    // Nor one whose status says its route was done.
+    let mut r = planner(2);
+    r.handle(PlannerEvent::Restore(PlannerStatus {
+        phase: "done".into(),
+        ..saved
+    }));
+    r.handle(PlannerEvent::RestoreRound(kept));
+    let out = points_only(&mut r, vec![], 9);
+    assert!(legs(&out).is_empty() && r.status().target_points == 0);
+}
+
+#[test]
 fn stops_whose_gaps_the_route_sees_anyway_are_left_off_and_stay_off() {
     // Gaps on a west-facing wall at x = 28, 2 m up. The stops at (10, 5) and
     // (20, 6) see them (18 and 8 m off); so does the way from (1, 5) to the

@@ -40,6 +40,16 @@ impl Totals {
             set_downs: self.set_downs + o.set_downs,
         }
     }
+    /// `o` taken off (never below zero).
+    pub fn minus(&self, o: &Totals) -> Totals {
+        Totals {
+            reached: self.reached.saturating_sub(o.reached),
+            given_up: self.given_up.saturating_sub(o.given_up),
+            seen: self.seen.saturating_sub(o.seen),
+            unreachable: self.unreachable.saturating_sub(o.unreachable),
+            set_downs: self.set_downs.saturating_sub(o.set_downs),
+        }
+    }
 }
 
 /// A round whose route was driven to its end, as the planner reported it.

@@ -262,6 +262,14 @@ pub enum KeptStatusError {
     /// The status it holds cannot be read.
     #[error(transparent)]
     Protocol(#[from] ProtocolError),
+    /// The file is not a kept round's targets.
+    #[error("{}: not a kept round's targets ({reason})", path.display())]
+    Round {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
 }
 
 impl PlannerStatus {

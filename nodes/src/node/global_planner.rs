@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use futures::StreamExt;
 use serde::Deserialize;
 use skyground_core::graph::GraphParams;
+use skyground_core::mission::kept_round::KeptRound;
 use skyground_core::mission::planner::{Planner, PlannerCommand, PlannerConfig, PlannerEvent};
 use skyground_core::mission::waiting::{WaitingReminder, publishers_said};
 use skyground_core::mission::{ExplorerStatus, PlannerStatus, VehicleStatus};
@@ -49,6 +50,10 @@ struct Params {
     /// A status the launcher kept (`PlannerStatus::keep`), this planner's state at start.
     #[serde(default)]
     restore: String,
+    /// Where each round's targets are kept (`KeptRound`), and read back at
+    /// start: with `restore`, a resumed mission finishes the round it was driving.
+    #[serde(default)]
+    keep_round: String,
 }
 
 pub use crate::runtime::specs::GLOBAL_PLANNER as SPEC;
@@ -109,13 +114,22 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     // Before its own first status: a restarted planner goes on with the round it was driving.
     let kept = PlannerStatus::kept(std::path::Path::new(&p.restore));
     let kept = kept.map_err(|e| rt.log.warn(&format!("restore: {e}")));
-    for c in kept
+    let round = (!p.keep_round.is_empty())
+        .then(|| KeptRound::kept(std::path::Path::new(&p.keep_round)))
+        .transpose()
+        .map_err(|e| rt.log.warn(&format!("keep_round: {e}")));
+    let restored = kept.ok().flatten().map(PlannerEvent::Restore);
+    let round = round
         .ok()
         .flatten()
+        .flatten()
+        .map(PlannerEvent::RestoreRound);
+    for c in restored
         .into_iter()
-        .flat_map(|s| planner.handle(PlannerEvent::Restore(s)))
+        .chain(round)
+        .flat_map(|e| planner.handle(e))
     {
-        perform(rt, &out, c).await;
+        perform(rt, &out, &p.keep_round, c).await;
     }
     rt.log.info(
         "waiting for /classified_cloud, /target_points, /target_regions and /state_estimation",
@@ -147,7 +161,7 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
         };
         for e in events {
             for c in planner.handle(e) {
-                perform(rt, &out, c).await;
+                perform(rt, &out, &p.keep_round, c).await;
             }
         }
         let what = planner.waiting_for();
@@ -169,13 +183,18 @@ pub async fn run(rt: &mut NodeRuntime) -> Result<(), RuntimeError> {
     Ok(())
 }
 
-async fn perform(rt: &NodeRuntime, out: &Outputs, c: PlannerCommand) {
+async fn perform(rt: &NodeRuntime, out: &Outputs, keep_round: &str, c: PlannerCommand) {
     faults::spin_if_asked("global_planner", matches!(c, PlannerCommand::GlobalPath(_)));
     let h = rt.header("map");
     let sent = match c {
         PlannerCommand::Info(s) => return rt.log.info(&s),
         PlannerCommand::Warn(s) => return rt.log.warn(&s),
         PlannerCommand::Error(s) => return rt.log.error(&s),
+        PlannerCommand::KeepRound(k) if !keep_round.is_empty() => {
+            let kept = k.keep(std::path::Path::new(keep_round));
+            return kept.unwrap_or_else(|e| rt.log.warn(&format!("keep_round: {e}")));
+        }
+        PlannerCommand::KeepRound(_) => return,
         PlannerCommand::GlobalPath(w) => out.global.async_publish(path(&h, &w)).await.is_ok(),
         PlannerCommand::Leg(w) => out.leg.async_publish(path(&h, &w)).await.is_ok(),
         PlannerCommand::ActiveRegion(r) => {

@@ -306,6 +306,8 @@ fn planner_params(a: &DemoArgs) -> Vec<String> {
     v.extend(a.set_downs.map(|n| format!("set_downs:={n}")));
     let kept = a.out.join(super::resume::PLANNER_FILE);
     v.push(format!("restore:={}", kept.display()));
+    let round = a.out.join(super::resume::ROUND_FILE);
+    v.push(format!("keep_round:={}", round.display()));
     v
 }
 

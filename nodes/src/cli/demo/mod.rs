@@ -202,17 +202,34 @@ async fn stop_and_report(
 /// A new mission clears what a former one left in its folder and keeps its
 /// command line; a resumed one reads what its earlier runs did.
 fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
-    // A planner restarted in this run goes on from its status; a new run
-    // plans anew (a resumed one from what it detects on the merge so far).
-    let _ = std::fs::remove_file(a.out.join(resume::PLANNER_FILE));
+    // A planner restarted in this run goes on from its status; a resumed
+    // run finishes the round it was driving; a new run plans anew.
     let carried = if a.resume.is_some() {
         let c = resume::read(&a.out)?;
         eprintln!(
             "  resuming: {} rounds done, {:.0} m driven, {:.0} robot s, last at {:?}",
             c.rounds, c.odometer_m, c.sim_s, c.position
         );
-        c
+        match resume::carry_round(&a.out) {
+            Ok(Some(s)) => {
+                eprintln!(
+                    "  going on with the round it was driving: {} of {} stops dealt with",
+                    s.visited.points.len() + s.visited.regions.len(),
+                    s.target_points + s.target_regions
+                );
+                c.without_open_round()
+            }
+            Ok(None) => c,
+            Err(e) => {
+                eprintln!("  the interrupted round cannot be read back ({e}): planning anew");
+                let _ = std::fs::remove_file(a.out.join(resume::PLANNER_FILE));
+                let _ = std::fs::remove_file(a.out.join(resume::ROUND_FILE));
+                c
+            }
+        }
     } else {
+        let _ = std::fs::remove_file(a.out.join(resume::PLANNER_FILE));
+        let _ = std::fs::remove_file(a.out.join(resume::ROUND_FILE));
         launch::remove_bag(&a.out.join("mission.mcap"));
         // A new mission starts a new merge (the explorer would go on from one left here).
         launch::remove_merge(&a.merge_store())?;

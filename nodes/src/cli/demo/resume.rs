@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use skyground_core::mission::PlannerStatus;
+use skyground_core::mission::kept_round::KeptRound;
 use skyground_core::mission::progress::Totals;
 
 use crate::runtime::RuntimeError;
@@ -14,9 +16,12 @@ use crate::runtime::RuntimeError;
 pub const PROGRESS_FILE: &str = "progress.json";
 
 /// The file in a mission's folder that holds the planner's last status, for
-/// a planner restarted while the mission runs (a new run starts without it:
-/// it detects again from the merge and plans a new round).
+/// a planner restarted while the mission runs and for a resumed run, which
+/// finishes the round it was driving.
 pub const PLANNER_FILE: &str = "planner.json";
+
+/// The file in a mission's folder where the planner keeps its round's targets.
+pub const ROUND_FILE: &str = "round.json";
 
 /// The file in a mission's folder that holds its command line.
 pub const COMMAND_FILE: &str = "command.json";
@@ -76,6 +81,10 @@ pub(super) struct Carried {
     /// being driven when the progress was written.
     #[serde(default)]
     pub targets: Totals,
+    /// Of `targets`, the round being driven (a resumed run that finishes
+    /// that round counts its stops again).
+    #[serde(default)]
+    pub open: Totals,
 }
 
 impl Carried {
@@ -85,7 +94,7 @@ impl Carried {
         (odometer_m, sim_s): (f64, f64),
         rounds: u32,
         position: Option<[f32; 3]>,
-        targets: &Totals,
+        (targets, open): (&Totals, &Totals),
     ) -> Carried {
         Carried {
             odometer_m: self.odometer_m + odometer_m,
@@ -94,8 +103,51 @@ impl Carried {
             position: position.or(self.position),
             runs: self.runs,
             targets: self.targets.plus(targets),
+            open: *open,
         }
     }
+
+    /// What a run that finishes the interrupted round carries: that
+    /// round's stops so far are counted again as it reports them.
+    pub fn without_open_round(&self) -> Carried {
+        Carried {
+            targets: self.targets.minus(&self.open),
+            open: Totals::default(),
+            ..*self
+        }
+    }
+}
+
+/// Before a resumed run: the round the kill interrupted (its status in
+/// `planner.json`, its targets in `round.json`) renumbered as the run's first,
+/// so its planner finishes that round's remaining stops rather than plan
+/// one from a later detection. `Ok(None)`, both files removed, when no
+/// round was being driven; an error names what could not be read.
+pub(super) fn carry_round(dir: &Path) -> Result<Option<PlannerStatus>, String> {
+    let (status_path, round_path) = (dir.join(PLANNER_FILE), dir.join(ROUND_FILE));
+    let status = PlannerStatus::kept(&status_path).map_err(|e| e.to_string())?;
+    let round = KeptRound::kept(&round_path).map_err(|e| e.to_string())?;
+    let open = match (status, round) {
+        (Some(s), Some(r))
+            if s.round == r.round
+                && s.phase != "done"
+                && s.target_points == r.targets.points.len()
+                && s.target_regions == r.targets.regions.len() =>
+        {
+            Some((s, r))
+        }
+        _ => None,
+    };
+    let Some((mut s, mut r)) = open else {
+        let _ = std::fs::remove_file(&status_path);
+        let _ = std::fs::remove_file(&round_path);
+        return Ok(None);
+    };
+    // The run's detections and rounds count from its start.
+    (s.round, r.round) = (1, 1);
+    s.keep(&status_path).map_err(|e| e.to_string())?;
+    r.keep(&round_path).map_err(|e| e.to_string())?;
+    Ok(Some(s))
 }
 
 /// What earlier runs of the mission in `dir` carried; an error names the file.
@@ -137,11 +189,17 @@ mod tests {
             runs: 1,
             ..Carried::default()
         }
-        .plus((100.0, 50.0), 1, Some([1.0, 2.0, 0.0]), &reached(7, 1));
+        .plus(
+            (100.0, 50.0),
+            1,
+            Some([1.0, 2.0, 0.0]),
+            (&reached(7, 1), &reached(2, 0)),
+        );
         write(&d, &first).unwrap();
         let back = read(&d).unwrap();
         assert_eq!(back, first);
-        let second = back.plus((20.0, 5.0), 0, None, &reached(3, 2));
+        assert_eq!(back.without_open_round().targets, reached(5, 1));
+        let second = back.plus((20.0, 5.0), 0, None, (&reached(3, 2), &reached(3, 2)));
         assert_eq!(
             (second.odometer_m, second.sim_s, second.rounds),
             (120.0, 55.0, 1)

@@ -369,8 +369,13 @@ impl<'a> Follower<'a> {
         let rounds = u32::try_from(self.w.progress.rounds_driven()).unwrap_or(u32::MAX);
         let at = self.w.route.last().copied();
         let targets = self.w.progress.totals_so_far();
-        self.carried
-            .plus((self.w.odometer, self.w.sim_s), rounds, at, &targets)
+        let open = self.w.progress.round_so_far;
+        self.carried.plus(
+            (self.w.odometer, self.w.sim_s),
+            rounds,
+            at,
+            (&targets, &open),
+        )
     }
 
     /// progress.json, for `--resume` (a failed write is said, the mission goes on).
