@@ -566,6 +566,39 @@ def test_soak_a_stuck_vehicle_a_killed_explorer_and_a_stalled_recorder_and_the_m
     assert ids["repeated"] == 0 and ids["unsent"] == 0 and ids["missing"] <= 5, ids
 
 
+def test_an_explorer_that_stops_acknowledging_for_8_s_loses_no_scan(tmp_path, env):
+    """Issue 50 part 5: the explorer stopped (SIGSTOP: its DDS reader neither
+    takes nor acknowledges, as one stuck repairing a fragmented scan) for
+    8 s while the vehicle drives, then continued (RustDDS's event loops
+    must survive the interrupted wait: third_party/README.md). vehicle_sim's writer keeps its last 64
+    scans; it waits for acknowledgements every 16 (up to 3 s each), so the
+    scans written meanwhile wait in its history instead of pushing the
+    oldest out: every scan sent is merged."""
+    out, argv = demo(tmp_path, "--timeout", "400")
+    proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        # Round 2 drives 170 m in ~5 wall s: the explorer stops as it starts.
+        assert wait_for_log(out / "global_planner.log", "round 2: route over", proc, 240)
+        explorer = pid_of(proc.pid, "local_explorer")
+        sent_before = len(sent_ids(out))
+        os.kill(explorer, signal.SIGSTOP)
+        time.sleep(8)
+        sent_meanwhile = len(sent_ids(out)) - sent_before
+        os.kill(explorer, signal.SIGCONT)
+        _, err = proc.communicate(timeout=400)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err[-3000:]
+    report = json.loads((out / "report.json").read_text())
+    ids = report["merge"]["ids"]
+    print(f"\nscans sent while the explorer stood: {sent_meanwhile}; by id: {ids}")
+    assert report["finished"] is True and report["restarts"].get("local_explorer", 0) == 0, report["restarts"]
+    # The vehicle went on sending while the explorer stood: past one wait, fewer than the history holds.
+    assert 16 < sent_meanwhile <= 64, sent_meanwhile
+    assert ids["sent"] == ids["merged"] and ids["missing"] == ids["repeated"] == 0, ids
+
+
 # vehicle_sim's scans 40 to 59 sent with 250,000 points each (~5 MB a sample).
 LARGE_SCANS = "40:20:250000"
 

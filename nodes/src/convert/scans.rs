@@ -37,6 +37,16 @@ pub fn scan_qos(name: &str) -> Result<ros2_client::QosProfile, RuntimeError> {
 /// 64-beam's.
 pub const PACED_SCAN_BYTES: usize = 1 << 20;
 
+/// The writer's history: scans a reader has not acknowledged stay in it for
+/// repair until this many newer ones push them out (then they are lost).
+const SCAN_HISTORY: usize = 64;
+
+/// Scans written between two waits for acknowledgements: a quarter of the
+/// history, so a reader that stops acknowledging (stuck repairing a
+/// fragmented scan, starved, stopped) has four waits of up to 3 s, ~12 s,
+/// before its oldest unacknowledged scan is pushed out.
+const PACE_EVERY: usize = SCAN_HISTORY / 4;
+
 /// vehicle_sim's /registered_scan writer: reliable (a best-effort multi-MB
 /// scan is lost with any one fragment), on a DDS writer of its own so that
 /// scans wait for the first reader and the node, before it exits, for every
@@ -51,6 +61,8 @@ pub struct ScanWriter {
     last: Option<u64>,
     /// The platform index the ids carry (see `scan_ids::tagged`).
     platform: u8,
+    /// Scans written since the last wait for acknowledgements.
+    unpaced: std::cell::Cell<usize>,
 }
 
 impl ScanWriter {
@@ -86,7 +98,7 @@ impl ScanWriter {
             ack_timeout_s: 3.0,
             ..TransportConfig::default()
         };
-        let w = CloudPublisher::new(rt, topic, qos::reliable(64), keep)?;
+        let w = CloudPublisher::new(rt, topic, qos::reliable(SCAN_HISTORY), keep)?;
         Ok(Self {
             w,
             since: Instant::now(),
@@ -95,6 +107,7 @@ impl ScanWriter {
             log,
             last,
             platform,
+            unpaced: std::cell::Cell::new(0),
         })
     }
 
@@ -126,11 +139,13 @@ impl ScanWriter {
         self.open
     }
 
-    /// Writes one scan whole; one over [`PACED_SCAN_BYTES`] then waits (up
-    /// to 3 s) for its acknowledgements: RustDDS sends 256-byte fragments and
-    /// asks again for at most 256 lost ones at a time, so a burst of
-    /// multi-MB scans that overflowed the reader's socket buffer took the
-    /// rest of a mission to repair (issue 50: 49 of 168 scans arrived).
+    /// Writes one scan whole; one over [`PACED_SCAN_BYTES`], and every
+    /// [`PACE_EVERY`]th, then waits (up to 3 s) for the acknowledgements:
+    /// RustDDS sends 256-byte fragments and asks again for at most 256 lost
+    /// ones at a time, so a burst of multi-MB scans that overflowed the
+    /// reader's socket buffer took the rest of a mission to repair (issue 50:
+    /// 49 of 168 scans arrived), and a reader that stopped acknowledging for
+    /// 8 s lost 544 of 873 scans to the history's overflow.
     pub async fn write(&self, msg: PointCloud2) -> Result<(), RuntimeError> {
         let large = msg.data.len() > PACED_SCAN_BYTES;
         let stamp = scan_ids::id(msg.header.stamp.sec, msg.header.stamp.nanosec);
@@ -140,8 +155,12 @@ impl ScanWriter {
             log.sent(id)
                 .map_err(|e| RuntimeError::Node(format!("scan_log: {e}")))?;
         }
-        if large {
+        let unpaced = self.unpaced.get() + 1;
+        if large || unpaced >= PACE_EVERY {
             self.w.wait_acks().await;
+            self.unpaced.set(0);
+        } else {
+            self.unpaced.set(unpaced);
         }
         Ok(())
     }
