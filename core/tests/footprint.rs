@@ -610,6 +610,7 @@ fn delft_cityjson_keeps_its_bag_ids_and_the_scene_numbering() {
         &path.display().to_string(),
         &ReadOptions {
             id_field: Some("lokaalid".into()),
+            ..ReadOptions::default()
         },
     )
     .unwrap();
@@ -618,6 +619,7 @@ fn delft_cityjson_keeps_its_bag_ids_and_the_scene_numbering() {
         &path.display().to_string(),
         &ReadOptions {
             id_field: Some("osm_id".into()),
+            ..ReadOptions::default()
         },
     )
     .unwrap_err();
@@ -682,6 +684,71 @@ fn cityjson_lod0_footprints_win_over_the_roof_outline() {
     assert!((f.area() - 100.0).abs() < 1e-9, "area {}", f.area());
 }
 
+fn read_parts(spec: &Path) -> SourceFootprints {
+    let options = ReadOptions {
+        parts: true,
+        ..ReadOptions::default()
+    };
+    read_footprints(&spec.display().to_string(), &options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn cityjson_footprints_per_part_keep_their_building() {
+    // A Building with a LoD 0 outline of the whole and two LoD 2 parts side
+    // by side (6 × 10 m and 4 × 10 m), and a Building without parts.
+    let doc = br#"{"type":"CityJSON","version":"2.0","transform":{"scale":[1,1,1],"translate":[0,0,0]},
+      "CityObjects":{
+        "b1":{"type":"Building","attributes":{"identificatie":"NL.IMBAG.Pand.1"},"children":["b1-0","b1-1"],
+          "geometry":[{"type":"MultiSurface","lod":"0","boundaries":[[[0,1,2,3]]]}]},
+        "b1-0":{"type":"BuildingPart","parents":["b1"],
+          "geometry":[{"type":"MultiSurface","lod":"2.2","boundaries":[[[0,4,5,3]]]}]},
+        "b1-1":{"type":"BuildingPart","parents":["b1"],
+          "geometry":[{"type":"MultiSurface","lod":"2.2","boundaries":[[[4,1,2,5]]]}]},
+        "b2":{"type":"Building","attributes":{"identificatie":"NL.IMBAG.Pand.2"},
+          "geometry":[{"type":"MultiSurface","lod":"2.2","boundaries":[[[6,7,8,9]]]}]}},
+      "vertices":[[0,0,0],[10,0,0],[10,10,0],[0,10,0],[6,0,0],[6,10,0],
+                  [20,0,0],[25,0,0],[25,5,0],[20,5,0]]}"#;
+    let path = std::env::temp_dir().join(format!("skyground-parts-{}.city.json", std::process::id()));
+    std::fs::write(&path, doc).unwrap();
+    let joined = read(&path).loaded;
+    let per_part = read_parts(&path).loaded;
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(joined.footprints.len(), 2);
+    assert!(joined.part_of.is_empty());
+    let got: Vec<(&str, f64)> = per_part
+        .footprints
+        .iter()
+        .map(|f| (f.name.as_str(), f.area()))
+        .collect();
+    assert_eq!(
+        got,
+        [("b1-0", 60.0), ("b1-1", 40.0), ("NL.IMBAG.Pand.2", 25.0)],
+        "each part its own outline, the whole's LoD 0 left out"
+    );
+    let ids: Vec<u32> = per_part.footprints.iter().map(|f| f.id).collect();
+    assert_eq!(
+        per_part.part_of,
+        BTreeMap::from([(ids[0], "NL.IMBAG.Pand.1".to_string()), (ids[1], "NL.IMBAG.Pand.1".to_string())]),
+        "a Building without parts is no part"
+    );
+    // 3DBAG: each Building holds one LoD 2.2 part; Zurich: 161 parts in 49 Buildings.
+    if let Some(city) = real_file("3dbag_2buildings.city.json") {
+        let l = read_parts(&city).loaded;
+        let parents: Vec<&str> = l.part_of.values().map(String::as_str).collect();
+        assert_eq!(
+            parents,
+            ["NL.IMBAG.Pand.0503100000028341", "NL.IMBAG.Pand.0503100000031927"]
+        );
+        assert!(l.footprints.iter().all(|f| f.name.ends_with("-0")), "{:?}", l.footprints[0].name);
+    }
+    if let Some(z) = real_file("zurich_subset_lod2.json") {
+        let l = read_parts(&z).loaded;
+        let buildings: std::collections::BTreeSet<&String> = l.part_of.values().collect();
+        println!("zurich per part: {} footprints, {} parts of {} buildings, {} skipped", l.footprints.len(), l.part_of.len(), buildings.len(), l.skipped.len());
+        assert!(l.footprints.len() > 49 && l.footprints.len() <= 161, "{}", l.footprints.len());
+    }
+}
+
 #[test]
 fn geojson_bag_and_osm_ids_come_through() {
     // PDOK BAG panden (a MultiPolygon drawn as two features of one pand), OSM exports.
@@ -714,6 +781,7 @@ fn geojson_bag_and_osm_ids_come_through() {
         [0.0; 3],
         &ReadOptions {
             id_field: Some("name".into()),
+            ..ReadOptions::default()
         },
     )
     .unwrap();

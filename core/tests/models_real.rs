@@ -342,12 +342,18 @@ fn every_building_of_the_multi_building_city_files_gets_a_valid_model() {
             ..AirborneConfig::default()
         };
         let cloud = airborne_scan(&caster, &survey).unwrap();
-        let fps = read_footprints(&path.display().to_string(), &ReadOptions::default())
+        // Per BuildingPart where the file models its buildings so (3DBAG), as `--parts`.
+        let per_part = ReadOptions {
+            parts: true,
+            ..ReadOptions::default()
+        };
+        let loaded = read_footprints(&path.display().to_string(), &per_part)
             .unwrap()
             .in_frame(&SourceFrame::new(cloud.origin, None))
-            .unwrap()
-            .footprints;
-        let rec = reconstruct_cloud(&cloud, Some(&fps), &ReconstructParams::default()).unwrap();
+            .unwrap();
+        let fps = loaded.footprints;
+        let mut rec = reconstruct_cloud(&cloud, Some(&fps), &ReconstructParams::default()).unwrap();
+        rec.part_of = loaded.part_of;
         let n = rec.models.len();
         let valid = rec
             .models
@@ -378,6 +384,18 @@ fn every_building_of_the_multi_building_city_files_gets_a_valid_model() {
         }
         if cj == "invalid" {
             failures.push(format!("{name}: cjval finds models.city.json invalid"));
+        }
+        // A part's model is a BuildingPart of the Building named by the input.
+        let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+        let objects = doc["CityObjects"].as_object().unwrap();
+        let written_parts = objects.values().filter(|o| o["type"] == "BuildingPart").count();
+        if written_parts != rec.part_of.len()
+            || rec.part_of.values().any(|b| objects.get(b).is_none_or(|o| o["type"] != "Building"))
+        {
+            failures.push(format!(
+                "{name}: {written_parts} BuildingParts written for {} part models",
+                rec.part_of.len()
+            ));
         }
         if name == "3dfier_testarea.json" {
             assert_party_walls_meet(&name, &fps, &rec);

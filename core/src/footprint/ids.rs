@@ -26,6 +26,9 @@ pub struct ReadOptions {
     /// `None`: the first of [`ID_FIELDS`] present, else the feature's or
     /// CityObject's own id.
     pub id_field: Option<String>,
+    /// CityJSON: a footprint per BuildingPart (its Building's own id in
+    /// [`Loaded::part_of`](super::Loaded)) instead of one per Building.
+    pub parts: bool,
 }
 
 /// A property value as id text: a non-empty string or a number.
@@ -90,6 +93,7 @@ mod tests {
         );
         let named = ReadOptions {
             id_field: Some("name".into()),
+            ..ReadOptions::default()
         };
         assert_eq!(own_id(p, &named).as_deref(), Some("Oude Kerk"));
         let bag = json!({"identificatie": "0503100000028341", "id": 3});
@@ -99,6 +103,7 @@ mod tests {
         );
         let absent = ReadOptions {
             id_field: Some("fid".into()),
+            ..ReadOptions::default()
         };
         assert_eq!(own_id(p, &absent), None);
         let e = check_named_field(&absent, 0, p).expect_err("no feature has it");

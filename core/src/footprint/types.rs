@@ -95,6 +95,9 @@ pub struct Loaded {
     pub footprints: Vec<Footprint>,
     /// Polygons or rings left out (the rest still loads).
     pub skipped: Vec<super::error::Skipped>,
+    /// Footprints read per BuildingPart: the own id of the Building each
+    /// belongs to, by footprint id (empty when read per building).
+    pub part_of: std::collections::BTreeMap<u32, String>,
 }
 
 impl Loaded {
@@ -113,6 +116,7 @@ impl Loaded {
         Ok(Self {
             footprints,
             skipped,
+            part_of: Default::default(),
         })
     }
 }

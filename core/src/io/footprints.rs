@@ -255,6 +255,7 @@ pub fn load_given(spec: &str, id_field: &str, crs: &str, origin: &[f64]) -> Resu
     let origin = [0, 1, 2].map(|k| origin.get(k).copied().unwrap_or(0.0));
     let options = ReadOptions {
         id_field: Some(id_field.trim().to_string()).filter(|f| !f.is_empty()),
+        ..ReadOptions::default()
     };
     read_footprints(spec, &options)
         .and_then(|s| s.in_frame(&SourceFrame::new(origin, crs)))

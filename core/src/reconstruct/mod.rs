@@ -80,6 +80,9 @@ pub struct Reconstruction {
     pub skipped: Vec<(u32, Skip)>,
     /// Footprints came from the caller (else derived from the points).
     pub footprints_given: bool,
+    /// Models of BuildingParts: the own id of the Building each belongs to,
+    /// by model id (the footprints' `Loaded::part_of`); written as parts.
+    pub part_of: std::collections::BTreeMap<u32, String>,
 }
 
 impl Reconstruction {
@@ -118,6 +121,7 @@ pub fn reconstruct_cloud(
         models: Vec::new(),
         skipped: Vec::new(),
         footprints_given: footprints.is_some(),
+        part_of: Default::default(),
     };
     if building.is_empty() {
         // A classified tile without buildings has no models; an empty or

@@ -282,6 +282,33 @@ fn cityjson_has_one_solid_per_building_with_semantics() {
 }
 
 #[test]
+fn models_of_building_parts_are_written_as_parts_of_their_building() {
+    let s = scene();
+    let c = cloud(&s, |_, _| true);
+    let mut rec = reconstruct_cloud(&c, None, &ReconstructParams::default()).unwrap();
+    let ids: Vec<u32> = rec.models.iter().map(|m| m.id).collect();
+    assert_eq!(ids.len(), 3);
+    rec.part_of = [(ids[0], "B".to_string()), (ids[1], "B".to_string())].into();
+    let v = cityjson::to_cityjson(&rec);
+    let objs = v["CityObjects"].as_object().unwrap();
+    let keys: Vec<&str> = objs.keys().map(String::as_str).collect();
+    assert_eq!(keys.len(), 4, "{keys:?}");
+    let b = &objs["B"];
+    assert_eq!(b["type"], "Building");
+    assert_eq!(b["children"], serde_json::json!(["B-0", "B-1"]));
+    assert!(b.get("geometry").is_none());
+    assert_eq!(b["attributes"]["skyground_parts"], 2);
+    for k in ["B-0", "B-1"] {
+        assert_eq!(objs[k]["type"], "BuildingPart");
+        assert_eq!(objs[k]["parents"], serde_json::json!(["B"]));
+        assert_eq!(objs[k]["geometry"][0]["type"], "Solid");
+    }
+    let lone = format!("building_{}", ids[2]);
+    assert_eq!(objs[&lone]["type"], "Building");
+    assert!(objs[&lone].get("parents").is_none());
+}
+
+#[test]
 fn roof_density_counts_plane_points_over_the_cells_they_cover() {
     use crate::geom::grid::GridFrame;
     use crate::geom::planes::NO_PLANE;

@@ -36,12 +36,22 @@ impl FootprintsArg {
     /// that cannot be used stops the command before it starts anything;
     /// `scene` is the scene spec `model` stands for.
     pub fn read(&self, scene: Option<&str>) -> Result<Option<SourceFootprints>, RuntimeError> {
+        self.read_parts(scene, false)
+    }
+
+    /// As [`Self::read`]; with `parts`, CityJSON footprints one per BuildingPart.
+    pub fn read_parts(
+        &self,
+        scene: Option<&str>,
+        parts: bool,
+    ) -> Result<Option<SourceFootprints>, RuntimeError> {
         let Some(spec) = &self.footprints else {
             return Ok(None);
         };
         let spec = resolve_source(&spec.display().to_string(), scene).map_err(err)?;
         let options = ReadOptions {
             id_field: self.footprint_id.clone(),
+            parts,
         };
         read_footprints(&spec, &options).map(Some).map_err(err)
     }

@@ -2,6 +2,7 @@
 //! (docs/design.md step 10), written as CityJSON 2.0 and OBJ; with `--gt`,
 //! their accuracy against a scene's buildings.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::Cloud;
@@ -52,6 +53,10 @@ pub struct ReconstructArgs {
     /// Print the result as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// With CityJSON footprints: a model per BuildingPart, written as a BuildingPart of its
+    /// Building (as 3DBAG and Zurich's LoD2 model them); default: one per Building, its parts joined.
+    #[arg(long, requires = "footprints")]
+    pub parts: bool,
 }
 
 /// Reads `--params`: a JSON object of reconstruction parameters, given
@@ -93,11 +98,12 @@ fn metres(v: Option<f64>) -> String {
 pub fn reconstruct_and_write(
     cloud: &Cloud,
     footprints: Option<&[Footprint]>,
-    dir: &Path,
-    name: &str,
+    (dir, name): (&Path, &str),
     params: &ReconstructParams,
+    part_of: &BTreeMap<u32, String>,
 ) -> Result<Reconstruction, RuntimeError> {
-    let rec = reconstruct_cloud(cloud, footprints, params).map_err(err)?;
+    let mut rec = reconstruct_cloud(cloud, footprints, params).map_err(err)?;
+    rec.part_of.clone_from(part_of);
     std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
     cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec).map_err(err)?;
     obj::write_obj(&dir.join(format!("{name}.obj")), &rec).map_err(err)?;
@@ -216,7 +222,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
         )));
     }
     let params = read_params(a.params.as_deref())?;
-    let given = a.footprints.read(a.gt.as_deref())?;
+    let given = a.footprints.read_parts(a.gt.as_deref(), a.parts)?;
     let cloud = a.units.read_tiles(&a.input)?;
     check_plan_extent(&cloud).map_err(err)?;
     if let Some(c) = cloud.crs.as_ref().filter(|c| c.epsg.is_none()) {
@@ -232,7 +238,14 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
         .map(|r| super::footprints::in_frame(r, &cloud.frame()))
         .transpose()?;
     let t0 = std::time::Instant::now();
-    let rec = reconstruct_and_write(&cloud, footprints.as_deref(), &a.out, "models", &params)?;
+    let part_of = given.as_ref().map(|g| g.loaded.part_of.clone());
+    let rec = reconstruct_and_write(
+        &cloud,
+        footprints.as_deref(),
+        (&a.out, "models"),
+        &params,
+        &part_of.unwrap_or_default(),
+    )?;
     let seconds = t0.elapsed().as_secs_f64();
     let pts = building_points(&cloud, cloud.origin);
     let fit = points_to_models(&rec, &pts);
@@ -307,6 +320,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
                 "valid": m.quality.val3dity.is_empty(), "val3dity": m.quality.val3dity,
                 "lod": m.lod, "fallback_reason": m.fallback, "rejected_val3dity": m.quality.rejected_val3dity,
                 "rmse_m": m.quality.rmse_m, "footprint_iou": m.quality.footprint_iou,
+                "part_of": rec.part_of.get(&m.id),
             })
         })
         .collect();
@@ -377,7 +391,13 @@ pub fn models_of(
     spacing: f32,
     footprints: Option<&[Footprint]>,
 ) -> Result<ModelEvaluation, RuntimeError> {
-    let rec = reconstruct_and_write(cloud, footprints, dir, name, &ReconstructParams::default())?;
+    let rec = reconstruct_and_write(
+        cloud,
+        footprints,
+        (dir, name),
+        &ReconstructParams::default(),
+        &BTreeMap::new(),
+    )?;
     Ok(evaluate_against(scene, &rec, spacing))
 }
 

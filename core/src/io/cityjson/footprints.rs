@@ -1,5 +1,6 @@
 //! CityJSON (1.0, 1.1, 2.0) and CityJSONSeq footprints: one per Building,
-//! its BuildingParts joined to it.
+//! its BuildingParts joined to it, or with `ReadOptions::parts` one per
+//! BuildingPart (the Building's own id kept in `Loaded::part_of`).
 //!
 //! A building whose objects carry a LoD 0 surface geometry (the cadastral
 //! footprint 3DBAG ships) takes the union of those; otherwise each object's
@@ -57,34 +58,57 @@ pub fn cityjson_footprints(
         .and_then(|r| model.objects.get(*r))
         .and_then(|o| o.attributes.as_ref())
         .and_then(|a| a.as_object());
+    let mut part_of = BTreeMap::new();
     for (root, objects) in &groups {
-        let polys = group_footprint(objects, model, origin, &mut skipped)?;
-        if polys.is_empty() {
-            continue;
-        }
         let attrs = model
             .objects
             .get(*root)
             .and_then(|o| o.attributes.as_ref())
             .and_then(|a| a.as_object());
         let own = own_id(attrs, options);
-        named += usize::from(own.is_some());
-        next = next.saturating_add(1);
-        let id = next;
-        match union_valid(&polys) {
-            Ok(polygon) => footprints.push(Footprint {
-                id,
-                polygon,
-                name: own.unwrap_or_else(|| (*root).to_string()),
-            }),
-            Err(problem) => skipped.push(Skipped {
-                source: format!("building `{root}`"),
-                problem,
-            }),
+        let building = own.clone().unwrap_or_else(|| (*root).to_string());
+        // Per part: each BuildingPart alone; the Building's own geometry
+        // (3DBAG's LoD 0 outline of the whole) is then left out.
+        let parts: Vec<&[(&str, &CityObject)]> = objects
+            .chunks(1)
+            .filter(|u| u[0].1.kind == "BuildingPart")
+            .collect();
+        let units = if options.parts && !parts.is_empty() {
+            parts
+        } else {
+            vec![&objects[..]]
+        };
+        let mut any = false;
+        for unit in units {
+            let polys = group_footprint(unit, model, origin, &mut skipped)?;
+            if polys.is_empty() {
+                continue;
+            }
+            any = true;
+            next = next.saturating_add(1);
+            let id = next;
+            let (object, o) = unit[0];
+            let part = options.parts && o.kind == "BuildingPart";
+            let name = if part {
+                part_of.insert(id, building.clone());
+                object.to_string()
+            } else {
+                building.clone()
+            };
+            match union_valid(&polys) {
+                Ok(polygon) => footprints.push(Footprint { id, polygon, name }),
+                Err(problem) => skipped.push(Skipped {
+                    source: format!("building `{root}`"),
+                    problem,
+                }),
+            }
         }
+        named += usize::from(any && own.is_some());
     }
     check_named_field(options, named, first_attrs)?;
-    Loaded::new(footprints, skipped)
+    let mut loaded = Loaded::new(footprints, skipped)?;
+    loaded.part_of = part_of;
+    Ok(loaded)
 }
 
 /// The footprint polygons of one building (its objects): LoD 0 where any

@@ -1,4 +1,5 @@
-//! CityJSON 2.0 output: one Building per model, its LoD 2.2 Solid with
+//! CityJSON 2.0 output: one Building per model (a BuildingPart of its
+//! Building when the model's footprint was a part), its LoD 2.2 Solid with
 //! RoofSurface / WallSurface / GroundSurface semantics, integer vertices
 //! under a transform of a thousandth of the unit, in the source coordinates
 //! and unit of the cloud, its CRS in `metadata.referenceSystem`.
@@ -8,7 +9,7 @@ use std::path::Path;
 use serde_json::{Value, json};
 
 use super::crs_url;
-use crate::reconstruct::{ReconstructError, Reconstruction};
+use crate::reconstruct::{Model, ReconstructError, Reconstruction};
 
 /// Vertex precision: a thousandth of the source unit (1 mm, or 0.001 ft).
 const SCALE: f64 = 0.001;
@@ -41,6 +42,8 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
     let mut vertices: Vec<[i64; 3]> = Vec::new();
     let mut index: std::collections::HashMap<[i64; 3], usize> = Default::default();
     let mut objects = serde_json::Map::new();
+    // BuildingParts' models by the Building they belong to.
+    let mut parts: std::collections::BTreeMap<&str, Vec<&Model>> = Default::default();
     for m in &rec.models {
         let ids: Vec<usize> = m
             .shell
@@ -93,10 +96,23 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
                 crate::reconstruct::SurfaceType::GroundSurface => 2,
             })
             .collect();
+        let key = match rec.part_of.get(&m.id) {
+            Some(b) => {
+                let children = parts.entry(b.as_str()).or_default();
+                children.push(m);
+                format!("{b}-{}", children.len() - 1)
+            }
+            None => format!("building_{}", m.id),
+        };
+        let kind = if rec.part_of.contains_key(&m.id) {
+            "BuildingPart"
+        } else {
+            "Building"
+        };
         objects.insert(
-            format!("building_{}", m.id),
+            key,
             json!({
-                "type": "Building",
+                "type": kind,
                 "attributes": {
                     "name": m.name,
                     "roof_planes": m.planes,
@@ -128,6 +144,15 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
             }),
         );
     }
+    for (b, children) in &parts {
+        let keys: Vec<String> = (0..children.len()).map(|k| format!("{b}-{k}")).collect();
+        for k in &keys {
+            if let Some(o) = objects.get_mut(k) {
+                o["parents"] = json!([b]);
+            }
+        }
+        objects.insert(b.to_string(), building_of_parts(b, children, keys));
+    }
     let mut metadata = json!({"title": "skyground LoD2 reconstruction"});
     // No models, no extent (not a point at the origin).
     if any {
@@ -143,6 +168,27 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
         "metadata": metadata,
         "CityObjects": objects,
         "vertices": vertices,
+    })
+}
+
+/// The Building that holds BuildingParts' models: its own id, the parts,
+/// the lowest LoD among them and whether every one is valid.
+fn building_of_parts(name: &str, parts: &[&Model], children: Vec<String>) -> Value {
+    let lod = parts
+        .iter()
+        .map(|m| m.lod.as_str())
+        .min()
+        .unwrap_or("1.2");
+    json!({
+        "type": "Building",
+        "attributes": {
+            "name": name,
+            "skyground_parts": parts.len(),
+            "skyground_lod": lod,
+            "skyground_all_parts_valid": parts.iter().all(|m| m.quality.val3dity.is_empty()),
+            "skyground_points": parts.iter().map(|m| m.points).sum::<usize>(),
+        },
+        "children": children,
     })
 }
 
