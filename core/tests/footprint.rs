@@ -708,7 +708,8 @@ fn cityjson_footprints_per_part_keep_their_building() {
           "geometry":[{"type":"MultiSurface","lod":"2.2","boundaries":[[[6,7,8,9]]]}]}},
       "vertices":[[0,0,0],[10,0,0],[10,10,0],[0,10,0],[6,0,0],[6,10,0],
                   [20,0,0],[25,0,0],[25,5,0],[20,5,0]]}"#;
-    let path = std::env::temp_dir().join(format!("skyground-parts-{}.city.json", std::process::id()));
+    let path =
+        std::env::temp_dir().join(format!("skyground-parts-{}.city.json", std::process::id()));
     std::fs::write(&path, doc).unwrap();
     let joined = read(&path).loaded;
     let per_part = read_parts(&path).loaded;
@@ -728,7 +729,10 @@ fn cityjson_footprints_per_part_keep_their_building() {
     let ids: Vec<u32> = per_part.footprints.iter().map(|f| f.id).collect();
     assert_eq!(
         per_part.part_of,
-        BTreeMap::from([(ids[0], "NL.IMBAG.Pand.1".to_string()), (ids[1], "NL.IMBAG.Pand.1".to_string())]),
+        BTreeMap::from([
+            (ids[0], "NL.IMBAG.Pand.1".to_string()),
+            (ids[1], "NL.IMBAG.Pand.1".to_string())
+        ]),
         "a Building without parts is no part"
     );
     // 3DBAG: each Building holds one LoD 2.2 part; Zurich: 161 parts in 49 Buildings.
@@ -737,15 +741,32 @@ fn cityjson_footprints_per_part_keep_their_building() {
         let parents: Vec<&str> = l.part_of.values().map(String::as_str).collect();
         assert_eq!(
             parents,
-            ["NL.IMBAG.Pand.0503100000028341", "NL.IMBAG.Pand.0503100000031927"]
+            [
+                "NL.IMBAG.Pand.0503100000028341",
+                "NL.IMBAG.Pand.0503100000031927"
+            ]
         );
-        assert!(l.footprints.iter().all(|f| f.name.ends_with("-0")), "{:?}", l.footprints[0].name);
+        assert!(
+            l.footprints.iter().all(|f| f.name.ends_with("-0")),
+            "{:?}",
+            l.footprints[0].name
+        );
     }
     if let Some(z) = real_file("zurich_subset_lod2.json") {
         let l = read_parts(&z).loaded;
         let buildings: std::collections::BTreeSet<&String> = l.part_of.values().collect();
-        println!("zurich per part: {} footprints, {} parts of {} buildings, {} skipped", l.footprints.len(), l.part_of.len(), buildings.len(), l.skipped.len());
-        assert!(l.footprints.len() > 49 && l.footprints.len() <= 161, "{}", l.footprints.len());
+        println!(
+            "zurich per part: {} footprints, {} parts of {} buildings, {} skipped",
+            l.footprints.len(),
+            l.part_of.len(),
+            buildings.len(),
+            l.skipped.len()
+        );
+        assert!(
+            l.footprints.len() > 49 && l.footprints.len() <= 161,
+            "{}",
+            l.footprints.len()
+        );
     }
 }
 

@@ -388,9 +388,15 @@ fn every_building_of_the_multi_building_city_files_gets_a_valid_model() {
         // A part's model is a BuildingPart of the Building named by the input.
         let doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
         let objects = doc["CityObjects"].as_object().unwrap();
-        let written_parts = objects.values().filter(|o| o["type"] == "BuildingPart").count();
+        let written_parts = objects
+            .values()
+            .filter(|o| o["type"] == "BuildingPart")
+            .count();
         if written_parts != rec.part_of.len()
-            || rec.part_of.values().any(|b| objects.get(b).is_none_or(|o| o["type"] != "Building"))
+            || rec
+                .part_of
+                .values()
+                .any(|b| objects.get(b).is_none_or(|o| o["type"] != "Building"))
         {
             failures.push(format!(
                 "{name}: {written_parts} BuildingParts written for {} part models",

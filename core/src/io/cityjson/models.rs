@@ -174,11 +174,7 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
 /// The Building that holds BuildingParts' models: its own id, the parts,
 /// the lowest LoD among them and whether every one is valid.
 fn building_of_parts(name: &str, parts: &[&Model], children: Vec<String>) -> Value {
-    let lod = parts
-        .iter()
-        .map(|m| m.lod.as_str())
-        .min()
-        .unwrap_or("1.2");
+    let lod = parts.iter().map(|m| m.lod.as_str()).min().unwrap_or("1.2");
     json!({
         "type": "Building",
         "attributes": {

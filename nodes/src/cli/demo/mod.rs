@@ -219,12 +219,12 @@ fn start_or_resume(a: &DemoArgs) -> Result<resume::Carried, RuntimeError> {
                 );
                 c.without_open_round()
             }
-            Ok(None) => c,
+            Ok(None) => c.planning_anew(),
             Err(e) => {
                 eprintln!("  the interrupted round cannot be read back ({e}): planning anew");
                 let _ = std::fs::remove_file(a.out.join(resume::PLANNER_FILE));
                 let _ = std::fs::remove_file(a.out.join(resume::ROUND_FILE));
-                c
+                c.planning_anew()
             }
         }
     } else {

@@ -85,6 +85,11 @@ pub(super) struct Carried {
     /// that round counts its stops again).
     #[serde(default)]
     pub open: Totals,
+    /// The mean detected completeness (0–1) of the last detection, the one
+    /// the round being driven was planned from: a resumed run that finishes
+    /// that round measures its gain from it, not from the larger merge.
+    #[serde(default)]
+    pub planned_from: Option<f64>,
 }
 
 impl Carried {
@@ -104,6 +109,7 @@ impl Carried {
             runs: self.runs,
             targets: self.targets.plus(targets),
             open: *open,
+            planned_from: self.planned_from,
         }
     }
 
@@ -113,6 +119,14 @@ impl Carried {
         Carried {
             targets: self.targets.minus(&self.open),
             open: Totals::default(),
+            ..*self
+        }
+    }
+
+    /// What a run that plans anew carries: no round's detection to go on from.
+    pub fn planning_anew(&self) -> Carried {
+        Carried {
+            planned_from: None,
             ..*self
         }
     }
@@ -199,6 +213,12 @@ mod tests {
         let back = read(&d).unwrap();
         assert_eq!(back, first);
         assert_eq!(back.without_open_round().targets, reached(5, 1));
+        let planned = Carried {
+            planned_from: Some(0.9),
+            ..back
+        };
+        assert_eq!(planned.without_open_round().planned_from, Some(0.9));
+        assert_eq!(planned.planning_anew().planned_from, None);
         let second = back.plus((20.0, 5.0), 0, None, (&reached(3, 2), &reached(3, 2)));
         assert_eq!(
             (second.odometer_m, second.sim_s, second.rounds),

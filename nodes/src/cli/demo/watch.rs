@@ -53,6 +53,16 @@ pub(super) struct Watch {
 }
 
 impl Watch {
+    /// A watch for a run that finishes a round an earlier run was driving:
+    /// the detection it was planned from (`planned_from`) stands as this
+    /// run's round 0, so the round's gain is measured from it, not from
+    /// the merge so far, which already holds part of the round.
+    fn going_on_from(planned_from: Option<f64>) -> Watch {
+        let mut w = Watch::default();
+        w.progress.detected.extend(planned_from.map(|m| (0, m)));
+        w
+    }
+
     /// Keeps the drone's position `p` when it is a metre from the last kept.
     fn flown(&mut self, p: [f32; 3]) {
         let far = |q: &[f32; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f32>() > 1.0;
@@ -247,7 +257,7 @@ impl<'a> Follower<'a> {
                 .ratio
                 .unwrap_or(0.0),
             limit: TimeLimit::new(a),
-            w: Watch::default(),
+            w: Watch::going_on_from(carried.planned_from),
             console: Console::new(),
             t0,
             carried,
@@ -370,12 +380,16 @@ impl<'a> Follower<'a> {
         let at = self.w.route.last().copied();
         let targets = self.w.progress.totals_so_far();
         let open = self.w.progress.round_so_far;
-        self.carried.plus(
+        let mut c = self.carried.plus(
             (self.w.odometer, self.w.sim_s),
             rounds,
             at,
             (&targets, &open),
-        )
+        );
+        if let Some(&(_, mean)) = self.w.progress.detected.last() {
+            c.planned_from = Some(mean);
+        }
+        c
     }
 
     /// progress.json, for `--resume` (a failed write is said, the mission goes on).
