@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from conftest import BIN, ROOT
-from test_demo import small_scene
+from test_demo import kill_everyone, small_scene, wait_for_log
 
 ROBOT = ROOT / "tests" / "python" / "field_robot.py"
 # A free spot of small_scene, south of the two blocks.
@@ -62,6 +62,42 @@ def test_field_mission_with_an_rclpy_robot_finishes_and_gains(tmp_path, env, spa
     log = bridge.read_text(errors="replace")
     assert "arrived at" in log
     assert "/way_point: 1 subscriber(s) matched" in log, log[-2000:]
+
+
+def test_a_field_mission_whose_laptop_died_resumes_with_the_robot_where_it_is(tmp_path, env, spawn):
+    """Issue 50 part 4 in field mode: every skyground process killed mid-round
+    (the laptop died; the robot, a process of its own, drives on and stops at
+    its last way-point), then `demo --resume DIR`: the planner goes on with the
+    interrupted round's remaining stops from where the robot now is, and the
+    mission finishes with the robot's scans of both runs."""
+    scene = small_scene(tmp_path / "small.obj")
+    gt = ground_truth(tmp_path, scene)
+    robot = spawn(str(ROBOT), "--gt", gt, "--start", *START)
+    assert robot.json_lines(1, timeout=60)[0]["event"] == "ready"
+    out = tmp_path / "out"
+    argv = [str(BIN / "skyground"), "demo", "--field", "--scene", str(scene), "--out", str(out),
+            "--timeout", "300", "--robot-timeout", "60"]
+    proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+    try:
+        assert wait_for_log(out / "global_planner.log", "round 1: route over", proc, 240)
+        time.sleep(2)
+    finally:
+        kill_everyone(proc)
+    p = subprocess.run(argv[:2] + ["--resume", str(out)], capture_output=True, text=True, timeout=400, env=env)
+    robot.stop()
+    assert p.returncode == 0, p.stderr[-4000:]
+    assert "resuming:" in p.stderr
+    report = json.loads((out / "report.json").read_text())
+    print(f"\nfield mode killed and resumed: coverage {report['coverage_before']:.4f} -> "
+          f"{report['coverage_after']:.4f}, {report['rounds']} rounds, {report['targets_reached']} stops, "
+          f"{report['path_length_m']:.0f} m")
+    assert report["finished"] is True and report["mode"] == "field" and report["runs"] == 2
+    assert report["coverage_after"] > report["coverage_before"] + 0.02
+    # Killed 2 s into round 1's route: the resumed planner finishes that round.
+    log = (out / "global_planner.log").read_text(errors="replace")
+    if "going on with the round it was driving" in p.stderr:
+        assert "going on with the kept round" in log, log[-2000:]
 
 
 def test_field_mode_without_a_robot_stops_with_a_clear_error(tmp_path, env):
