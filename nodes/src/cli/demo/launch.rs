@@ -450,9 +450,10 @@ mod tests {
         assert_eq!(graph_params(&parse(&["--prior", "a.laz"])), band);
         let planner = planner_params(&parse(&["--field", "--set-downs", "0", "--out", "/o"]));
         let restore = "restore:=/o/planner.json".to_string();
+        let round = "keep_round:=/o/round.json".to_string();
         assert_eq!(
             planner,
-            [band[0].clone(), "set_downs:=0".to_string(), restore]
+            [band[0].clone(), "set_downs:=0".to_string(), restore, round]
         );
     }
 
