@@ -400,7 +400,8 @@ impl<'a> Follower<'a> {
     }
 
     /// The planner's status kept for a restarted planner when what it
-    /// reached changed (a restarted one's round 0 is not its state).
+    /// reached changed (a restarted one's round 0 is not its state), and
+    /// the progress with it.
     fn keep_planner(&mut self, s: &PlannerStatus) {
         let reached = (
             s.round,
@@ -412,7 +413,12 @@ impl<'a> Follower<'a> {
             return;
         }
         match s.keep(&self.a.out.join(super::resume::PLANNER_FILE)) {
-            Ok(()) => self.planner_kept = Some(reached),
+            Ok(()) => {
+                self.planner_kept = Some(reached);
+                // The vehicle's place as each stop is dealt with: a resumed
+                // run starts it there, not where the last 5 s tick saw it.
+                self.keep_progress();
+            }
             Err(e) => self
                 .console
                 .say(&format!("  keeping the planner's status: {e}")),
