@@ -7,12 +7,14 @@
 //! must hold both.
 //! Runs only inside a loopback-only network namespace (tests/run_all.sh).
 
-use std::path::PathBuf;
-use std::process::{Child, Command};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use skyground_msgs::nav_msgs::Odometry;
 use skyground_nodes::netns::is_isolated;
+
+mod common;
+use common::{bin, signal};
 use skyground_nodes::runtime::{NodeRuntime, NodeSpec, RosArgs, qos};
 
 const NODE: NodeSpec = NodeSpec {
@@ -22,21 +24,6 @@ const NODE: NodeSpec = NodeSpec {
 };
 
 const TOPIC: &str = "/interrupted_odom";
-
-fn bin() -> PathBuf {
-    std::env::var_os("SKYGROUND_BIN_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/debug"))
-        .join("skyground")
-}
-
-fn signal(child: &Child, sig: &str) {
-    let ok = Command::new("kill")
-        .args([sig, &child.id().to_string()])
-        .status()
-        .is_ok_and(|s| s.success());
-    assert!(ok, "kill {sig} failed");
-}
 
 /// Messages on [`TOPIC`] in the bag at `path`.
 fn recorded(path: &std::path::Path) -> usize {

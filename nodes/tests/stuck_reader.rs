@@ -8,14 +8,16 @@
 //! with the window full) every writer goes on.
 //! Runs only inside a loopback-only network namespace (tests/run_all.sh).
 
-use std::path::PathBuf;
-use std::process::{Child, Command};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use ros2_client::QosProfile;
 use ros2_client::qos::{Reliability, WhenFull};
 use skyground_msgs::nav_msgs::Odometry;
 use skyground_nodes::netns::is_isolated;
+
+mod common;
+use common::{bin, signal};
 use skyground_nodes::runtime::{NodeRuntime, NodeSpec, RosArgs, qos};
 
 const NODE: NodeSpec = NodeSpec {
@@ -26,21 +28,6 @@ const NODE: NodeSpec = NodeSpec {
 
 /// More samples than the window holds.
 const PAST_THE_WINDOW: usize = 8192 + 10;
-
-fn bin() -> PathBuf {
-    std::env::var_os("SKYGROUND_BIN_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/debug"))
-        .join("skyground")
-}
-
-fn signal(child: &Child, sig: &str) {
-    let ok = Command::new("kill")
-        .args([sig, &child.id().to_string()])
-        .status()
-        .is_ok_and(|s| s.success());
-    assert!(ok, "kill {sig} failed");
-}
 
 /// How many of `n` writes on `p` returned, and the longest one; a write
 /// that has not returned after `hang` counts as hung and ends the run.

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::targets::TargetSet;
 
-use super::protocol::KeptStatusError;
+use super::protocol::{KeptStatusError, Phase, PlannerStatus};
 
 /// A round's targets as the planner took them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -20,6 +20,15 @@ pub struct KeptRound {
 }
 
 impl KeptRound {
+    /// Whether `status` was driving this round and had not finished it
+    /// (same round, same target counts, route not done).
+    pub fn unfinished_in(&self, status: &PlannerStatus) -> bool {
+        status.round == self.round
+            && status.phase != Phase::Done.word()
+            && status.target_points == self.targets.points.len()
+            && status.target_regions == self.targets.regions.len()
+    }
+
     /// Keeps it in `path` as JSON, atomically (a kill leaves the last whole one).
     pub fn keep(&self, path: &std::path::Path) -> Result<(), KeptStatusError> {
         let json = serde_json::to_vec(self).map_err(|e| KeptStatusError::Round {

@@ -461,11 +461,7 @@ impl Planner {
     fn kept_round(&mut self) -> Option<KeptRound> {
         let k = self.kept.take()?;
         let s = self.restored.as_ref()?;
-        (s.round == k.round
-            && s.phase != Phase::Done.word()
-            && s.target_points == k.targets.points.len()
-            && s.target_regions == k.targets.regions.len())
-        .then_some(k)
+        k.unfinished_in(s).then_some(k)
     }
 
     /// New targets: a new round, or the restored one if it matches.

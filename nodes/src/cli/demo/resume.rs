@@ -142,14 +142,7 @@ pub(super) fn carry_round(dir: &Path) -> Result<Option<PlannerStatus>, String> {
     let status = PlannerStatus::kept(&status_path).map_err(|e| e.to_string())?;
     let round = KeptRound::kept(&round_path).map_err(|e| e.to_string())?;
     let open = match (status, round) {
-        (Some(s), Some(r))
-            if s.round == r.round
-                && s.phase != "done"
-                && s.target_points == r.targets.points.len()
-                && s.target_regions == r.targets.regions.len() =>
-        {
-            Some((s, r))
-        }
+        (Some(s), Some(r)) if r.unfinished_in(&s) => Some((s, r)),
         _ => None,
     };
     let Some((mut s, mut r)) = open else {
