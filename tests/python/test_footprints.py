@@ -4,11 +4,12 @@ anything, and the BAG ids of a real city model (delft.json over its AHN3
 tiles) come through to the completeness outputs."""
 import csv
 import json
+import os
 import subprocess
 
 import pytest
 
-from conftest import BIN, real_file
+from conftest import BIN, _domains, real_file
 
 
 def skyground(*args, timeout=900):
@@ -104,3 +105,42 @@ def test_derived_footprints_keep_a_3dbag_pair_whole(tmp_path):
     s = footprints_score(tmp_path, tmp_path / "aerial" / "aerial.las", model)
     assert (s["derived"], s["one_to_one"], s["over_segmented"]) == (2, 2, 0), s
     assert s["iou_p10"] >= 0.9, s["iou_p10"]
+
+
+def test_the_demo_models_each_building_part_of_a_real_lod2_city(tmp_path):
+    """Zurich's LoD2 model (its Buildings are made of BuildingParts) as the
+    scene, its own footprints for detection and `--parts` for the models:
+    the mission (cropped to the 250 m window with the most buildings) runs
+    one round, and models_before / models_after hold one BuildingPart per
+    input part under a Building keyed by the input's own id, every part
+    valid by our ISO 19107 checks, with 3DBAG's quality attributes."""
+    model = real_file("zurich_subset_lod2.json")
+    city = json.loads(model.read_text())["CityObjects"]
+    out = tmp_path / "out"
+    env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
+    p = subprocess.run([str(BIN / "skyground"), "demo", "--scene", str(model), "--out", str(out),
+                        "--footprints", "model", "--parts", "--max-rounds", "1", "--no-netns"],
+                       capture_output=True, text=True, timeout=900, env=env)
+    assert p.returncode == 0, p.stderr[-3000:]
+    report = json.loads((out / "report.json").read_text())
+    assert report["coverage_after"] > report["coverage_before"], report
+    for name in ("models_before", "models_after"):
+        got = json.loads((out / f"{name}.city.json").read_text())["CityObjects"]
+        buildings = {k: o for k, o in got.items() if o["type"] == "Building"}
+        parts = {k: o for k, o in got.items() if o["type"] == "BuildingPart"}
+        assert buildings and set(buildings) <= {k for k, o in city.items() if o["type"] == "Building"}
+        # Every input part of the Buildings modelled has its model.
+        want = sum(len(city[b]["children"]) for b in buildings)
+        assert len(parts) >= 0.9 * want, (name, len(parts), want)
+        assert len(parts) > len(buildings), "the crop's buildings have several parts"
+        for k, b in buildings.items():
+            assert b["attributes"]["skyground_parts"] == len(b["children"]), k
+            assert all(got[c]["parents"] == [k] for c in b["children"]), k
+            # Each part model keeps the input BuildingPart's own id.
+            assert set(b["children"]) <= set(city[k]["children"]), (k, b["children"])
+        for k, o in parts.items():
+            a = o["attributes"]
+            assert a["skyground_val3dity_codes"] == [], (k, a)
+            assert a["skyground_lod"] in ("2.2", "1.2"), (k, a)
+            assert a["skyground_rmse_m"] is None or 0 <= a["skyground_rmse_m"] < 0.5, (k, a)
+            assert a["skyground_footprint_iou"] > 0.5, (k, a)

@@ -11,7 +11,7 @@ use super::solid::{Shell, build_shell, outline, split_crossings};
 use super::untangle::undo_crossing_moves;
 use super::walls::{Support, WallFit, snap_ridges, snap_walls};
 use crate::geom::grid::GridFrame;
-use crate::geom::normals::neighbourhoods;
+use crate::geom::normals::{Neighbourhoods, neighbourhoods};
 use crate::geom::planes::{NO_PLANE, RoofPlane, grow_planes};
 use crate::missing::GroundGrid;
 
@@ -82,17 +82,34 @@ pub(crate) struct Inputs<'a> {
     pub ground: Option<&'a GroundGrid>,
 }
 
-/// Reconstructs one building from its points `xyz` (local frame).
+/// A building's points' neighbourhoods and the roof planes grown on them
+/// (each point's plane index or [`NO_PLANE`]); the model and its quality
+/// measure both use them.
+pub(crate) struct Grown {
+    pub nb: Neighbourhoods,
+    pub planes: Vec<RoofPlane>,
+    pub label: Vec<u32>,
+}
+
+/// Grows the roof planes of a building's points `xyz`.
+pub(crate) fn grow(xyz: &[[f32; 3]], params: &ReconstructParams) -> Grown {
+    let nb = neighbourhoods(xyz, params.k);
+    let (planes, label) = grow_planes(xyz, &nb, &params.plane_growth());
+    Grown { nb, planes, label }
+}
+
+/// Reconstructs one building from its points `xyz` (local frame) and the
+/// roof planes grown on them ([`grow`]).
 pub(crate) fn reconstruct_building(
     xyz: &[[f32; 3]],
+    grown: &Grown,
     inp: &Inputs,
     params: &ReconstructParams,
 ) -> Result<Model, Skip> {
     if xyz.len() < params.min_plane_points.max(params.k + 1) {
         return Err(Skip::TooFewPoints);
     }
-    let nb = neighbourhoods(xyz, params.k);
-    let (planes, label) = grow_planes(xyz, &nb, &params.plane_growth());
+    let Grown { nb, planes, label } = grown;
     if planes.is_empty() {
         return Err(Skip::NoRoofPlane);
     }
@@ -115,11 +132,11 @@ pub(crate) fn reconstruct_building(
     if !mask.iter().any(|m| *m) {
         return Err(Skip::EmptyFootprint);
     }
-    let code = roof_labels(xyz, &label, &planes, &grid, &mask);
+    let code = roof_labels(xyz, label, planes, &grid, &mask);
     let mut codes = code;
     // Small parts keep real dormers at airborne densities; on dense clouds
     // they are mostly clutter planes of a few points (`region_m2`).
-    let density = roof_density(xyz, &label, &grid, &mask);
+    let density = roof_density(xyz, label, &grid, &mask);
     let min_cells = (params.region_m2(density) / (cell * cell)).ceil() as usize;
     let (region, region_code) = regions(&grid, &mut codes, min_cells.max(1));
     let mut part = trace(&grid, &region, region_code.len() as u32, params.simplify_m);

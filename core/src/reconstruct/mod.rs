@@ -170,17 +170,20 @@ pub fn reconstruct_cloud(
                 given: footprints.is_some(),
                 ground: terrain.as_ref(),
             };
-            let mut m = building::reconstruct_building(pts, &inp, params)
+            let grown = building::grow(pts, params);
+            let mut m = building::reconstruct_building(pts, &grown, &inp, params)
                 .or_else(|why| building::fallback_building(pts, &inp, why))
                 .map_err(|s| (f.id, s))?;
-            m.quality = quality::assess(&m.shell, &m.outline, pts, &f.polygon);
+            let on_plane = quality::on_planes(&grown.label);
+            let measured = (pts, &on_plane[..]);
+            m.quality = quality::assess(&m.shell, &m.outline, measured, &f.polygon);
             // A named building gets a valid model: its LoD 1.2 prism, saying
             // why, rather than a LoD 2.2 solid that fails the checks.
             if !m.quality.val3dity.is_empty()
                 && m.lod == Lod::Lod22
                 && let Ok(mut p) = building::fallback_building(pts, &inp, Skip::InvalidSolid)
             {
-                p.quality = quality::assess(&p.shell, &p.outline, pts, &f.polygon);
+                p.quality = quality::assess(&p.shell, &p.outline, measured, &f.polygon);
                 if p.quality.val3dity.is_empty() {
                     p.quality.rejected_val3dity = std::mem::take(&mut m.quality.val3dity);
                     m = p;

@@ -289,13 +289,20 @@ fn models_of_building_parts_are_written_as_parts_of_their_building() {
     let ids: Vec<u32> = rec.models.iter().map(|m| m.id).collect();
     assert_eq!(ids.len(), 3);
     rec.part_of = [(ids[0], "B".to_string()), (ids[1], "B".to_string())].into();
+    // Parts without names of their own are named after their Building.
+    rec.models[0].name.clear();
+    rec.models[1].name.clear();
     let v = cityjson::to_cityjson(&rec);
     let objs = v["CityObjects"].as_object().unwrap();
     let keys: Vec<&str> = objs.keys().map(String::as_str).collect();
     assert_eq!(keys.len(), 4, "{keys:?}");
     let b = &objs["B"];
     assert_eq!(b["type"], "Building");
-    assert_eq!(b["children"], serde_json::json!(["B-0", "B-1"]));
+    assert_eq!(
+        b["children"],
+        serde_json::json!(["B-0", "B-1"]),
+        "no own ids"
+    );
     assert!(b.get("geometry").is_none());
     assert_eq!(b["attributes"]["skyground_parts"], 2);
     for k in ["B-0", "B-1"] {
@@ -306,6 +313,16 @@ fn models_of_building_parts_are_written_as_parts_of_their_building() {
     let lone = format!("building_{}", ids[2]);
     assert_eq!(objs[&lone]["type"], "Building");
     assert!(objs[&lone].get("parents").is_none());
+    // Parts read from a city model keep their own CityObject ids.
+    rec.models[0].name = "B_roof".into();
+    rec.models[1].name = "B_wing".into();
+    let v = cityjson::to_cityjson(&rec);
+    let objs = v["CityObjects"].as_object().unwrap();
+    assert_eq!(
+        objs["B"]["children"],
+        serde_json::json!(["B_roof", "B_wing"])
+    );
+    assert_eq!(objs["B_wing"]["parents"], serde_json::json!(["B"]));
 }
 
 #[test]

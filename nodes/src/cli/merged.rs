@@ -44,7 +44,7 @@ pub fn after(
     scene: &Scene,
     merged: &Cloud,
     spacing: f32,
-    footprints: Option<&[skyground_core::footprint::Footprint]>,
+    footprints: Option<&super::reconstruct::ModelFootprints>,
 ) -> AfterResult {
     let out = file.parent().unwrap_or(Path::new("."));
     std::thread::scope(|s| {

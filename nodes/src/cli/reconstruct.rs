@@ -93,6 +93,26 @@ fn metres(v: Option<f64>) -> String {
     v.map_or_else(|| "–".into(), |v| format!("{v:.3}"))
 }
 
+/// The footprints models are made on, one model each; a BuildingPart's
+/// model is written under its Building, whose id `part_of` keeps.
+#[derive(Debug, Clone, Default)]
+pub struct ModelFootprints {
+    /// The footprints, in the cloud's frame.
+    pub footprints: Vec<Footprint>,
+    /// Per BuildingPart footprint id, its Building's id (empty: none are parts).
+    pub part_of: BTreeMap<u32, String>,
+}
+
+impl ModelFootprints {
+    /// Footprints that are not parts.
+    pub fn whole(footprints: Vec<Footprint>) -> Self {
+        Self {
+            footprints,
+            part_of: BTreeMap::new(),
+        }
+    }
+}
+
 /// Reconstructs `cloud` and writes `DIR/NAME.city.json` and `DIR/NAME.obj`
 /// in its CRS and unit.
 pub fn reconstruct_and_write(
@@ -238,13 +258,16 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
         .map(|r| super::footprints::in_frame(r, &cloud.frame()))
         .transpose()?;
     let t0 = std::time::Instant::now();
-    let part_of = given.as_ref().map(|g| g.loaded.part_of.clone());
+    let part_of = given
+        .as_ref()
+        .map(|g| g.loaded.part_of.clone())
+        .unwrap_or_default();
     let rec = reconstruct_and_write(
         &cloud,
         footprints.as_deref(),
         (&a.out, "models"),
         &params,
-        &part_of.unwrap_or_default(),
+        &part_of,
     )?;
     let seconds = t0.elapsed().as_secs_f64();
     let pts = building_points(&cloud, cloud.origin);
@@ -264,14 +287,12 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             let scene =
                 skyground_core::io::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = a.units.read(b)?;
-            let (mb, ma) = before_after(
-                &a.out,
-                &scene,
-                &prior,
-                &cloud,
-                a.gt_spacing,
-                footprints.as_deref(),
-            )?;
+            let given = footprints.clone().map(|f| ModelFootprints {
+                footprints: f,
+                part_of: part_of.clone(),
+            });
+            let (mb, ma) =
+                before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing, given.as_ref())?;
             let pictured = write_picture(
                 &a.out.join("models.png"),
                 &scene,
@@ -319,7 +340,8 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
                 "walls": m.walls, "check": c, "watertight": c.watertight(),
                 "valid": m.quality.val3dity.is_empty(), "val3dity": m.quality.val3dity,
                 "lod": m.lod, "fallback_reason": m.fallback, "rejected_val3dity": m.quality.rejected_val3dity,
-                "rmse_m": m.quality.rmse_m, "footprint_iou": m.quality.footprint_iou,
+                "rmse_m": m.quality.rmse_m, "rmse_roof_points_m": m.quality.rmse_roof_points_m,
+                "footprint_iou": m.quality.footprint_iou,
                 "part_of": rec.part_of.get(&m.id),
             })
         })
@@ -338,6 +360,7 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
         // Of those, LoD 2.2 solids that failed the ISO 19107 checks.
         "invalid_lod22_replaced": rec.models.iter().filter(|m| !m.quality.rejected_val3dity.is_empty()).count(),
         "rmse_median_m": median(rec.models.iter().filter_map(|m| m.quality.rmse_m)),
+        "rmse_roof_points_median_m": median(rec.models.iter().filter_map(|m| m.quality.rmse_roof_points_m)),
         "points_to_model_mean": fit,
         "building_points": pts.len(),
         "points_on_models": fit_points,
@@ -373,7 +396,7 @@ pub fn before_after(
     prior: &Cloud,
     merged: &Cloud,
     spacing: f32,
-    footprints: Option<&[Footprint]>,
+    footprints: Option<&ModelFootprints>,
 ) -> Result<(ModelEvaluation, ModelEvaluation), RuntimeError> {
     Ok((
         models_of(dir, "models_before", scene, prior, spacing, footprints)?,
@@ -389,14 +412,14 @@ pub fn models_of(
     scene: &Scene,
     cloud: &Cloud,
     spacing: f32,
-    footprints: Option<&[Footprint]>,
+    footprints: Option<&ModelFootprints>,
 ) -> Result<ModelEvaluation, RuntimeError> {
     let rec = reconstruct_and_write(
         cloud,
-        footprints,
+        footprints.map(|f| &f.footprints[..]),
         (dir, name),
         &ReconstructParams::default(),
-        &BTreeMap::new(),
+        footprints.map_or(&BTreeMap::new(), |f| &f.part_of),
     )?;
     Ok(evaluate_against(scene, &rec, spacing))
 }

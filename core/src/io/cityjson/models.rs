@@ -43,7 +43,7 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
     let mut index: std::collections::HashMap<[i64; 3], usize> = Default::default();
     let mut objects = serde_json::Map::new();
     // BuildingParts' models by the Building they belong to.
-    let mut parts: std::collections::BTreeMap<&str, Vec<&Model>> = Default::default();
+    let mut parts: std::collections::BTreeMap<&str, Vec<(String, &Model)>> = Default::default();
     for m in &rec.models {
         let ids: Vec<usize> = m
             .shell
@@ -99,8 +99,19 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
         let key = match rec.part_of.get(&m.id) {
             Some(b) => {
                 let children = parts.entry(b.as_str()).or_default();
-                children.push(m);
-                format!("{b}-{}", children.len() - 1)
+                // The input's own BuildingPart id, else one made from its Building's.
+                let own = &m.name;
+                let key = if !own.is_empty()
+                    && own != b
+                    && !objects.contains_key(own)
+                    && !children.iter().any(|(k, _)| k == own)
+                {
+                    own.clone()
+                } else {
+                    format!("{b}-{}", children.len())
+                };
+                children.push((key.clone(), m));
+                key
             }
             None => format!("building_{}", m.id),
         };
@@ -122,6 +133,7 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
                     "skyground_lod": m.lod.as_str(),
                     "skyground_fallback_reason": m.fallback,
                     "skyground_rmse_m": m.quality.rmse_m,
+                    "skyground_rmse_roof_points_m": m.quality.rmse_roof_points_m,
                     "skyground_footprint_iou": m.quality.footprint_iou,
                     "skyground_val3dity_codes": m.quality.val3dity,
                     "skyground_rejected_lod22_val3dity_codes": m.quality.rejected_val3dity,
@@ -145,13 +157,13 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
         );
     }
     for (b, children) in &parts {
-        let keys: Vec<String> = (0..children.len()).map(|k| format!("{b}-{k}")).collect();
+        let (keys, models): (Vec<String>, Vec<&Model>) = children.iter().cloned().unzip();
         for k in &keys {
             if let Some(o) = objects.get_mut(k) {
                 o["parents"] = json!([b]);
             }
         }
-        objects.insert(b.to_string(), building_of_parts(b, children, keys));
+        objects.insert(b.to_string(), building_of_parts(b, &models, keys));
     }
     let mut metadata = json!({"title": "skyground LoD2 reconstruction"});
     // No models, no extent (not a point at the origin).

@@ -56,6 +56,10 @@ pub struct DemoArgs {
     /// scene's own buildings. Read and checked before any node starts.
     #[command(flatten)]
     pub footprints: crate::cli::footprints::FootprintsArg,
+    /// With CityJSON footprints: the LoD2 models one per BuildingPart, each written as a
+    /// BuildingPart of its Building (detection stays per Building); default: one per Building.
+    #[arg(long, requires = "footprints")]
+    pub parts: bool,
     /// The platforms that resample: `ground` (the robot), `uav` (a drone
     /// taking the gaps no ground stop sees), or both: `ground,uav`.
     #[arg(long, value_delimiter = ',', default_value = "ground")]

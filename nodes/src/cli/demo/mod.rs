@@ -30,6 +30,7 @@ use skyground_core::scene::{Cropped, Scene};
 
 use crate::cli::aerial::{Survey, survey_of};
 use crate::cli::profile::Profile;
+use crate::cli::reconstruct::ModelFootprints;
 use crate::runtime::{NodeRuntime, RuntimeError};
 
 /// Runs the demo mission.
@@ -57,6 +58,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
     let footprints = in_prior_frame(given.as_ref(), &prior)?;
+    let for_models = model_footprints(&a, footprints.as_deref(), &prior)?;
     let detector = a.footprints.detector_params(
         footprints.as_deref(),
         Some(&a.scene()),
@@ -75,7 +77,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     // last round's points are left to measure).
     let mut before = MeasureSoFar::new(&prior.gt, prior.tau);
     before.add(&prior.scene, &prior.gt, &prior.cloud);
-    let models_before = models_in_background(&a, &prior, footprints.clone());
+    let models_before = models_in_background(&a, &prior, for_models.clone());
     let aerial = a.cloud_file("aerial");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
@@ -124,7 +126,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         before,
         crop.as_ref(),
         model_crs,
-        footprints.as_deref(),
+        for_models.as_ref(),
     );
     stop_and_report(
         &a,
@@ -150,14 +152,43 @@ fn in_prior_frame(
         .map_err(|e| RuntimeError::Node(format!("footprints: {e}")))
 }
 
+/// The footprints the models are made on: with `--parts`, one per
+/// BuildingPart (read again, as the detector's are, and moved into the
+/// prior's frame); else the given ones; `None` when none are given.
+fn model_footprints(
+    a: &DemoArgs,
+    given: Option<&[Footprint]>,
+    prior: &Survey,
+) -> Result<Option<ModelFootprints>, RuntimeError> {
+    let Some(given) = given else {
+        return Ok(None);
+    };
+    if !a.parts {
+        return Ok(Some(ModelFootprints::whole(given.to_vec())));
+    }
+    let parts = a
+        .footprints
+        .read_parts(Some(&a.scene()), true)
+        .map_err(|e| RuntimeError::Node(format!("footprints: {e}")))?;
+    let part_of = parts
+        .as_ref()
+        .map(|p| p.loaded.part_of.clone())
+        .unwrap_or_default();
+    let footprints = in_prior_frame(parts.as_ref(), prior)?.unwrap_or_default();
+    Ok(Some(ModelFootprints {
+        footprints,
+        part_of,
+    }))
+}
+
 /// The mission's survey, what was measured before it, its crop, the city
-/// model's CRS and the given footprints (in the prior's frame).
+/// model's CRS and the footprints its models are made on.
 type Mission<'a> = (
     &'a Survey,
     MeasureSoFar,
     Option<&'a Cropped>,
     Option<Crs>,
-    Option<&'a [Footprint]>,
+    Option<&'a ModelFootprints>,
 );
 
 /// Stops the nodes, takes in the merge store and reports; an error when the
@@ -271,7 +302,7 @@ fn say_prior(a: &DemoArgs, prior: &Survey, before: &MeasureSoFar, t0: Instant) {
 fn models_in_background(
     a: &DemoArgs,
     prior: &Survey,
-    footprints: Option<Vec<Footprint>>,
+    footprints: Option<ModelFootprints>,
 ) -> report::ModelsBefore {
     let (dir, scene, cloud, spacing) = (
         a.out.clone(),
@@ -286,7 +317,7 @@ fn models_in_background(
             &scene,
             &cloud,
             spacing,
-            footprints.as_deref(),
+            footprints.as_ref(),
         )
     })
 }

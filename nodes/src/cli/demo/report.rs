@@ -23,6 +23,7 @@ use crate::cli::eval::{markdown, write_json};
 use crate::cli::merged::{after, merged_cloud};
 use crate::cli::profile::Profile;
 use crate::cli::reconstruct as models;
+use crate::cli::reconstruct::ModelFootprints;
 use crate::runtime::RuntimeError;
 
 /// The prior's models, made in the background while the mission runs.
@@ -37,7 +38,7 @@ pub(super) struct Inputs<'a> {
     pub crop: Option<&'a Cropped>,
     pub model_crs: Option<Crs>,
     /// Given footprints in the prior's frame: the models are made per footprint.
-    pub footprints: Option<&'a [Footprint]>,
+    pub footprints: Option<&'a ModelFootprints>,
     pub before: Measured,
     pub outcome: Outcome,
     /// Nodes started again after they exited, and how often.
