@@ -2,7 +2,10 @@
 //! reached, detection's rounds, and when the closed loop ends (docs/design.md,
 //! step 9: stop when a round gains too little or after the last round).
 
+use std::collections::{BTreeMap, BTreeSet};
+
 use super::protocol::{Phase, PlannerStatus};
+use crate::targets::TargetSet;
 
 /// When the closed loop ends: a round that raised the mean detected
 /// completeness by less than `min_round_gain` (0–1), or `max_rounds` driven.
@@ -82,6 +85,26 @@ pub struct Progress {
     pub rounds_finished: Vec<(u32, usize)>,
     /// The round being driven: what it reached and gave up so far (zero between rounds).
     pub round_so_far: Totals,
+    /// A round planned after the first and the most it can gain ([`most_gain`]).
+    pub prospect: Option<(u32, f64)>,
+}
+
+/// The most a round aiming at `targets` can raise the mean detected
+/// completeness: the missing shares (0–1, per analysed building, from the
+/// detection it was planned from) of the buildings its targets aim at,
+/// over every analysed building; as if each of them became complete.
+pub fn most_gain(targets: &TargetSet, missing: &BTreeMap<u32, f64>) -> f64 {
+    if missing.is_empty() {
+        return 0.0;
+    }
+    let aimed: BTreeSet<u32> = targets
+        .points
+        .iter()
+        .map(|t| t.building)
+        .chain(targets.regions.iter().map(|r| r.building))
+        .collect();
+    let sum: f64 = aimed.iter().filter_map(|b| missing.get(b)).sum();
+    sum / missing.len() as f64
 }
 
 impl Progress {
@@ -152,10 +175,32 @@ impl Progress {
         self.rounds_finished.iter().filter(|(_, s)| *s > 0).count()
     }
 
+    /// Round `round` (planned from the detection before it) can gain at
+    /// most `most` (0–1, [`most_gain`]).
+    pub fn prospect(&mut self, round: u32, most: f64) {
+        self.prospect = Some((round, most));
+    }
+
     /// Why the loop ends now, or `None` while it goes on. Round r is planned
     /// from detection r − 1; once it is driven, detection r says what it
-    /// gained.
+    /// gained. A further round that cannot gain the least worth driving
+    /// even if it completed every building it aims at is not driven.
     pub fn verdict(&self, rule: &StopRule) -> Option<String> {
+        self.verdict_after(rule).or_else(|| {
+            let &(r, _) = self.rounds_finished.last()?;
+            let (next, most) = self.prospect.filter(|(n, _)| *n == r + 1)?;
+            (most < rule.min_round_gain).then(|| {
+                format!(
+                    "round {next} could gain at most {:.2} % detected completeness, what the buildings it aims at miss (stop under {:.2} %): not driven",
+                    most * 100.0,
+                    rule.min_round_gain * 100.0
+                )
+            })
+        })
+    }
+
+    /// [`Self::verdict`] on the rounds driven.
+    fn verdict_after(&self, rule: &StopRule) -> Option<String> {
         let &(r, stops) = self.rounds_finished.last()?;
         if stops == 0 {
             return Some(format!(
@@ -278,6 +323,58 @@ mod tests {
         p.planner(&status(1, "done", 2, 0));
         p.detection(1, 0.9);
         assert!(p.verdict(&rule).is_some());
+    }
+
+    #[test]
+    fn a_further_round_that_cannot_gain_enough_is_not_driven() {
+        use crate::targets::{Region, TargetPoint};
+        let missing: BTreeMap<u32, f64> = [(1, 0.02), (2, 0.01), (3, 0.0), (4, 0.05)].into();
+        let aim = |points: &[u32], regions: &[u32]| TargetSet {
+            points: points
+                .iter()
+                .map(|&building| TargetPoint {
+                    xyz: [0.0; 3],
+                    building,
+                })
+                .collect(),
+            regions: regions
+                .iter()
+                .map(|&building| Region {
+                    building,
+                    polygon: vec![],
+                    z: 0.0,
+                })
+                .collect(),
+        };
+        // Buildings 1 and 2 (twice) miss 3 % between them, over 4 buildings.
+        assert!((most_gain(&aim(&[1, 2, 2], &[]), &missing) - 0.0075).abs() < 1e-12);
+        assert!((most_gain(&aim(&[1], &[4]), &missing) - 0.0175).abs() < 1e-12);
+        assert_eq!(most_gain(&aim(&[9], &[]), &missing), 0.0, "not analysed");
+        assert_eq!(most_gain(&aim(&[1], &[]), &BTreeMap::new()), 0.0);
+
+        let rule = StopRule {
+            max_rounds: 3,
+            ..RULE
+        };
+        let mut p = Progress::default();
+        p.detection(0, 0.5);
+        // The first round is driven whatever it can gain.
+        p.prospect(1, 0.001);
+        assert_eq!(p.verdict(&rule), None);
+        p.planner(&status(1, "done", 2, 0));
+        p.detection(1, 0.9);
+        assert_eq!(p.verdict(&rule), None, "gained 40 %");
+        p.prospect(2, 0.02);
+        assert_eq!(p.verdict(&rule), None, "round 2 may gain 2 %");
+        p.prospect(2, 0.0075);
+        let why = p.verdict(&rule).expect("round 2 can gain 0.75 % at most");
+        assert!(
+            why.starts_with("round 2 could gain at most 0.75 %"),
+            "{why}"
+        );
+        // A prospect of another round says nothing of this one.
+        p.prospect(3, 0.0);
+        assert_eq!(p.verdict(&rule), None);
     }
 
     #[test]

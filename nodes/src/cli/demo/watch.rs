@@ -2,15 +2,18 @@
 //! time limit that follows the work, and the stop rule
 //! ([`skyground_core::mission::progress`]).
 
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use futures::StreamExt;
 use skyground_core::cloud::Cloud;
 use skyground_core::metrics::MeasureSoFar;
-use skyground_core::mission::progress::{Progress, StopRule};
+use skyground_core::mission::progress::{Progress, StopRule, most_gain};
 use skyground_core::mission::uav::{UavPlan, UavState, UavStatus};
-use skyground_core::mission::{BuildingStatus, PlannerStatus, ProtocolError, VehicleStatus, Wire};
+use skyground_core::mission::{
+    BuildingStatus, Phase, PlannerStatus, ProtocolError, VehicleStatus, Wire,
+};
 use skyground_core::route::{BudgetParams, PlannedWork, WorkLimit};
 use skyground_core::targets::{TargetPoint, TargetSet};
 use skyground_msgs::diagnostic_msgs::DiagnosticArray;
@@ -50,6 +53,8 @@ pub(super) struct Watch {
     pub uav: Option<UavStatus>,
     /// The drone's positions, one every metre flown (for the overview).
     pub flight: Vec<[f32; 3]>,
+    /// The last detection's round and each analysed building's missing share (0–1).
+    missing: (u32, BTreeMap<u32, f64>),
 }
 
 impl Watch {
@@ -503,13 +508,23 @@ impl<'a> Follower<'a> {
             .detections
             .completeness(arr.header.stamp, building_statuses(arr));
         self.guard.detected();
-        if let Some((round, mean)) = mean_completeness(arr)
+        let statuses = building_statuses(arr);
+        if let Some(first) = statuses.first() {
+            let missing = statuses
+                .iter()
+                .filter(|b| b.skipped.is_none())
+                .map(|b| (b.building, f64::from(b.r_missing)))
+                .collect();
+            self.w.missing = (first.round, missing);
+        }
+        if let Some((round, mean, n)) = mean_completeness(arr)
             && self.w.progress.detection(round, mean)
         {
+            let skipped = arr.status.len() - n;
             self.console.say(&format!(
-                "  detection round {round}: mean detected completeness {:.1} % over {} buildings",
+                "  detection round {round}: mean detected completeness {:.1} % over {n} buildings{}",
                 mean * 100.0,
-                arr.status.len()
+                if skipped > 0 { format!(" ({skipped} skipped: no points or too few)") } else { String::new() }
             ));
         }
     }
@@ -519,6 +534,7 @@ impl<'a> Follower<'a> {
             return;
         };
         let finished_round = self.w.progress.planner(&s);
+        self.aim(&s);
         self.guard.planner();
         self.keep_planner(&s);
         if s.round > 0 {
@@ -546,6 +562,19 @@ impl<'a> Follower<'a> {
             self.keep_progress();
         }
         self.state();
+    }
+
+    /// The most the planner's round can gain, once its targets are the
+    /// ones this watch holds and the detection it was planned from is known.
+    fn aim(&mut self, s: &PlannerStatus) {
+        let w = &mut self.w;
+        let (detected, missing) = &w.missing;
+        let same = s.target_points == w.targets.points.len()
+            && s.target_regions == w.targets.regions.len();
+        if s.round > 1 && *detected + 1 == s.round && same && s.phase != Phase::Done.word() {
+            let most = most_gain(&w.targets, missing);
+            w.progress.prospect(s.round, most);
+        }
     }
 
     fn odometry(&mut self, o: &Odometry) {
@@ -614,7 +643,7 @@ fn building_statuses(arr: &DiagnosticArray) -> Vec<BuildingStatus> {
 }
 
 /// The detection round and its mean completeness over the buildings detected.
-fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
+fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64, usize)> {
     let all = building_statuses(arr);
     let vals: Vec<f64> = all
         .iter()
@@ -622,7 +651,10 @@ fn mean_completeness(arr: &DiagnosticArray) -> Option<(u32, f64)> {
         .map(|b| 1.0 - f64::from(b.r_missing))
         .collect();
     let round = all.first()?.round;
-    (!vals.is_empty()).then(|| (round, vals.iter().sum::<f64>() / vals.len() as f64))
+    (!vals.is_empty()).then(|| {
+        let n = vals.len();
+        (round, vals.iter().sum::<f64>() / n as f64, n)
+    })
 }
 
 /// The array's first status read as a mission status; `None` when it is
