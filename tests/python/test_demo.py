@@ -52,7 +52,9 @@ def small_scene(path: Path):
 def demo(tmp_path, *extra):
     scene = small_scene(tmp_path / "small.obj")
     out = tmp_path / "out"
-    return out, [str(BIN / "skyground"), "demo", "--scene", str(scene), "--out", str(out), *extra]
+    # The ground robot's mission (the drone beside it: test_uav.py).
+    return out, [str(BIN / "skyground"), "demo", "--scene", str(scene), "--out", str(out),
+                 "--platforms", "ground", *extra]
 
 
 def topic_counts(bag):

@@ -119,7 +119,8 @@ def test_the_demo_models_each_building_part_of_a_real_lod2_city(tmp_path):
     out = tmp_path / "out"
     env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
     p = subprocess.run([str(BIN / "skyground"), "demo", "--scene", str(model), "--out", str(out),
-                        "--footprints", "model", "--parts", "--max-rounds", "1", "--no-netns"],
+                        "--footprints", "model", "--parts", "--max-rounds", "1", "--no-netns",
+                        "--platforms", "ground"],
                        capture_output=True, text=True, timeout=900, env=env)
     assert p.returncode == 0, p.stderr[-3000:]
     report = json.loads((out / "report.json").read_text())

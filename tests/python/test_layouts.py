@@ -25,7 +25,7 @@ def test_the_demo_starts_on_a_city_layout(tmp_path, layout):
     env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
     env.pop("RUST_LOG", None)
     p = subprocess.run([str(BIN / "skyground"), "demo", "--scene", str(scene), "--out", str(out),
-                        "--crop", "none", "--timeout", "40"],
+                        "--crop", "none", "--platforms", "ground", "--timeout", "40"],
                        capture_output=True, text=True, timeout=400, env=env)
     # Finished, or stopped by the test's short --timeout (exit 1, report written).
     assert p.returncode == 0 or "(--timeout)" in p.stderr, p.stderr[-3000:]
@@ -48,7 +48,7 @@ def test_the_demo_finishes_on_buildings_500_m_apart(tmp_path):
     env = dict(os.environ, ROS_DOMAIN_ID=str(next(_domains)))
     env.pop("RUST_LOG", None)
     p = subprocess.run([str(BIN / "skyground"), "demo", "--scene", str(scene), "--out", str(out),
-                        "--crop", "none"],
+                        "--crop", "none", "--platforms", "ground"],
                        capture_output=True, text=True, timeout=900, env=env)
     assert p.returncode == 0, p.stderr[-3000:]
     report = json.loads((out / "report.json").read_text())

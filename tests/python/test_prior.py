@@ -10,7 +10,7 @@ from conftest import BIN, real_file
 
 def run_demo(tmp_path, env, *args, timeout):
     out = tmp_path / "out"
-    argv = [str(BIN / "skyground"), "demo", "--out", str(out), *map(str, args)]
+    argv = [str(BIN / "skyground"), "demo", "--out", str(out), "--platforms", "ground", *map(str, args)]
     return out, subprocess.run(argv, capture_output=True, text=True, timeout=timeout, env=env)
 
 

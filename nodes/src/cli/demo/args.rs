@@ -61,8 +61,9 @@ pub struct DemoArgs {
     #[arg(long, requires = "footprints")]
     pub parts: bool,
     /// The platforms that resample: `ground` (the robot), `uav` (a drone
-    /// taking the gaps no ground stop sees), or both: `ground,uav`.
-    #[arg(long, value_delimiter = ',', default_value = "ground")]
+    /// taking the gaps no ground stop sees), or both: `ground,uav` (field
+    /// mode drives the real robot only).
+    #[arg(long, value_delimiter = ',', default_value = "ground,uav")]
     pub platforms: Vec<Platform>,
     /// With the drone: a GeoJSON of the area(s) it must stay inside
     /// (Polygon / MultiPolygon, in the scene's CRS); read and checked
