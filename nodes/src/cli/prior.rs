@@ -22,9 +22,10 @@ use crate::runtime::RuntimeError;
 #[derive(Debug, Clone, clap::Args)]
 pub struct PriorArgs {
     /// A real aerial survey (LAS/LAZ/PLY) as the prior instead of the
-    /// simulated one; repeat for several tiles (they load as one prior).
-    /// Its horizontal CRS must be the city model's (--scene).
-    #[arg(long = "prior")]
+    /// simulated one; several tiles (repeated, or joined by commas as
+    /// --scene's) load as one prior. Its horizontal CRS must be the city
+    /// model's (--scene).
+    #[arg(long = "prior", value_delimiter = ',')]
     pub files: Vec<PathBuf>,
     /// With --prior and without --crop: the city model is cropped to the
     /// prior's extent grown by this many metres.

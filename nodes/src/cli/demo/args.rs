@@ -182,3 +182,21 @@ pub(super) fn parse(args: &[&str]) -> DemoArgs {
         .expect("demo arguments")
         .demo
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_drone_flies_by_default_in_simulation_only_and_prior_tiles_split_at_commas() {
+        assert!(parse(&[]).uav());
+        assert!(!parse(&["--platforms", "ground"]).uav());
+        assert!(
+            !parse(&["--field"]).uav(),
+            "field mode drives the real robot only"
+        );
+        let a = parse(&["--prior", "a.laz,b.laz", "--prior", "c.laz"]);
+        let want: Vec<PathBuf> = ["a.laz", "b.laz", "c.laz"].map(PathBuf::from).into();
+        assert_eq!(a.prior.files, want);
+    }
+}
