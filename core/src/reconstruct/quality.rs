@@ -53,22 +53,32 @@ pub fn seen_from_above(xyz: &[[f32; 3]]) -> Vec<bool> {
             (f64::from(p[1]) / r).floor() as i64,
         )
     };
-    let mut cells: FxHashMap<(i64, i64), Vec<u32>> = FxHashMap::default();
+    // Per cell its points and their highest z: a point with no cell
+    // around it reaching COVER_HEIGHT_M over it (most roof points) is
+    // seen without looking at single points.
+    let mut cells: FxHashMap<(i64, i64), (f32, Vec<u32>)> = FxHashMap::default();
     for (i, p) in xyz.iter().enumerate() {
-        cells.entry(key(p)).or_default().push(i as u32);
+        let c = cells.entry(key(p)).or_insert((f32::MIN, Vec::new()));
+        c.0 = c.0.max(p[2]);
+        c.1.push(i as u32);
     }
     xyz.iter()
         .map(|p| {
             let (i, j) = key(p);
+            let over = |c: &(f32, Vec<u32>)| f64::from(c.0 - p[2]) > COVER_HEIGHT_M;
             !(i - 1..=i + 1).any(|a| {
                 (j - 1..=j + 1).any(|b| {
-                    cells.get(&(a, b)).is_some_and(|v| {
-                        v.iter().any(|&k| {
-                            let q = &xyz[k as usize];
-                            let (dx, dy) = (f64::from(q[0] - p[0]), f64::from(q[1] - p[1]));
-                            dx * dx + dy * dy <= r * r && f64::from(q[2] - p[2]) > COVER_HEIGHT_M
+                    cells
+                        .get(&(a, b))
+                        .filter(|c| over(c))
+                        .is_some_and(|(_, v)| {
+                            v.iter().any(|&k| {
+                                let q = &xyz[k as usize];
+                                let (dx, dy) = (f64::from(q[0] - p[0]), f64::from(q[1] - p[1]));
+                                dx * dx + dy * dy <= r * r
+                                    && f64::from(q[2] - p[2]) > COVER_HEIGHT_M
+                            })
                         })
-                    })
                 })
             })
         })
