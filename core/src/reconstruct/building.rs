@@ -98,6 +98,17 @@ pub(crate) fn grow(xyz: &[[f32; 3]], params: &ReconstructParams) -> Grown {
     Grown { nb, planes, label }
 }
 
+/// Per point of `xyz`: it lies on a roof plane grown as the
+/// reconstruction grows them (roofer's points per roof plane).
+pub fn on_roof_planes(xyz: &[[f32; 3]], params: &ReconstructParams) -> Vec<bool> {
+    on_planes(&grow(xyz, params).label)
+}
+
+/// Per point: its plane label is a plane's.
+pub(crate) fn on_planes(label: &[u32]) -> Vec<bool> {
+    label.iter().map(|&l| l != NO_PLANE).collect()
+}
+
 /// Reconstructs one building from its points `xyz` (local frame) and the
 /// roof planes grown on them ([`grow`]).
 pub(crate) fn reconstruct_building(

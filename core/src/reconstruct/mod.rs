@@ -46,7 +46,7 @@ mod walls;
 mod tests;
 
 pub use crate::geom::planes::RoofPlane;
-pub use building::{Lod, Model};
+pub use building::{Lod, Model, on_roof_planes};
 pub use compare::{BeforeAfter, PRIOR_OFF_M, compare};
 pub use error::{ReconstructError, Skip};
 pub use evaluate::{DistanceStats, ModelEvaluation, ModelScore, evaluate_models};
@@ -174,7 +174,7 @@ pub fn reconstruct_cloud(
             let mut m = building::reconstruct_building(pts, &grown, &inp, params)
                 .or_else(|why| building::fallback_building(pts, &inp, why))
                 .map_err(|s| (f.id, s))?;
-            let on_plane = quality::on_planes(&grown.label);
+            let on_plane = building::on_planes(&grown.label);
             let measured = (pts, &on_plane[..]);
             m.quality = quality::assess(&m.shell, &m.outline, measured, &f.polygon);
             // A named building gets a valid model: its LoD 1.2 prism, saying

@@ -16,10 +16,8 @@ use rustc_hash::FxHashMap;
 use serde::Serialize;
 
 use super::evaluate::FAR;
-use super::params::ReconstructParams;
 use super::solid::{Shell, SurfaceType};
 use crate::footprint::iou;
-use crate::geom::planes::NO_PLANE;
 use crate::metrics::{MeshBackend, MeshDistance};
 
 /// What [`assess`] finds of one model.
@@ -85,19 +83,9 @@ pub fn seen_from_above(xyz: &[[f32; 3]]) -> Vec<bool> {
         .collect()
 }
 
-/// Per point of `xyz`: it lies on a roof plane grown as the
-/// reconstruction grows them (roofer's points per roof plane).
-pub fn on_roof_planes(xyz: &[[f32; 3]], params: &ReconstructParams) -> Vec<bool> {
-    on_planes(&super::building::grow(xyz, params).label)
-}
-
-/// Per point: its plane label is a plane's.
-pub(crate) fn on_planes(label: &[u32]) -> Vec<bool> {
-    label.iter().map(|&l| l != NO_PLANE).collect()
-}
-
 /// Measures a model (its closed `shell` and its `outline`) against its
-/// points `xyz` (`on_plane`: which lie on roof planes, [`on_roof_planes`])
+/// points `xyz` (`on_plane`: which lie on roof planes,
+/// [`on_roof_planes`](super::on_roof_planes))
 /// and the `footprint` it was made for.
 pub fn assess(
     shell: &Shell,
@@ -139,57 +127,5 @@ pub fn assess(
         footprint_iou: Some(iou(outline, footprint)),
         val3dity: super::validity_codes(shell),
         rejected_val3dity: Vec::new(),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::reconstruct::prism::prism;
-    use geo::{LineString, Polygon};
-
-    /// A flat roof at 6 m over a 10 m square, a box model of it, and a
-    /// chimney's few points a metre over the roof: roofer's measure (the
-    /// points on roof planes) leaves the chimney out, every roof point
-    /// counts it.
-    #[test]
-    fn the_b3_rmse_counts_roof_plane_points_and_the_strict_one_every_roof_point() {
-        let square = MultiPolygon(vec![Polygon::new(
-            LineString::from(vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]),
-            vec![],
-        )]);
-        let mut pts: Vec<[f32; 3]> = Vec::new();
-        for i in 0..40 {
-            for j in 0..40 {
-                let z = 6.0 + 0.02 * (((i * 7 + j * 13) % 5) as f32 - 2.0);
-                pts.push([0.125 + 0.25 * i as f32, 0.125 + 0.25 * j as f32, z]);
-            }
-        }
-        let roof = pts.len();
-        for k in 0..4 {
-            pts.push([5.03 + 0.11 * k as f32, 5.07, 7.0 + 0.1 * k as f32]);
-        }
-        let params = ReconstructParams::default();
-        let on = on_roof_planes(&pts, &params);
-        assert!(on[..roof].iter().filter(|o| **o).count() > roof * 9 / 10);
-        assert!(on[roof..].iter().all(|o| !*o), "the chimney is no plane");
-        let shell = prism(&square, 0.0, 6.0);
-        let q = assess(&shell, &square, (&pts, &on), &square);
-        let (b3, strict) = (q.rmse_m.unwrap(), q.rmse_roof_points_m.unwrap());
-        assert!(b3 < 0.03, "{b3}");
-        // 4 points over 1 m above among 1,600 (the roof under the chimney
-        // is covered, so not counted): sqrt(≈4·1.3/1,600) ≈ 0.06 m.
-        assert!(strict > 0.04 && strict > 2.0 * b3, "{strict} {b3}");
-        assert_eq!(q.footprint_iou, Some(1.0));
-        assert!(q.val3dity.is_empty(), "{:?}", q.val3dity);
-    }
-
-    #[test]
-    fn no_points_on_planes_gives_no_b3_rmse() {
-        let pts = [[1.0f32, 1.0, 6.0]; 3];
-        assert_eq!(
-            on_roof_planes(&pts, &ReconstructParams::default()),
-            vec![false; 3]
-        );
     }
 }
