@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use skyground_core::cloud::Cloud;
 use skyground_core::cloud::extent::check_plan_extent;
+use skyground_core::crs::SourceFrame;
 use skyground_core::footprint::Footprint;
+use skyground_core::io::SourceFootprints;
 use skyground_core::io::cityjson::models as cityjson;
 use skyground_core::io::obj::models as obj;
 use skyground_core::metrics::{building_points, sample_building_surfaces};
@@ -104,12 +106,16 @@ pub struct ModelFootprints {
 }
 
 impl ModelFootprints {
-    /// Footprints that are not parts.
-    pub fn whole(footprints: Vec<Footprint>) -> Self {
-        Self {
-            footprints,
-            part_of: BTreeMap::new(),
-        }
+    /// The footprints `read` moved into a cloud's `frame` (CRS checked),
+    /// with the Buildings its parts belong to.
+    pub fn in_frame(
+        read: &SourceFootprints,
+        frame: &SourceFrame,
+    ) -> Result<ModelFootprints, RuntimeError> {
+        Ok(ModelFootprints {
+            footprints: super::footprints::in_frame(read, frame)?,
+            part_of: read.loaded.part_of.clone(),
+        })
     }
 }
 
@@ -117,13 +123,15 @@ impl ModelFootprints {
 /// in its CRS and unit.
 pub fn reconstruct_and_write(
     cloud: &Cloud,
-    footprints: Option<&[Footprint]>,
+    footprints: Option<&ModelFootprints>,
     (dir, name): (&Path, &str),
     params: &ReconstructParams,
-    part_of: &BTreeMap<u32, String>,
 ) -> Result<Reconstruction, RuntimeError> {
-    let mut rec = reconstruct_cloud(cloud, footprints, params).map_err(err)?;
-    rec.part_of.clone_from(part_of);
+    let given = footprints.map(|f| &f.footprints[..]);
+    let mut rec = reconstruct_cloud(cloud, given, params).map_err(err)?;
+    if let Some(f) = footprints {
+        rec.part_of.clone_from(&f.part_of);
+    }
     std::fs::create_dir_all(dir).map_err(|e| err(format!("{}: {e}", dir.display())))?;
     cityjson::write_cityjson(&dir.join(format!("{name}.city.json")), &rec).map_err(err)?;
     obj::write_obj(&dir.join(format!("{name}.obj")), &rec).map_err(err)?;
@@ -255,20 +263,10 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
     }
     let footprints = given
         .as_ref()
-        .map(|r| super::footprints::in_frame(r, &cloud.frame()))
+        .map(|r| ModelFootprints::in_frame(r, &cloud.frame()))
         .transpose()?;
     let t0 = std::time::Instant::now();
-    let part_of = given
-        .as_ref()
-        .map(|g| g.loaded.part_of.clone())
-        .unwrap_or_default();
-    let rec = reconstruct_and_write(
-        &cloud,
-        footprints.as_deref(),
-        (&a.out, "models"),
-        &params,
-        &part_of,
-    )?;
+    let rec = reconstruct_and_write(&cloud, footprints.as_ref(), (&a.out, "models"), &params)?;
     let seconds = t0.elapsed().as_secs_f64();
     let pts = building_points(&cloud, cloud.origin);
     let fit = points_to_models(&rec, &pts);
@@ -287,12 +285,14 @@ fn reconstruct_file(a: &ReconstructArgs) -> Result<serde_json::Value, RuntimeErr
             let scene =
                 skyground_core::io::load_scene(s).map_err(|e| err(format!("scene {s}: {e}")))?;
             let prior = a.units.read(b)?;
-            let given = footprints.clone().map(|f| ModelFootprints {
-                footprints: f,
-                part_of: part_of.clone(),
-            });
-            let (mb, ma) =
-                before_after(&a.out, &scene, &prior, &cloud, a.gt_spacing, given.as_ref())?;
+            let (mb, ma) = before_after(
+                &a.out,
+                &scene,
+                &prior,
+                &cloud,
+                a.gt_spacing,
+                footprints.as_ref(),
+            )?;
             let pictured = write_picture(
                 &a.out.join("models.png"),
                 &scene,
@@ -416,10 +416,9 @@ pub fn models_of(
 ) -> Result<ModelEvaluation, RuntimeError> {
     let rec = reconstruct_and_write(
         cloud,
-        footprints.map(|f| &f.footprints[..]),
+        footprints,
         (dir, name),
         &ReconstructParams::default(),
-        footprints.map_or(&BTreeMap::new(), |f| &f.part_of),
     )?;
     Ok(evaluate_against(scene, &rec, spacing))
 }

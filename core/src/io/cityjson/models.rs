@@ -101,11 +101,9 @@ pub fn to_cityjson(rec: &Reconstruction) -> Value {
                 let children = parts.entry(b.as_str()).or_default();
                 // The input's own BuildingPart id, else one made from its Building's.
                 let own = &m.name;
-                let key = if !own.is_empty()
-                    && own != b
-                    && !objects.contains_key(own)
-                    && !children.iter().any(|(k, _)| k == own)
-                {
+                // Each model goes into `objects` as it is keyed: a key taken
+                // there (by a sibling too) is not free.
+                let key = if !own.is_empty() && own != b && !objects.contains_key(own) {
                     own.clone()
                 } else {
                     format!("{b}-{}", children.len())

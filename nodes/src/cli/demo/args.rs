@@ -57,7 +57,8 @@ pub struct DemoArgs {
     #[command(flatten)]
     pub footprints: crate::cli::footprints::FootprintsArg,
     /// With CityJSON footprints: the LoD2 models one per BuildingPart, each written as a
-    /// BuildingPart of its Building (detection stays per Building); default: one per Building.
+    /// BuildingPart of its Building (the detector node reads its footprints per Building);
+    /// default: one per Building.
     #[arg(long, requires = "footprints")]
     pub parts: bool,
     /// The platforms that resample: `ground` (the robot), `uav` (a drone

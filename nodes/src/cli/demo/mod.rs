@@ -22,7 +22,6 @@ use std::time::Instant;
 
 use skyground_core::cloud::write_cloud;
 use skyground_core::crs::{Crs, SourceFrame};
-use skyground_core::footprint::Footprint;
 use skyground_core::io::{SourceFootprints, load_scene_and_crs};
 use skyground_core::metrics::MeasureSoFar;
 use skyground_core::prior::unlabelled;
@@ -50,7 +49,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     // A footprints file that cannot be read stops the demo before the scene is.
     let given = a
         .footprints
-        .read(Some(&a.scene()))
+        .read_parts(Some(&a.scene()), a.parts)
         .map_err(|e| err(format!("footprints: {e}")))?;
     // The model is read once: its CRS is kept, the scene moves into the
     // mission's (or its crop is taken and the whole dropped).
@@ -58,9 +57,8 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         load_scene_and_crs(&a.scene()).map_err(|e| err(format!("scene {}: {e}", a.scene())))?;
     let (scene_spec, prior, crop) = mission_prior(&a, full, model_crs.as_ref())?;
     let footprints = in_prior_frame(given.as_ref(), &prior)?;
-    let for_models = model_footprints(&a, footprints.as_deref(), &prior)?;
     let detector = a.footprints.detector_params(
-        footprints.as_deref(),
+        footprints.as_ref().map(|f| &f.footprints[..]),
         Some(&a.scene()),
         prior.cloud.crs.as_ref(),
         prior.scene.origin,
@@ -77,7 +75,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
     // last round's points are left to measure).
     let mut before = MeasureSoFar::new(&prior.gt, prior.tau);
     before.add(&prior.scene, &prior.gt, &prior.cloud);
-    let models_before = models_in_background(&a, &prior, for_models.clone());
+    let models_before = models_in_background(&a, &prior, footprints.clone());
     let aerial = a.cloud_file("aerial");
     // The classifier labels the prior itself: publish it without the simulator's labels.
     write_cloud(&aerial, &unlabelled(&prior.cloud)).map_err(|e| err(e.to_string()))?;
@@ -126,7 +124,7 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
         before,
         crop.as_ref(),
         model_crs,
-        for_models.as_ref(),
+        footprints.as_ref(),
     );
     stop_and_report(
         &a,
@@ -140,45 +138,17 @@ pub async fn run(rt: &mut NodeRuntime, a: DemoArgs) -> Result<(), RuntimeError> 
 
 /// The given footprints moved into the prior's frame. Footprints in another
 /// CRS than the cloud's stop the demo here, before any node starts; in the
-/// prior's frame they also shape the models (one per footprint, its id kept).
+/// prior's frame they also shape the models (one per footprint, its id
+/// kept; with `--parts`, one per BuildingPart under its Building).
 fn in_prior_frame(
     given: Option<&SourceFootprints>,
     prior: &Survey,
-) -> Result<Option<Vec<Footprint>>, RuntimeError> {
+) -> Result<Option<ModelFootprints>, RuntimeError> {
     let frame = SourceFrame::new(prior.scene.origin, prior.cloud.crs.clone());
     given
-        .map(|r| crate::cli::footprints::in_frame(r, &frame))
+        .map(|r| ModelFootprints::in_frame(r, &frame))
         .transpose()
         .map_err(|e| RuntimeError::Node(format!("footprints: {e}")))
-}
-
-/// The footprints the models are made on: with `--parts`, one per
-/// BuildingPart (read again, as the detector's are, and moved into the
-/// prior's frame); else the given ones; `None` when none are given.
-fn model_footprints(
-    a: &DemoArgs,
-    given: Option<&[Footprint]>,
-    prior: &Survey,
-) -> Result<Option<ModelFootprints>, RuntimeError> {
-    let Some(given) = given else {
-        return Ok(None);
-    };
-    if !a.parts {
-        return Ok(Some(ModelFootprints::whole(given.to_vec())));
-    }
-    let parts = a
-        .footprints
-        .read_parts(Some(&a.scene()), true)
-        .map_err(|e| RuntimeError::Node(format!("footprints: {e}")))?;
-    let part_of = parts
-        .as_ref()
-        .map(|p| p.loaded.part_of.clone())
-        .unwrap_or_default();
-    let footprints = in_prior_frame(parts.as_ref(), prior)?.unwrap_or_default();
-    Ok(Some(ModelFootprints {
-        footprints,
-        part_of,
-    }))
 }
 
 /// The mission's survey, what was measured before it, its crop, the city
